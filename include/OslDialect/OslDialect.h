@@ -1,0 +1,54 @@
+//===- OslDialect.h - The osl dialect ---------------------------*- C++ -*-===//
+#ifndef OSLDIALECT_OSLDIALECT_H
+#define OSLDIALECT_OSLDIALECT_H
+
+#include "mlir/Bytecode/BytecodeOpInterface.h"
+#include "mlir/IR/BuiltinTypes.h"
+#include "mlir/IR/Dialect.h"
+#include "mlir/IR/OpDefinition.h"
+#include "mlir/IR/OpImplementation.h"
+#include "mlir/Interfaces/ControlFlowInterfaces.h"
+#include "mlir/Interfaces/SideEffectInterfaces.h"
+
+namespace mlir::osl {
+
+/// What a lane-wise op accepts; its verifier and result-type inference
+/// follow from it.
+enum class LaneKind {
+  Numeric,       // same-typed f32, i32 or triple operands; result alike
+  Float,         // f32 or triple; result alike
+  Int,           // i32; result i32
+  Bool,          // i1; result i1
+  Triple,        // triples; result triple
+  TripleToFloat, // triples; result f32
+  Compare,       // same-typed f32/i32/triple; result i1
+  Select,        // i1 condition, two same-typed values; result alike
+  Construct,     // three f32; result triple
+};
+
+/// True for f32, i32, i1, vector<3xf32> and !osl.varying of one of them.
+bool isOslType(Type type);
+/// True for vector<3xf32> (point, vector, normal, color).
+bool isTriple(Type type);
+/// The element of a varying type; a uniform type itself.
+Type getUniformType(Type type);
+bool isVarying(Type type);
+/// `uniform` made varying (or left uniform) as asked.
+Type withUniformity(Type uniform, bool varying);
+/// The result type of a lane-wise op of this kind over these operands.
+Type inferLaneResultType(LaneKind kind, ValueRange operands);
+LogicalResult verifyLaneOp(Operation *op, LaneKind kind);
+/// Noise type names the front end and verifier accept.
+bool isKnownNoiseName(llvm::StringRef name);
+
+} // namespace mlir::osl
+
+#include "OslDialect/OslOpsDialect.h.inc"
+
+#define GET_TYPEDEF_CLASSES
+#include "OslDialect/OslOpsTypes.h.inc"
+
+#define GET_OP_CLASSES
+#include "OslDialect/OslOps.h.inc"
+
+#endif // OSLDIALECT_OSLDIALECT_H

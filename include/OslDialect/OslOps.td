@@ -1,0 +1,323 @@
+//===- OslOps.td - osl dialect operations ------------------*- tablegen -*-===//
+#ifndef OSL_OPS_TD
+#define OSL_OPS_TD
+
+include "OslDialect/OslDialect.td"
+include "OslDialect/OslTypes.td"
+include "mlir/Interfaces/SideEffectInterfaces.td"
+include "mlir/Interfaces/ControlFlowInterfaces.td"
+
+//===----------------------------------------------------------------------===//
+// Shader interface: globals, parameters, outputs
+//===----------------------------------------------------------------------===//
+
+def Osl_GlobalOp : Osl_Op<"global", [Pure]> {
+  let summary = "a shader global (P, N, u, v, time...), varying per point";
+  let arguments = (ins StrAttr:$name);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "$name attr-dict `:` type($result)";
+  let hasVerifier = 1;
+}
+
+def Osl_ParamOp : Osl_Op<"param", [Pure, AllTypesMatch<["defaultValue", "result"]>]> {
+  let summary = "a shader parameter: its instance value, or its default";
+  let description = [{
+    The default is computed by the shader (it may read globals). Binding an
+    instance value replaces the op by that constant; otherwise by the default.
+  }];
+  let arguments = (ins StrAttr:$name, Osl_Value:$defaultValue);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "$name `(` $defaultValue `)` attr-dict `:` type($result)";
+}
+
+def Osl_OutputOp : Osl_Op<"output"> {
+  let summary = "the final value of an output parameter";
+  let description = [{
+    Written once per shader invocation, in declaration order. Lanes that are
+    not active in the batch are never written.
+  }];
+  let arguments = (ins StrAttr:$name, Osl_Value:$value);
+  let assemblyFormat = "$name `=` $value attr-dict `:` type($value)";
+}
+
+//===----------------------------------------------------------------------===//
+// Uniformity: masks and broadcasts
+//===----------------------------------------------------------------------===//
+
+def Osl_BroadcastOp : Osl_Op<"broadcast", [Pure]> {
+  let summary = "a uniform value used where a varying one is required";
+  let arguments = (ins Osl_Value:$value);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "$value attr-dict `:` type($value) `->` type($result)";
+  let hasVerifier = 1;
+}
+
+def Osl_BatchMaskOp : Osl_Op<"batch_mask", [Pure]> {
+  let summary = "the lanes of this batch that hold a shading point";
+  let results = (outs Osl_Bool:$result);
+  let assemblyFormat = "attr-dict `:` type($result)";
+  let hasVerifier = 1;
+}
+
+def Osl_AnyOp : Osl_Op<"any", [Pure]> {
+  let summary = "true if any lane of a varying boolean is true";
+  let arguments = (ins Osl_Bool:$mask);
+  let results = (outs I1:$result);
+  let assemblyFormat = "$mask attr-dict `:` type($mask)";
+}
+
+//===----------------------------------------------------------------------===//
+// Structured control flow (before osl-insert-mask-stack)
+//===----------------------------------------------------------------------===//
+
+def Osl_IfOp : Osl_Op<"if", [RecursiveMemoryEffects, NoRegionArguments]> {
+  let summary = "if/else; the condition may be varying";
+  let arguments = (ins Osl_Bool:$condition);
+  let results = (outs Variadic<Osl_Value>:$results);
+  let regions = (region SizedRegion<1>:$thenRegion, SizedRegion<1>:$elseRegion);
+  let assemblyFormat = [{
+    $condition `:` type($condition) (`->` type($results)^)? $thenRegion `else` $elseRegion attr-dict
+  }];
+  let hasVerifier = 1;
+}
+
+def Osl_WhileOp : Osl_Op<"while", [RecursiveMemoryEffects]> {
+  let summary = "a loop; its condition may be varying";
+  let description = [{
+    Like scf.while: `cond` receives the loop-carried values and ends in
+    osl.condition; `do` receives what the condition forwards and yields the
+    next values. A varying condition makes lanes leave at different times.
+  }];
+  let arguments = (ins Variadic<Osl_Value>:$inits);
+  let results = (outs Variadic<Osl_Value>:$results);
+  let regions = (region SizedRegion<1>:$before, SizedRegion<1>:$after);
+  let assemblyFormat = [{
+    (`(` $inits^ `:` type($inits) `)`)? (`->` type($results)^)? `cond` $before `do` $after attr-dict
+  }];
+  let hasVerifier = 1;
+}
+
+def Osl_ConditionOp : Osl_Op<"condition", [Pure, Terminator, HasParent<"WhileOp">]> {
+  let summary = "ends the condition region of osl.while";
+  let arguments = (ins Osl_Bool:$condition, Variadic<Osl_Value>:$args);
+  let assemblyFormat = "$condition `:` type($condition) (`,` $args^ `:` type($args))? attr-dict";
+}
+
+def Osl_YieldOp : Osl_Op<"yield", [Pure, Terminator, ReturnLike,
+                                  ParentOneOf<["IfOp", "WhileOp"]>]> {
+  let summary = "ends a region of osl.if or the body of osl.while";
+  let arguments = (ins Variadic<Osl_Value>:$values);
+  let builders = [OpBuilder<(ins), [{ build($_builder, $_state, ::mlir::ValueRange()); }]>];
+  let assemblyFormat = "($values^ `:` type($values))? attr-dict";
+}
+
+//===----------------------------------------------------------------------===//
+// Lane-wise operations: each lane computes on its own values. The result is
+// varying exactly when some operand is.
+//===----------------------------------------------------------------------===//
+
+class Osl_LaneOp<string mnemonic, string kind, list<Trait> traits = []>
+    : Osl_Op<mnemonic, !listconcat(traits, [Pure])> {
+  let hasVerifier = 1;
+  let extraClassDeclaration = [{
+    static constexpr ::mlir::osl::LaneKind kLaneKind = ::mlir::osl::LaneKind::}] # kind # [{;
+  }];
+  let extraClassDefinition = [{
+    ::llvm::LogicalResult $cppClass::verify() {
+      return ::mlir::osl::verifyLaneOp(getOperation(), kLaneKind);
+    }
+  }];
+}
+
+class Osl_UnaryOp<string mnemonic, string kind, string summ>
+    : Osl_LaneOp<mnemonic, kind> {
+  let summary = summ;
+  let arguments = (ins Osl_Value:$operand);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "$operand attr-dict `:` type($operand) `->` type($result)";
+  let builders = [OpBuilder<(ins "::mlir::Value":$operand), [{
+    build($_builder, $_state, ::mlir::osl::inferLaneResultType(kLaneKind, operand), operand);
+  }]>];
+}
+
+class Osl_BinaryOp<string mnemonic, string kind, string summ>
+    : Osl_LaneOp<mnemonic, kind> {
+  let summary = summ;
+  let arguments = (ins Osl_Value:$lhs, Osl_Value:$rhs);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "$lhs `,` $rhs attr-dict `:` type($lhs) `,` type($rhs) `->` type($result)";
+  let builders = [OpBuilder<(ins "::mlir::Value":$lhs, "::mlir::Value":$rhs), [{
+    build($_builder, $_state, ::mlir::osl::inferLaneResultType(kLaneKind, {lhs, rhs}), lhs, rhs);
+  }]>];
+}
+
+class Osl_TernaryOp<string mnemonic, string kind, string summ>
+    : Osl_LaneOp<mnemonic, kind> {
+  let summary = summ;
+  let arguments = (ins Osl_Value:$a, Osl_Value:$b, Osl_Value:$c);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = [{
+    $a `,` $b `,` $c attr-dict `:` type($a) `,` type($b) `,` type($c) `->` type($result)
+  }];
+  let builders = [OpBuilder<(ins "::mlir::Value":$a, "::mlir::Value":$b, "::mlir::Value":$c), [{
+    build($_builder, $_state, ::mlir::osl::inferLaneResultType(kLaneKind, {a, b, c}), a, b, c);
+  }]>];
+}
+
+// Arithmetic on int, float and triples (componentwise). Division and modulo
+// are OSL's safe versions: x/0 = 0, int x%0 = 0.
+def Osl_AddOp : Osl_BinaryOp<"add", "Numeric", "addition">;
+def Osl_SubOp : Osl_BinaryOp<"sub", "Numeric", "subtraction">;
+def Osl_MulOp : Osl_BinaryOp<"mul", "Numeric", "multiplication">;
+def Osl_DivOp : Osl_BinaryOp<"div", "Numeric", "safe division (x/0 = 0)">;
+def Osl_ModOp : Osl_BinaryOp<"mod", "Int", "int remainder, truncating, x%0 = 0">;
+def Osl_NegOp : Osl_UnaryOp<"neg", "Numeric", "negation">;
+def Osl_MinOp : Osl_BinaryOp<"min", "Numeric", "minimum">;
+def Osl_MaxOp : Osl_BinaryOp<"max", "Numeric", "maximum">;
+def Osl_AbsOp : Osl_UnaryOp<"abs", "Numeric", "absolute value">;
+
+// Booleans and bits.
+def Osl_AndOp : Osl_BinaryOp<"and", "Bool", "logical and">;
+def Osl_OrOp : Osl_BinaryOp<"or", "Bool", "logical or">;
+def Osl_NotOp : Osl_UnaryOp<"not", "Bool", "logical not">;
+def Osl_BitAndOp : Osl_BinaryOp<"bitand", "Int", "bitwise and">;
+def Osl_BitOrOp : Osl_BinaryOp<"bitor", "Int", "bitwise or">;
+def Osl_BitXorOp : Osl_BinaryOp<"bitxor", "Int", "bitwise xor">;
+def Osl_BitNotOp : Osl_UnaryOp<"bitnot", "Int", "bitwise complement">;
+def Osl_ShlOp : Osl_BinaryOp<"shl", "Int", "shift left">;
+def Osl_ShrOp : Osl_BinaryOp<"shr", "Int", "arithmetic shift right">;
+
+// Float math, componentwise on triples, with OSL's edge rules.
+def Osl_SinOp : Osl_UnaryOp<"sin", "Float", "sine">;
+def Osl_CosOp : Osl_UnaryOp<"cos", "Float", "cosine">;
+def Osl_TanOp : Osl_UnaryOp<"tan", "Float", "tangent">;
+def Osl_AsinOp : Osl_UnaryOp<"asin", "Float", "arc sine (input clamped to [-1,1])">;
+def Osl_AcosOp : Osl_UnaryOp<"acos", "Float", "arc cosine (input clamped to [-1,1])">;
+def Osl_AtanOp : Osl_UnaryOp<"atan", "Float", "arc tangent">;
+def Osl_ExpOp : Osl_UnaryOp<"exp", "Float", "e^x">;
+def Osl_Exp2Op : Osl_UnaryOp<"exp2", "Float", "2^x">;
+def Osl_LogOp : Osl_UnaryOp<"log", "Float", "natural log; log(x<=0) = log(FLT_MIN)">;
+def Osl_Log2Op : Osl_UnaryOp<"log2", "Float", "base-2 log">;
+def Osl_Log10Op : Osl_UnaryOp<"log10", "Float", "base-10 log">;
+def Osl_SqrtOp : Osl_UnaryOp<"sqrt", "Float", "square root; sqrt(x<0) = 0">;
+def Osl_InverseSqrtOp : Osl_UnaryOp<"inversesqrt", "Float", "1/sqrt(x); 0 for x<=0">;
+def Osl_FloorOp : Osl_UnaryOp<"floor", "Float", "round down">;
+def Osl_CeilOp : Osl_UnaryOp<"ceil", "Float", "round up">;
+def Osl_RoundOp : Osl_UnaryOp<"round", "Float", "round half away from zero">;
+def Osl_TruncOp : Osl_UnaryOp<"trunc", "Float", "round toward zero">;
+def Osl_SignOp : Osl_UnaryOp<"sign", "Float", "-1, 0 or 1">;
+def Osl_PowOp : Osl_BinaryOp<"pow", "Float", "x^y; 0 for x<0 with non-integer y">;
+def Osl_FmodOp : Osl_BinaryOp<"fmod", "Float", "C fmod; fmod(x, 0) = 0">;
+def Osl_Atan2Op : Osl_BinaryOp<"atan2", "Float", "atan2(y, x)">;
+def Osl_StepOp : Osl_BinaryOp<"step", "Float", "step(edge, x): 0 if x < edge else 1">;
+def Osl_MixOp : Osl_TernaryOp<"mix", "Float", "mix(a, b, t) = a*(1-t) + b*t">;
+def Osl_ClampOp : Osl_TernaryOp<"clamp", "Numeric", "clamp(x, lo, hi)">;
+def Osl_SmoothStepOp : Osl_TernaryOp<"smoothstep", "Float", "smoothstep(e0, e1, x)">;
+
+// Geometry on triples.
+def Osl_DotOp : Osl_BinaryOp<"dot", "TripleToFloat", "dot product">;
+def Osl_DistanceOp : Osl_BinaryOp<"distance", "TripleToFloat", "distance between points">;
+def Osl_LengthOp : Osl_UnaryOp<"length", "TripleToFloat", "length of a vector">;
+def Osl_CrossOp : Osl_BinaryOp<"cross", "Triple", "cross product">;
+def Osl_NormalizeOp : Osl_UnaryOp<"normalize", "Triple", "unit vector (0 stays 0)">;
+
+def Osl_CmpOp : Osl_LaneOp<"cmp", "Compare"> {
+  let summary = "comparison: eq, ne, lt, le, gt, ge";
+  let arguments = (ins StrAttr:$predicate, Osl_Value:$lhs, Osl_Value:$rhs);
+  let results = (outs Osl_Bool:$result);
+  let assemblyFormat = "$predicate `,` $lhs `,` $rhs attr-dict `:` type($lhs) `,` type($rhs) `->` type($result)";
+  let builders = [OpBuilder<(ins "::llvm::StringRef":$predicate, "::mlir::Value":$lhs, "::mlir::Value":$rhs), [{
+    build($_builder, $_state, ::mlir::osl::inferLaneResultType(kLaneKind, {lhs, rhs}),
+          $_builder.getStringAttr(predicate), lhs, rhs);
+  }]>];
+}
+
+def Osl_SelectOp : Osl_LaneOp<"select", "Select"> {
+  let summary = "cond ? a : b, per lane";
+  let arguments = (ins Osl_Bool:$condition, Osl_Value:$trueValue, Osl_Value:$falseValue);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = [{
+    $condition `,` $trueValue `,` $falseValue attr-dict `:` type($condition) `,`
+    type($trueValue) `,` type($falseValue) `->` type($result)
+  }];
+  let builders = [OpBuilder<(ins "::mlir::Value":$c, "::mlir::Value":$a, "::mlir::Value":$b), [{
+    build($_builder, $_state, ::mlir::osl::inferLaneResultType(kLaneKind, {c, a, b}), c, a, b);
+  }]>];
+}
+
+//===----------------------------------------------------------------------===//
+// Conversions and components
+//===----------------------------------------------------------------------===//
+
+def Osl_ConvertOp : Osl_Op<"convert", [Pure]> {
+  let summary = "int/float/bool conversion, or a scalar promoted to a triple";
+  let description = [{
+    f32 -> i32 truncates toward zero (OSL's int(x)); numbers -> i1 test != 0;
+    i1 -> numbers give 0 or 1; f32/i32 -> triple repeats the value.
+  }];
+  let arguments = (ins Osl_Value:$value);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "$value attr-dict `:` type($value) `->` type($result)";
+  let hasVerifier = 1;
+}
+
+def Osl_ConstructOp : Osl_LaneOp<"construct", "Construct"> {
+  let summary = "a triple from three floats";
+  let arguments = (ins Osl_Value:$x, Osl_Value:$y, Osl_Value:$z);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "$x `,` $y `,` $z attr-dict `:` type($x) `,` type($y) `,` type($z) `->` type($result)";
+  let builders = [OpBuilder<(ins "::mlir::Value":$x, "::mlir::Value":$y, "::mlir::Value":$z), [{
+    build($_builder, $_state, ::mlir::osl::inferLaneResultType(kLaneKind, {x, y, z}), x, y, z);
+  }]>];
+}
+
+def Osl_ExtractOp : Osl_Op<"extract", [Pure]> {
+  let summary = "one component of a triple";
+  let arguments = (ins Osl_Triple:$vector, ConfinedAttr<I64Attr, [IntMinValue<0>, IntMaxValue<2>]>:$index);
+  let results = (outs Osl_Float:$result);
+  let assemblyFormat = "$vector `[` $index `]` attr-dict `:` type($vector) `->` type($result)";
+  let hasVerifier = 1;
+}
+
+def Osl_InsertOp : Osl_Op<"insert", [Pure]> {
+  let summary = "a triple with one component replaced";
+  let arguments = (ins Osl_Float:$value, Osl_Triple:$vector,
+                       ConfinedAttr<I64Attr, [IntMinValue<0>, IntMaxValue<2>]>:$index);
+  let results = (outs Osl_Triple:$result);
+  let assemblyFormat = "$value `,` $vector `[` $index `]` attr-dict `:` type($value) `,` type($vector) `->` type($result)";
+  let hasVerifier = 1;
+}
+
+//===----------------------------------------------------------------------===//
+// Library calls
+//===----------------------------------------------------------------------===//
+
+def Osl_NoiseOp : Osl_Op<"noise", [Pure]> {
+  let summary = "noise(name, p [, t]) with a float or triple result";
+  let description = [{
+    `kind` is OSL's noise type name ("perlin", "uperlin", "cell", "hash"...).
+    Domains: (f32), (f32, f32), (triple), (triple, f32).
+  }];
+  let arguments = (ins StrAttr:$kind, Variadic<Osl_Value>:$coords);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "$kind `(` $coords `)` attr-dict `:` functional-type($coords, $result)";
+  let hasVerifier = 1;
+}
+
+def Osl_TransformOp : Osl_Op<"transform", [Pure]> {
+  let summary = "transform a point, vector or normal between named spaces";
+  let arguments = (ins StrAttr:$from, StrAttr:$to, StrAttr:$kind, Osl_Triple:$value);
+  let results = (outs Osl_Triple:$result);
+  let assemblyFormat = "$from `to` $to $kind $value attr-dict `:` type($value) `->` type($result)";
+  let hasVerifier = 1;
+}
+
+def Osl_SplineOp : Osl_Op<"spline", [Pure]> {
+  let summary = "spline(basis, x, knots...) for float or triple knots";
+  let arguments = (ins StrAttr:$basis, Osl_Value:$x, Variadic<Osl_Value>:$knots);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "$basis $x `[` $knots `]` attr-dict `:` type($x) `,` type($knots) `->` type($result)";
+  let hasVerifier = 1;
+}
+
+#endif // OSL_OPS_TD

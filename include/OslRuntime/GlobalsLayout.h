@@ -1,0 +1,58 @@
+//===- GlobalsLayout.h - Batched shader globals, structure of arrays ------===//
+//
+// One batch of W shading points stores every shader global as rows of W
+// floats: a triple takes three consecutive rows (x, y, z), a float one row.
+// The compiler (osl-convert-to-vector) and the runtime both read this table,
+// so a global's row index is defined once, here.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLRUNTIME_GLOBALSLAYOUT_H
+#define OSLRUNTIME_GLOBALSLAYOUT_H
+
+#include <cstdint>
+#include <string_view>
+
+namespace osl {
+
+/// A shader global: its OSL name, first row, and number of float rows.
+struct GlobalSlot {
+  std::string_view name;
+  int32_t row;
+  int32_t rows; // 3 for point/vector/normal, 1 for float
+};
+
+// Derivative rows (dPdx, dudx, ...) follow the values so that a later
+// derivatives pass can read them; testshade's conventions fill them.
+inline constexpr GlobalSlot kGlobalSlots[] = {
+    {"P", 0, 3},       {"I", 3, 3},       {"N", 6, 3},      {"Ng", 9, 3},
+    {"dPdu", 12, 3},   {"dPdv", 15, 3},   {"dPdz", 18, 3},  {"dPdtime", 21, 3},
+    {"Ps", 24, 3},     {"dPdx", 27, 3},   {"dPdy", 30, 3},  {"u", 33, 1},
+    {"v", 34, 1},      {"dudx", 35, 1},   {"dudy", 36, 1},  {"dvdx", 37, 1},
+    {"dvdy", 38, 1},   {"time", 39, 1},   {"dtime", 40, 1}, {"surfacearea", 41, 1},
+    {"backfacing", 42, 1},
+};
+
+/// Number of float rows in one batch of globals (multiply by the width).
+inline constexpr int32_t kGlobalRows = 43;
+
+/// The slot of a global by OSL name, or nullptr.
+inline const GlobalSlot *findGlobal(std::string_view name) {
+  for (const GlobalSlot &s : kGlobalSlots)
+    if (s.name == name)
+      return &s;
+  return nullptr;
+}
+
+/// The kernel the compiler emits for one batch at width W:
+///   void kernel(const float *globals,  // kGlobalRows x W floats
+///               float *outputs,        // (sum of output channels) x W floats
+///               int32_t nactive);      // lanes [0, nactive) are shaded
+/// Outputs are rows of W floats, one row per channel, in declaration order
+/// of the shader's output parameters; int outputs are stored as float values.
+/// Lanes >= nactive are never written.
+using BatchKernel = void (*)(const float *globals, float *outputs,
+                             int32_t nactive);
+
+} // namespace osl
+
+#endif // OSLRUNTIME_GLOBALSLAYOUT_H

@@ -1,0 +1,84 @@
+//===- Grid.h - testshade-style grid shading with a batch kernel -*- C++ -*-===//
+//
+// Runs a compiled batch kernel (see GlobalsLayout.h) over an xres x yres grid
+// the way OSL's testshade sets up its shading points, so output images can
+// be compared with OSL's reference images pixel for pixel.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLRUNTIME_GRID_H
+#define OSLRUNTIME_GRID_H
+
+#include "OslRuntime/GlobalsLayout.h"
+
+#include <string>
+#include <vector>
+
+namespace osl {
+
+class ThreadPool;
+
+/// testshade's grid options (-g, --center, -t, --vary_*dxdy, --scaleuv,
+/// --offsetuv).
+struct GridOptions {
+  int xres = 1, yres = 1;
+  /// --center: shading points at pixel centres, u = (x+0.5)/xres.
+  bool center = false;
+  /// Participating threads; 0 = all hardware threads. Ignored when a
+  /// ThreadPool is passed to shadeGrid.
+  int threads = 0;
+  /// Batches per tile, the unit of work handed to a thread; 0 picks a size
+  /// that gives every thread several tiles. Never changes results.
+  int tileBatches = 0;
+  /// testshade's --vary_udxdy: Dx(u) = 1-u, Dy(u) = u.
+  bool varyUdxdy = false;
+  /// --vary_vdxdy: Dx(v) = 1-v, Dy(v) = v.
+  bool varyVdxdy = false;
+  /// --vary_pdxdy: Dx(P) = (1-u, 1-v, u/2), Dy(P) = (1-v, 1-u, v/2).
+  bool varyPdxdy = false;
+  /// testshade's --scaleuv / --offsetuv (u = uscale * u0 + uoffset).
+  float uscale = 1.0f, vscale = 1.0f, uoffset = 0.0f, voffset = 0.0f;
+  /// Progress bar on stderr, shown only if stderr is a terminal and the run
+  /// lasts more than about a second.
+  bool progress = false;
+};
+
+/// One shader output as laid out in the kernel's output rows.
+struct OutputSpec {
+  std::string name;
+  int channels;
+};
+
+struct ShadeResult {
+  /// Per output: xres*yres*channels floats, pixel-major (row-major pixels,
+  /// channels interleaved), ready for writeImage.
+  std::vector<std::vector<float>> images;
+  /// Wall time of the shading loop (buffers and tables set up excluded).
+  double seconds = 0;
+};
+
+/// Shades every grid point with `kernel` compiled for `width` lanes.
+/// Pixels are taken in row-major order in batches of `width` consecutive
+/// pixels (a batch may span rows; the last one may be partial). Each pixel's
+/// values depend only on its own globals, so results are identical for any
+/// thread count or tile size.
+ShadeResult shadeGrid(BatchKernel kernel, int width,
+                      const std::vector<OutputSpec> &outputs,
+                      const GridOptions &options);
+
+/// As above on an existing pool (options.threads is ignored), so repeated
+/// runs do not start threads each time.
+ShadeResult shadeGrid(BatchKernel kernel, int width,
+                      const std::vector<OutputSpec> &outputs,
+                      const GridOptions &options, ThreadPool &pool);
+
+/// Fills one batch of globals (kGlobalRows x width floats) for the pixels
+/// [firstPixel, firstPixel + nactive) in row-major order. Lanes past
+/// nactive repeat the last active pixel, so code that computes on every
+/// lane sees ordinary values. Exposed for tests and for tools that drive a
+/// kernel themselves; shadeGrid uses a faster equivalent.
+void fillGlobals(float *globals, int width, long firstPixel, int nactive,
+                 const GridOptions &options);
+
+} // namespace osl
+
+#endif // OSLRUNTIME_GRID_H

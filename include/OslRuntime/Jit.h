@@ -1,0 +1,85 @@
+//===- Jit.h - Host JIT for compiled shader kernels ------------*- C++ -*-===//
+//
+// Everything after the compiler has produced an llvm::Module: O3 with the
+// host's cost model, ORC JIT to the host CPU, symbol lookup, and assembly
+// for --emit=asm. The optimizer must see the host TargetMachine: without it
+// the vectorizer and cost model assume a generic x86-64 and the kernels lose
+// AVX-512 / AVX2.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLRUNTIME_JIT_H
+#define OSLRUNTIME_JIT_H
+
+#include "llvm/ADT/ArrayRef.h"
+#include "llvm/ADT/StringRef.h"
+#include "llvm/Support/Error.h"
+
+#include <memory>
+#include <string>
+#include <utility>
+
+namespace llvm {
+class LLVMContext;
+class Module;
+class TargetMachine;
+namespace orc {
+class LLJIT;
+} // namespace orc
+} // namespace llvm
+
+namespace osl {
+
+struct Stats;
+
+class Jit {
+public:
+  /// A JIT for the host CPU (JITTargetMachineBuilder::detectHost, codegen
+  /// level Aggressive) that resolves undefined symbols in the current
+  /// process (libm, the runtime library if exported). When `stats` is set,
+  /// each step adds its time there; it must outlive the Jit.
+  static llvm::Expected<std::unique_ptr<Jit>> create(Stats *stats = nullptr);
+  ~Jit();
+
+  /// The host TargetMachine, for optimizers that need host costs (e.g.
+  /// mlir::makeOptimizingTransformer).
+  llvm::TargetMachine &targetMachine() { return *tm; }
+
+  /// Verifies `module`, sets its triple and DataLayout (and host
+  /// target-cpu/target-features on each definition lacking them), then runs
+  /// the new pass manager's O3 pipeline with the host TargetMachine.
+  llvm::Error optimize(llvm::Module &module);
+
+  /// Hands `module` to the JIT; code is generated at the first lookup of
+  /// one of its symbols. Sets the JIT's DataLayout if the module has none.
+  llvm::Error addModule(std::unique_ptr<llvm::Module> module,
+                        std::unique_ptr<llvm::LLVMContext> context);
+
+  /// Defines host functions or data by address, for runtime entry points
+  /// that are not exported from the executable.
+  llvm::Error defineSymbols(llvm::ArrayRef<std::pair<llvm::StringRef, void *>>
+                                symbols);
+
+  /// Address of a JIT'd (or defined) symbol by its IR name; generates code
+  /// for the module holding it on first use.
+  llvm::Expected<void *> lookup(llvm::StringRef name);
+
+  /// Host assembly for `module`, for --emit=asm. Works on a clone, so the
+  /// module can still be optimized or JIT'd afterwards.
+  static llvm::Expected<std::string> emitAssembly(llvm::Module &module,
+                                                  Stats *stats = nullptr);
+
+  /// Widest batch the host runs in vector registers: 16 with AVX-512F, 8
+  /// with AVX2, else 4.
+  static int hostMaxWidth();
+
+private:
+  Jit() = default;
+
+  Stats *stats = nullptr;
+  std::unique_ptr<llvm::TargetMachine> tm;
+  std::unique_ptr<llvm::orc::LLJIT> lljit;
+};
+
+} // namespace osl
+
+#endif // OSLRUNTIME_JIT_H

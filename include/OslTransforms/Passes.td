@@ -1,0 +1,68 @@
+//===- Passes.td - osl-mlir passes -------------------------*- tablegen -*-===//
+#ifndef OSL_TRANSFORMS_PASSES_TD
+#define OSL_TRANSFORMS_PASSES_TD
+
+include "mlir/Pass/PassBase.td"
+
+def BindParams : Pass<"osl-bind-params", "::mlir::func::FuncOp"> {
+  let summary = "Replace shader parameters by instance values or defaults";
+  let description = [{
+    Each osl.param becomes the value given for it (a constant) or its
+    default expression. `values` is `name=v[,v,v];name=...`: one number
+    for int/float, three for a triple. Unknown names are an error, as in
+    testshade.
+  }];
+  let options = [Option<"values", "values", "std::string", "\"\"",
+                        "name=value pairs separated by ';'">];
+  let dependentDialects = ["::mlir::arith::ArithDialect"];
+}
+
+def VaryingPropagation : Pass<"osl-varying-propagation", "::mlir::func::FuncOp"> {
+  let summary = "Infer which values are varying";
+  let description = [{
+    Shader globals are varying; a value computed from a varying value is
+    varying (data dependence), and so is a value assigned under a varying
+    condition and read after the join or in a later loop iteration (control
+    dependence). Everything else stays uniform and scalar. Uniform values
+    flowing into varying slots get an explicit osl.broadcast.
+  }];
+}
+
+def InsertMaskStack : Pass<"osl-insert-mask-stack", "::mlir::func::FuncOp"> {
+  let summary = "Turn varying control flow into masked straight-line code";
+  let description = [{
+    A varying osl.if runs both arms and selects per lane; a varying
+    osl.while carries a lane mask, iterates while any lane is active and
+    freezes the values of lanes that left. Loops are seeded with the mask of
+    the enclosing context, so lanes that are off never keep a loop going
+    (the outermost mask is the batch's active lanes). Uniform control flow
+    stays ordinary scf.if/scf.while with no masking cost.
+  }];
+  let dependentDialects = ["::mlir::scf::SCFDialect"];
+}
+
+def ConvertToVector : Pass<"osl-convert-to-vector", "::mlir::ModuleOp"> {
+  let summary = "Lower the osl dialect to vector code of a chosen width";
+  let description = [{
+    Varying values become vector<W x T> (triples vector<3 x W x f32>),
+    uniform values stay scalar. The shader becomes the batch kernel
+    `void @osl_batch(ptr globals, ptr outputs, i32 nactive)` of
+    OslRuntime/GlobalsLayout.h; library calls become arith/math/vector ops.
+  }];
+  let options = [Option<"width", "width", "int", "8",
+                        "lanes per batch: 1, 4, 8 or 16">];
+  let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::math::MathDialect",
+                           "::mlir::vector::VectorDialect", "::mlir::scf::SCFDialect",
+                           "::mlir::LLVM::LLVMDialect"];
+}
+
+def LowerToLLVM : Pass<"osl-lower-to-llvm", "::mlir::ModuleOp"> {
+  let summary = "Lower vector/arith/math/scf code to the LLVM dialect";
+  let description = [{
+    Math functions become polynomial approximations that stay in vector
+    registers (no per-lane libm calls), then everything becomes LLVM.
+  }];
+  let dependentDialects = ["::mlir::LLVM::LLVMDialect"];
+}
+
+#endif // OSL_TRANSFORMS_PASSES_TD

@@ -1,0 +1,278 @@
+//===- OslOps.cpp - osl dialect operations --------------------------------===//
+//
+// Verifiers check base types (f32, i32, i1, triple). Uniformity is not
+// checked per op: the front end may leave values uniform that
+// osl-varying-propagation later makes varying, so consistency of uniform
+// and varying types is that pass's postcondition instead.
+//
+//===----------------------------------------------------------------------===//
+#include "OslDialect/OslDialect.h"
+#include "OslRuntime/GlobalsLayout.h"
+
+#include "mlir/IR/Builders.h"
+#include "mlir/IR/OpImplementation.h"
+#include "llvm/ADT/StringSwitch.h"
+
+using namespace mlir;
+using namespace mlir::osl;
+
+#define GET_OP_CLASSES
+#include "OslDialect/OslOps.cpp.inc"
+
+//===----------------------------------------------------------------------===//
+// Lane-wise ops
+//===----------------------------------------------------------------------===//
+
+static bool isNumeric(Type t) { return t.isF32() || t.isInteger(32) || isTriple(t); }
+static bool isFloatLike(Type t) { return t.isF32() || isTriple(t); }
+
+static bool anyVarying(ValueRange values) {
+  return llvm::any_of(values, [](Value v) { return isVarying(v.getType()); });
+}
+
+Type mlir::osl::inferLaneResultType(LaneKind kind, ValueRange operands) {
+  Builder b(operands.front().getContext());
+  bool varying = anyVarying(operands);
+  Type base;
+  switch (kind) {
+  case LaneKind::TripleToFloat:
+    base = b.getF32Type();
+    break;
+  case LaneKind::Compare:
+    base = b.getI1Type();
+    break;
+  case LaneKind::Construct:
+    base = VectorType::get({3}, b.getF32Type());
+    break;
+  case LaneKind::Select:
+    base = getUniformType(operands[1].getType());
+    break;
+  default:
+    base = getUniformType(operands.front().getType());
+  }
+  return withUniformity(base, varying);
+}
+
+LogicalResult mlir::osl::verifyLaneOp(Operation *op, LaneKind kind) {
+  SmallVector<Type> bases;
+  for (Value v : op->getOperands())
+    bases.push_back(getUniformType(v.getType()));
+  Type result = getUniformType(op->getResult(0).getType());
+  auto allSame = [&](ArrayRef<Type> types) {
+    return llvm::all_equal(types);
+  };
+  switch (kind) {
+  case LaneKind::Numeric:
+  case LaneKind::Float:
+  case LaneKind::Int:
+  case LaneKind::Bool:
+  case LaneKind::Triple: {
+    auto accepts = [&](Type t) {
+      switch (kind) {
+      case LaneKind::Numeric: return isNumeric(t);
+      case LaneKind::Float: return isFloatLike(t);
+      case LaneKind::Int: return t.isInteger(32);
+      case LaneKind::Bool: return t.isInteger(1);
+      default: return isTriple(t);
+      }
+    };
+    if (!allSame(bases) || !accepts(bases.front()))
+      return op->emitOpError("operands must share one type accepted by this op, got ")
+             << bases;
+    if (result != bases.front())
+      return op->emitOpError("result type ") << result
+             << " must match operand type " << bases.front();
+    return success();
+  }
+  case LaneKind::TripleToFloat:
+    if (!llvm::all_of(bases, isTriple) || !result.isF32())
+      return op->emitOpError("takes triples and gives f32");
+    return success();
+  case LaneKind::Compare:
+    if (!allSame(bases) || !(isNumeric(bases.front()) || bases.front().isInteger(1)))
+      return op->emitOpError("compares two values of one type, got ") << bases;
+    if (!result.isInteger(1))
+      return op->emitOpError("result must be i1");
+    if (!llvm::is_contained(ArrayRef<StringRef>{"eq", "ne", "lt", "le", "gt", "ge"},
+                            op->getAttrOfType<StringAttr>("predicate").getValue()))
+      return op->emitOpError("unknown predicate");
+    return success();
+  case LaneKind::Select:
+    if (!bases[0].isInteger(1))
+      return op->emitOpError("condition must be i1");
+    if (bases[1] != bases[2] || result != bases[1])
+      return op->emitOpError("both values and the result must share one type");
+    return success();
+  case LaneKind::Construct:
+    if (!llvm::all_of(bases, [](Type t) { return t.isF32(); }) || !isTriple(result))
+      return op->emitOpError("builds a vector<3xf32> from three f32");
+    return success();
+  }
+  return success();
+}
+
+//===----------------------------------------------------------------------===//
+// Interface ops
+//===----------------------------------------------------------------------===//
+
+LogicalResult GlobalOp::verify() {
+  const ::osl::GlobalSlot *slot = ::osl::findGlobal(getName().str());
+  if (!slot)
+    return emitOpError("unknown shader global '") << getName() << "'";
+  if (!isVarying(getType()))
+    return emitOpError("shader globals are varying");
+  Type base = getUniformType(getType());
+  if ((slot->rows == 3) != isTriple(base) || (slot->rows == 1 && !base.isF32()))
+    return emitOpError("global '") << getName() << "' has type "
+           << (slot->rows == 3 ? "vector<3xf32>" : "f32");
+  return success();
+}
+
+LogicalResult BroadcastOp::verify() {
+  if (isVarying(getValue().getType()) || !isVarying(getType()) ||
+      getUniformType(getType()) != getValue().getType())
+    return emitOpError("turns a uniform T into !osl.varying<T>");
+  return success();
+}
+
+LogicalResult BatchMaskOp::verify() {
+  if (!isVarying(getType()))
+    return emitOpError("the batch mask is varying");
+  return success();
+}
+
+//===----------------------------------------------------------------------===//
+// Control flow
+//===----------------------------------------------------------------------===//
+
+/// Types flowing into a slot must have its base type; uniformity is settled
+/// by osl-varying-propagation.
+static LogicalResult verifyFlow(Operation *op, StringRef what, TypeRange from,
+                                TypeRange to) {
+  if (from.size() != to.size())
+    return op->emitOpError() << what << ": " << from.size()
+                             << " values for " << to.size() << " slots";
+  for (auto [f, t] : llvm::zip(from, to))
+    if (getUniformType(f) != getUniformType(t))
+      return op->emitOpError() << what << ": type " << f << " does not match "
+                               << t;
+  return success();
+}
+
+LogicalResult IfOp::verify() {
+  for (Region *region : {&getThenRegion(), &getElseRegion()}) {
+    auto yield = dyn_cast<YieldOp>(region->front().getTerminator());
+    if (!yield)
+      return emitOpError("regions must end in osl.yield");
+    if (failed(verifyFlow(*this, "yield", yield.getValues().getTypes(),
+                          getResultTypes())))
+      return failure();
+  }
+  return success();
+}
+
+LogicalResult WhileOp::verify() {
+  Block &before = getBefore().front();
+  Block &after = getAfter().front();
+  if (failed(verifyFlow(*this, "loop entry", getInits().getTypes(),
+                        before.getArgumentTypes())))
+    return failure();
+  auto cond = dyn_cast<ConditionOp>(before.getTerminator());
+  if (!cond)
+    return emitOpError("'cond' region must end in osl.condition");
+  if (failed(verifyFlow(*this, "condition", cond.getArgs().getTypes(),
+                        after.getArgumentTypes())) ||
+      failed(verifyFlow(*this, "loop exit", cond.getArgs().getTypes(),
+                        getResultTypes())))
+    return failure();
+  auto yield = dyn_cast<YieldOp>(after.getTerminator());
+  if (!yield)
+    return emitOpError("'do' region must end in osl.yield");
+  return verifyFlow(*this, "loop back edge", yield.getValues().getTypes(),
+                    before.getArgumentTypes());
+}
+
+//===----------------------------------------------------------------------===//
+// Conversions and components
+//===----------------------------------------------------------------------===//
+
+LogicalResult ConvertOp::verify() {
+  Type from = getUniformType(getValue().getType());
+  Type to = getUniformType(getType());
+  bool scalarFrom = from.isF32() || from.isInteger(32) || from.isInteger(1);
+  bool ok = (scalarFrom && (to.isF32() || to.isInteger(32) || to.isInteger(1))) ||
+            ((from.isF32() || from.isInteger(32)) && isTriple(to));
+  if (!ok)
+    return emitOpError("cannot convert ") << from << " to " << to;
+  return success();
+}
+
+LogicalResult ExtractOp::verify() {
+  if (!getUniformType(getType()).isF32())
+    return emitOpError("result must be f32");
+  return success();
+}
+
+LogicalResult InsertOp::verify() {
+  if (getUniformType(getType()) != getUniformType(getVector().getType()))
+    return emitOpError("result must be a triple");
+  return success();
+}
+
+//===----------------------------------------------------------------------===//
+// Library calls
+//===----------------------------------------------------------------------===//
+
+bool mlir::osl::isKnownNoiseName(StringRef name) {
+  return llvm::StringSwitch<bool>(name)
+      .Cases("perlin", "snoise", "uperlin", "noise", true)
+      .Cases("cell", "cellnoise", "hash", "hashnoise", true)
+      .Cases("simplex", "usimplex", "gabor", true)
+      .Default(false);
+}
+
+LogicalResult NoiseOp::verify() {
+  if (!isKnownNoiseName(getKind()))
+    return emitOpError("unknown noise type '") << getKind() << "'";
+  SmallVector<Type> bases;
+  for (Value v : getCoords())
+    bases.push_back(getUniformType(v.getType()));
+  bool domainOk = (bases.size() == 1 && isFloatLike(bases[0])) ||
+                  (bases.size() == 2 && isFloatLike(bases[0]) && bases[1].isF32());
+  if (!domainOk)
+    return emitOpError("domain must be (float), (float, float), (triple) or "
+                       "(triple, float)");
+  if (!isFloatLike(getUniformType(getType())))
+    return emitOpError("result must be f32 or a triple");
+  return success();
+}
+
+LogicalResult TransformOp::verify() {
+  if (!llvm::is_contained(ArrayRef<StringRef>{"point", "vector", "normal"}, getKind()))
+    return emitOpError("kind must be point, vector or normal");
+  if (getFrom().empty() || getTo().empty())
+    return emitOpError("space names must not be empty");
+  return success();
+}
+
+LogicalResult SplineOp::verify() {
+  size_t minKnots = llvm::StringSwitch<size_t>(getBasis())
+                        .Cases("catmull-rom", "bezier", "bspline", "hermite", 4)
+                        .Case("linear", 2)
+                        .Case("constant", 1)
+                        .Default(0);
+  if (minKnots == 0)
+    return emitOpError("unknown spline basis '") << getBasis() << "'";
+  if (getKnots().size() < minKnots)
+    return emitOpError("basis '") << getBasis() << "' needs at least "
+                                  << minKnots << " knots";
+  if (!getUniformType(getX().getType()).isF32())
+    return emitOpError("the spline parameter must be f32");
+  Type knot = getUniformType(getKnots().front().getType());
+  for (Value k : getKnots())
+    if (getUniformType(k.getType()) != knot || !isFloatLike(knot))
+      return emitOpError("knots must all be f32 or all triples");
+  if (getUniformType(getType()) != knot)
+    return emitOpError("result must have the knots' type");
+  return success();
+}

@@ -1,0 +1,307 @@
+//===- Grid.cpp - testshade-style grid shading with a batch kernel ---------===//
+//
+// The globals follow OSL testshade's setup_shaderglobals, including its
+// float evaluation order, so u, v and P match OSL's bit for bit.
+//
+//===----------------------------------------------------------------------===//
+
+#include "OslRuntime/Grid.h"
+#include "OslRuntime/ThreadPool.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cassert>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <string_view>
+#include <unistd.h>
+
+// testshade computes uscale * t + uoffset without contraction; an FMA here
+// (e.g. when built with -march=native) could move u by one ulp.
+#pragma STDC FP_CONTRACT OFF
+
+namespace osl {
+
+namespace {
+
+constexpr int rowOf(std::string_view name) {
+  for (const GlobalSlot &s : kGlobalSlots)
+    if (s.name == name)
+      return s.row;
+  return -1;
+}
+
+constexpr int kP = rowOf("P"), kN = rowOf("N"), kNg = rowOf("Ng"),
+              kdPdu = rowOf("dPdu"), kdPdv = rowOf("dPdv"),
+              kdPdx = rowOf("dPdx"), kdPdy = rowOf("dPdy"), kU = rowOf("u"),
+              kV = rowOf("v"), kdudx = rowOf("dudx"), kdudy = rowOf("dudy"),
+              kdvdx = rowOf("dvdx"), kdvdy = rowOf("dvdy"),
+              kSurfaceArea = rowOf("surfacearea");
+static_assert(kP >= 0 && kN >= 0 && kNg >= 0 && kdPdu >= 0 && kdPdv >= 0 &&
+                  kdPdx >= 0 && kdPdy >= 0 && kU >= 0 && kV >= 0 &&
+                  kdudx >= 0 && kdudy >= 0 && kdvdx >= 0 && kdvdy >= 0 &&
+                  kSurfaceArea >= 0,
+              "GlobalsLayout.h lost a global the grid fills");
+
+/// Writes batches of globals. Everything that does not depend on the pixel
+/// is written once per buffer; per batch only u, v, P.xy (and the
+/// derivatives that --vary_* make per-pixel) are rewritten, from per-column
+/// and per-row tables, so setting up a batch costs a few stores per lane.
+class GlobalsWriter {
+public:
+  GlobalsWriter(const GridOptions &o, int width) : opt(o), width(width) {
+    us.resize(std::max(o.xres, 0));
+    vs.resize(std::max(o.yres, 0));
+    for (int x = 0; x < o.xres; ++x)
+      us[x] = coord(x, o.xres, o.uscale, o.uoffset);
+    for (int y = 0; y < o.yres; ++y)
+      vs[y] = coord(y, o.yres, o.vscale, o.voffset);
+    dudx = o.center ? o.uscale / o.xres : o.uscale / std::max(1, o.xres - 1);
+    dvdy = o.center ? o.vscale / o.yres : o.vscale / std::max(1, o.yres - 1);
+    // testshade uses the Reyes-grid spacing for dPdx/dPdy even with
+    // --center (unlike dudx/dvdy); the references encode that.
+    dPdxX = o.uscale / std::max(1, o.xres - 1);
+    dPdyY = o.vscale / std::max(1, o.yres - 1);
+  }
+
+  void writeConstantRows(float *g) const {
+    std::fill(g, g + kGlobalRows * width, 0.0f); // I, dPdz, time, ... = 0
+    setRow(g, kP + 2, 1.0f);
+    setRow(g, kN + 2, 1.0f);
+    setRow(g, kNg + 2, 1.0f);
+    setRow(g, kdPdu + 0, 1.0f);
+    setRow(g, kdPdv + 1, 1.0f);
+    setRow(g, kSurfaceArea, 1.0f);
+    if (!opt.varyPdxdy) {
+      setRow(g, kdPdx + 0, dPdxX);
+      setRow(g, kdPdy + 1, dPdyY);
+    }
+    if (!opt.varyUdxdy)
+      setRow(g, kdudx, dudx);
+    if (!opt.varyVdxdy)
+      setRow(g, kdvdy, dvdy);
+  }
+
+  /// Pixel rows for pixels [first, first+nactive); lanes past nactive
+  /// repeat the last active pixel.
+  void writeBatch(float *g, long first, int nactive) const {
+    int x = static_cast<int>(first % opt.xres);
+    int y = static_cast<int>(first / opt.xres);
+    for (int lane = 0; lane < width; ++lane) {
+      float u = us[x], v = vs[y];
+      at(g, kU, lane) = u;
+      at(g, kV, lane) = v;
+      at(g, kP + 0, lane) = u;
+      at(g, kP + 1, lane) = v;
+      if (opt.varyUdxdy) {
+        at(g, kdudx, lane) = 1.0f - u;
+        at(g, kdudy, lane) = u;
+      }
+      if (opt.varyVdxdy) {
+        at(g, kdvdx, lane) = 1.0f - v;
+        at(g, kdvdy, lane) = v;
+      }
+      if (opt.varyPdxdy) {
+        // testshade multiplies by the double 0.5; same value as 0.5f.
+        at(g, kdPdx + 0, lane) = 1.0f - u;
+        at(g, kdPdx + 1, lane) = 1.0f - v;
+        at(g, kdPdx + 2, lane) = static_cast<float>(u * 0.5);
+        at(g, kdPdy + 0, lane) = 1.0f - v;
+        at(g, kdPdy + 1, lane) = 1.0f - u;
+        at(g, kdPdy + 2, lane) = static_cast<float>(v * 0.5);
+      }
+      if (lane + 1 < nactive && ++x == opt.xres) {
+        x = 0;
+        ++y;
+      }
+    }
+  }
+
+private:
+  // testshade: uscale * (x + 0.5f) / xres + uoffset with --center, else
+  // uscale * (x / (xres - 1), or 0.5 for a single column) + uoffset.
+  float coord(int i, int res, float scale, float offset) const {
+    if (opt.center)
+      return scale * (float)(i + 0.5f) / res + offset;
+    return scale * ((res == 1) ? 0.5f : (float)i / (res - 1)) + offset;
+  }
+  float &at(float *g, int row, int lane) const { return g[row * width + lane]; }
+  void setRow(float *g, int row, float value) const {
+    std::fill(g + row * width, g + (row + 1) * width, value);
+  }
+
+  GridOptions opt;
+  int width;
+  std::vector<float> us, vs;
+  float dudx, dvdy, dPdxX, dPdyY;
+};
+
+/// Floats on their own 64-byte lines: vector loads of a row stay aligned
+/// and two threads' buffers never share a cache line.
+struct AlignedFloats {
+  struct Free {
+    void operator()(float *p) const { ::operator delete[](p, std::align_val_t(64)); }
+  };
+  std::unique_ptr<float[], Free> data;
+  explicit AlignedFloats(size_t n) {
+    size_t bytes = (n * sizeof(float) + 63) / 64 * 64;
+    data.reset(static_cast<float *>(
+        ::operator new[](bytes ? bytes : 64, std::align_val_t(64))));
+  }
+  float *get() const { return data.get(); }
+};
+
+/// Progress bar on stderr for long interactive runs; silent otherwise so
+/// logs and piped output stay clean.
+class Progress {
+public:
+  Progress(bool wanted, long total)
+      : enabled(wanted && isatty(STDERR_FILENO) && total > 0), total(total),
+        start(std::chrono::steady_clock::now()) {}
+
+  void add(long pixels) {
+    if (!enabled)
+      return;
+    long now = done.fetch_add(pixels) + pixels;
+    double t = elapsed();
+    if (t < 1.0 || t - lastPrint.load() < 0.1)
+      return;
+    std::unique_lock<std::mutex> lock(printMutex, std::try_to_lock);
+    if (!lock.owns_lock())
+      return;
+    lastPrint = t;
+    draw(now);
+    shown = true;
+  }
+
+  void finish() {
+    if (!shown)
+      return;
+    draw(total);
+    std::fputc('\n', stderr);
+  }
+
+private:
+  double elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                         start)
+        .count();
+  }
+  void draw(long n) {
+    constexpr int kBar = 40;
+    int fill = static_cast<int>(kBar * n / total);
+    char bar[kBar + 1];
+    for (int i = 0; i < kBar; ++i)
+      bar[i] = i < fill ? '=' : ' ';
+    bar[kBar] = 0;
+    std::fprintf(stderr, "\rshading [%s] %3d%%", bar,
+                 static_cast<int>(100 * n / total));
+    std::fflush(stderr);
+  }
+
+  bool enabled;
+  long total;
+  std::chrono::steady_clock::time_point start;
+  std::atomic<long> done{0};
+  std::atomic<double> lastPrint{0};
+  std::mutex printMutex;
+  bool shown = false;
+};
+
+int chooseTileBatches(const GridOptions &opt, long nbatches, int width,
+                      int threads) {
+  if (opt.tileBatches > 0)
+    return opt.tileBatches;
+  // ~4096 pixels per tile keeps hand-out overhead negligible; small grids
+  // get smaller tiles so every thread has a few to balance the load.
+  long byPixels = std::max(1, 4096 / width);
+  long bySplit = (nbatches + 4L * threads - 1) / (4L * threads);
+  return static_cast<int>(std::max(1L, std::min(byPixels, bySplit)));
+}
+
+} // namespace
+
+void fillGlobals(float *globals, int width, long firstPixel, int nactive,
+                 const GridOptions &options) {
+  GlobalsWriter writer(options, width);
+  writer.writeConstantRows(globals);
+  writer.writeBatch(globals, firstPixel, nactive);
+}
+
+ShadeResult shadeGrid(BatchKernel kernel, int width,
+                      const std::vector<OutputSpec> &outputs,
+                      const GridOptions &options) {
+  ThreadPool pool(options.threads);
+  return shadeGrid(kernel, width, outputs, options, pool);
+}
+
+ShadeResult shadeGrid(BatchKernel kernel, int width,
+                      const std::vector<OutputSpec> &outputs,
+                      const GridOptions &opt, ThreadPool &pool) {
+  assert(kernel && width > 0 && "shadeGrid needs a kernel and a width");
+  ShadeResult result;
+  long npixels = static_cast<long>(std::max(opt.xres, 0)) *
+                 static_cast<long>(std::max(opt.yres, 0));
+  int totalChannels = 0;
+  std::vector<int> firstRow;
+  for (const OutputSpec &out : outputs) {
+    firstRow.push_back(totalChannels);
+    totalChannels += out.channels;
+    result.images.emplace_back(static_cast<size_t>(npixels) * out.channels,
+                               0.0f);
+  }
+  if (npixels == 0 || !kernel || width <= 0)
+    return result;
+
+  GlobalsWriter writer(opt, width);
+  long nbatches = (npixels + width - 1) / width;
+  int tileBatches = chooseTileBatches(opt, nbatches, width, pool.size());
+  long ntiles = (nbatches + tileBatches - 1) / tileBatches;
+
+  // One globals and one outputs buffer per thread, reused for every batch.
+  std::vector<AlignedFloats> globals, outRows;
+  for (int w = 0; w < pool.size(); ++w) {
+    globals.emplace_back(static_cast<size_t>(kGlobalRows) * width);
+    writer.writeConstantRows(globals.back().get());
+    outRows.emplace_back(static_cast<size_t>(totalChannels) * width);
+  }
+
+  Progress progress(opt.progress, npixels);
+  auto start = std::chrono::steady_clock::now();
+  pool.parallelForWithWorker(static_cast<int>(ntiles), [&](int tile,
+                                                           int worker) {
+    float *g = globals[worker].get();
+    float *out = outRows[worker].get();
+    long firstBatch = static_cast<long>(tile) * tileBatches;
+    long endBatch = std::min(nbatches, firstBatch + tileBatches);
+    for (long b = firstBatch; b < endBatch; ++b) {
+      long first = b * width;
+      int nactive = static_cast<int>(std::min<long>(width, npixels - first));
+      writer.writeBatch(g, first, nactive);
+      // A lane the kernel leaves unwritten must read 0, not whatever this
+      // thread's previous batch left: that would depend on the schedule.
+      std::fill(out, out + static_cast<size_t>(totalChannels) * width, 0.0f);
+      kernel(g, out, nactive);
+      for (size_t o = 0; o < outputs.size(); ++o) {
+        int channels = outputs[o].channels;
+        float *image = result.images[o].data() + first * channels;
+        for (int c = 0; c < channels; ++c) {
+          const float *row = out + static_cast<size_t>(firstRow[o] + c) * width;
+          for (int lane = 0; lane < nactive; ++lane)
+            image[lane * channels + c] = row[lane];
+        }
+      }
+    }
+    progress.add((std::min(npixels, endBatch * width)) - firstBatch * width);
+  });
+  result.seconds = std::chrono::duration<double>(
+                       std::chrono::steady_clock::now() - start)
+                       .count();
+  progress.finish();
+  return result;
+}
+
+} // namespace osl

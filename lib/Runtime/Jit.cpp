@@ -1,0 +1,200 @@
+//===- Jit.cpp - Host JIT for compiled shader kernels ----------------------===//
+
+#include "OslRuntime/Jit.h"
+#include "OslRuntime/Stats.h"
+
+#include "llvm/ExecutionEngine/Orc/ExecutionUtils.h"
+#include "llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h"
+#include "llvm/ExecutionEngine/Orc/LLJIT.h"
+#include "llvm/ExecutionEngine/Orc/ThreadSafeModule.h"
+#include "llvm/IR/LegacyPassManager.h"
+#include "llvm/IR/Module.h"
+#include "llvm/IR/Verifier.h"
+#include "llvm/Passes/PassBuilder.h"
+#include "llvm/Support/TargetSelect.h"
+#include "llvm/Support/raw_ostream.h"
+#include "llvm/Target/TargetMachine.h"
+#include "llvm/TargetParser/Host.h"
+#include "llvm/Transforms/Utils/Cloning.h"
+
+#include <mutex>
+
+namespace osl {
+
+namespace {
+
+void initializeNativeTargetOnce() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    llvm::InitializeNativeTarget();
+    llvm::InitializeNativeTargetAsmPrinter();
+  });
+}
+
+/// The host CPU with all its features at the highest codegen level. The
+/// default FP contraction (fuse only where the IR allows it) is kept: the
+/// compiler, not the JIT, decides where FMA is allowed, since testshade's
+/// references are computed without it.
+llvm::Expected<llvm::orc::JITTargetMachineBuilder> hostBuilder() {
+  initializeNativeTargetOnce();
+  auto builder = llvm::orc::JITTargetMachineBuilder::detectHost();
+  if (!builder)
+    return builder.takeError();
+  builder->setCodeGenOptLevel(llvm::CodeGenOptLevel::Aggressive);
+  return builder;
+}
+
+/// Makes `module` target `tm` and tags definitions with the host CPU so
+/// per-function subtarget queries (TTI, inlining compatibility, codegen)
+/// agree with the TargetMachine even when the module is printed or
+/// compiled elsewhere.
+void retarget(llvm::Module &module, llvm::TargetMachine &tm) {
+  module.setTargetTriple(tm.getTargetTriple().str());
+  module.setDataLayout(tm.createDataLayout());
+  for (llvm::Function &f : module) {
+    if (f.isDeclaration())
+      continue;
+    if (!f.hasFnAttribute("target-cpu"))
+      f.addFnAttr("target-cpu", tm.getTargetCPU());
+    if (!f.hasFnAttribute("target-features"))
+      f.addFnAttr("target-features", tm.getTargetFeatureString());
+  }
+}
+
+llvm::Error verify(llvm::Module &module) {
+  std::string message;
+  llvm::raw_string_ostream os(message);
+  if (llvm::verifyModule(module, &os))
+    return llvm::createStringError(llvm::inconvertibleErrorCode(),
+                                   "invalid LLVM module: " + os.str());
+  return llvm::Error::success();
+}
+
+} // namespace
+
+Jit::~Jit() = default;
+
+llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats) {
+  ScopedTimer timer(stats, "jit setup");
+  auto builder = hostBuilder();
+  if (!builder)
+    return builder.takeError();
+
+  std::unique_ptr<Jit> jit(new Jit());
+  jit->stats = stats;
+  // A second TargetMachine from the same builder: the LLJIT owns its own
+  // (used for codegen), this one serves the optimizer's cost model.
+  auto tm = builder->createTargetMachine();
+  if (!tm)
+    return tm.takeError();
+  jit->tm = std::move(*tm);
+
+  auto lljit = llvm::orc::LLJITBuilder()
+                   .setJITTargetMachineBuilder(std::move(*builder))
+                   .create();
+  if (!lljit)
+    return lljit.takeError();
+  jit->lljit = std::move(*lljit);
+
+  // Kernels call libm and the runtime library's C entry points; resolve
+  // anything the JIT'd code leaves undefined in this process.
+  auto generator =
+      llvm::orc::DynamicLibrarySearchGenerator::GetForCurrentProcess(
+          jit->lljit->getDataLayout().getGlobalPrefix());
+  if (!generator)
+    return generator.takeError();
+  jit->lljit->getMainJITDylib().addGenerator(std::move(*generator));
+  return jit;
+}
+
+llvm::Error Jit::optimize(llvm::Module &module) {
+  ScopedTimer timer(stats, "llvm O3");
+  retarget(module, *tm);
+  if (llvm::Error err = verify(module))
+    return err;
+
+  llvm::LoopAnalysisManager lam;
+  llvm::FunctionAnalysisManager fam;
+  llvm::CGSCCAnalysisManager cgam;
+  llvm::ModuleAnalysisManager mam;
+  llvm::PassBuilder builder(tm.get());
+  builder.registerModuleAnalyses(mam);
+  builder.registerCGSCCAnalyses(cgam);
+  builder.registerFunctionAnalyses(fam);
+  builder.registerLoopAnalyses(lam);
+  builder.crossRegisterProxies(lam, fam, cgam, mam);
+  llvm::ModulePassManager mpm =
+      builder.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O3);
+  mpm.run(module, mam);
+  return llvm::Error::success();
+}
+
+llvm::Error Jit::addModule(std::unique_ptr<llvm::Module> module,
+                           std::unique_ptr<llvm::LLVMContext> context) {
+  ScopedTimer timer(stats, "jit add");
+  if (module->getDataLayout().isDefault())
+    module->setDataLayout(lljit->getDataLayout());
+  if (module->getTargetTriple().empty())
+    module->setTargetTriple(lljit->getTargetTriple().str());
+  return lljit->addIRModule(
+      llvm::orc::ThreadSafeModule(std::move(module), std::move(context)));
+}
+
+llvm::Error
+Jit::defineSymbols(llvm::ArrayRef<std::pair<llvm::StringRef, void *>> symbols) {
+  llvm::orc::SymbolMap map;
+  for (const auto &[name, address] : symbols)
+    map[lljit->mangleAndIntern(name)] = llvm::orc::ExecutorSymbolDef(
+        llvm::orc::ExecutorAddr::fromPtr(address),
+        llvm::JITSymbolFlags::Exported | llvm::JITSymbolFlags::Callable);
+  return lljit->getMainJITDylib().define(
+      llvm::orc::absoluteSymbols(std::move(map)));
+}
+
+llvm::Expected<void *> Jit::lookup(llvm::StringRef name) {
+  // Codegen and linking happen here, on first lookup.
+  ScopedTimer timer(stats, "jit codegen");
+  auto address = lljit->lookup(name);
+  if (!address)
+    return address.takeError();
+  return address->toPtr<void *>();
+}
+
+llvm::Expected<std::string> Jit::emitAssembly(llvm::Module &module,
+                                              Stats *stats) {
+  ScopedTimer timer(stats, "emit asm");
+  auto builder = hostBuilder();
+  if (!builder)
+    return builder.takeError();
+  auto tm = builder->createTargetMachine();
+  if (!tm)
+    return tm.takeError();
+
+  // Codegen rewrites the IR it compiles; keep the caller's module intact.
+  std::unique_ptr<llvm::Module> clone = llvm::CloneModule(module);
+  retarget(*clone, **tm);
+  if (llvm::Error err = verify(*clone))
+    return std::move(err);
+
+  llvm::SmallString<0> text;
+  llvm::raw_svector_ostream os(text);
+  llvm::legacy::PassManager pm;
+  if ((*tm)->addPassesToEmitFile(pm, os, nullptr,
+                                 llvm::CodeGenFileType::AssemblyFile))
+    return llvm::createStringError(llvm::inconvertibleErrorCode(),
+                                   "host target cannot emit assembly");
+  pm.run(*clone);
+  return std::string(text.str());
+}
+
+int Jit::hostMaxWidth() {
+  llvm::StringMap<bool> features = llvm::sys::getHostCPUFeatures();
+  auto has = [&](llvm::StringRef name) { return features.lookup(name); };
+  if (has("avx512f"))
+    return 16;
+  if (has("avx2"))
+    return 8;
+  return 4;
+}
+
+} // namespace osl

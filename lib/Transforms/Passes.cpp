@@ -1,0 +1,31 @@
+//===- Passes.cpp - Pass registration and the osl-to-llvm pipeline --------===//
+#include "OslTransforms/Passes.h"
+
+#include "mlir/Pass/PassRegistry.h"
+#include "mlir/Transforms/Passes.h"
+
+using namespace mlir;
+
+namespace {
+struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
+  Option<int> width{*this, "width", llvm::cl::desc("lanes per batch"),
+                    llvm::cl::init(8)};
+};
+} // namespace
+
+void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
+                                       const std::string &paramValues) {
+  OpPassManager &fn = pm.nest<func::FuncOp>();
+  fn.addPass(createBindParams(BindParamsOptions{paramValues}));
+  fn.addPass(createCanonicalizerPass());
+  fn.addPass(createVaryingPropagation());
+}
+
+void mlir::osl::registerOslPasses() {
+  registerOslTransformsPasses();
+  PassPipelineRegistration<OslToLLVMOptions>(
+      "osl-to-llvm", "Lower an osl shader to an LLVM-dialect batch kernel",
+      [](OpPassManager &pm, const OslToLLVMOptions &options) {
+        buildOslToLLVMPipeline(pm, options.width);
+      });
+}
