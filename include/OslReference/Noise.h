@@ -151,9 +151,10 @@ std::optional<NoiseType> parseNoiseType(std::string_view name);
 float noise(NoiseType type, int dims, const float *in);
 void noiseTriple(NoiseType type, int dims, const float *in, float out[3]);
 
-/// Periodic variants; only Perlin and UPerlin (OSL's pnoise also accepts
-/// cell and hash, which wrap the coordinates: also supported here).
-/// Returns false for a type without a periodic form.
+/// Periodic variants (OSL's pnoise): Perlin/UPerlin wrap the integer
+/// lattice; Cell/Hash wrap the coordinates, s - p * floor(s / p) with
+/// p = max(floor(period), 1). Returns false for Simplex/USimplex, which have
+/// no periodic form.
 bool periodicNoise(NoiseType type, int dims, const float *in,
                    const float *period, float *out);
 bool periodicNoiseTriple(NoiseType type, int dims, const float *in,

@@ -62,7 +62,7 @@ def LowerToLLVM : Pass<"osl-lower-to-llvm", "::mlir::ModuleOp"> {
     Math functions become polynomial approximations that stay in vector
     registers (no per-lane libm calls), then everything becomes LLVM.
   }];
-  let dependentDialects = ["::mlir::LLVM::LLVMDialect"];
+  let dependentDialects = ["::mlir::LLVM::LLVMDialect", "::mlir::cf::ControlFlowDialect"];
 }
 
 #endif // OSL_TRANSFORMS_PASSES_TD

@@ -18,19 +18,24 @@
 //    unsigned noise is 0.5 * (n + 1).
 //  * Triple results use one hash per corner and take channel c's gradient
 //    from (h >> 8c) & 0xFF.
+//  * Cell/hash noise: lookup3 of floor(coords) / of the float bits, mapped
+//    to [0,1] by float(h) * 2^-32; triples hash one extra key 0, 1, 2.
+//  * Simplex: OSL's adaptation of Gustavson's sdnoise1234 (hash-scrambled
+//    gradients, scales 0.36, 64, 68, 54; triples use seeds 0, 1, 2).
 //
 //===----------------------------------------------------------------------===//
 
 #include "OslReference/Noise.h"
 
-#include <climits>
 #include <cmath>
 #include <cstring>
 
 // Contraction into FMA would change rounding; OSL's reference values have
-// none. (The build also passes -ffp-contract=off for compilers that ignore
-// this pragma.)
+// none. GCC ignores this pragma (and contracts by default when the target
+// has FMA), so lib/Reference/CMakeLists.txt also passes -ffp-contract=off.
+#ifdef __clang__
 #pragma STDC FP_CONTRACT OFF
+#endif
 
 namespace osl::ref {
 namespace {

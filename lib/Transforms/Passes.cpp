@@ -19,6 +19,11 @@ void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
   fn.addPass(createBindParams(BindParamsOptions{paramValues}));
   fn.addPass(createCanonicalizerPass());
   fn.addPass(createVaryingPropagation());
+  fn.addPass(createInsertMaskStack());
+  pm.addPass(createConvertToVector(ConvertToVectorOptions{width}));
+  pm.addPass(createCanonicalizerPass());
+  pm.addPass(createCSEPass());
+  pm.addPass(createLowerToLLVM());
 }
 
 void mlir::osl::registerOslPasses() {

@@ -1,0 +1,94 @@
+//===- ShaderCompiler.h - OSL source to a callable batch kernel -*- C++ -*-===//
+//
+// The embedding API: a renderer (or osl-run) hands over OSL source and
+// gets a kernel for one width, with the stages visible in between:
+//   parse()   front end -> osl dialect         (--emit=mlir prints this)
+//   lower()   osl-to-llvm pipeline -> LLVM dialect
+//   translate() LLVM dialect -> llvm::Module, optimized for the host (--emit=llvm/asm)
+//   load()    ORC JIT -> BatchKernel
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLCOMPILER_SHADERCOMPILER_H
+#define OSLCOMPILER_SHADERCOMPILER_H
+
+#include "OslFrontend/Frontend.h"
+#include "OslRuntime/GlobalsLayout.h"
+#include "OslRuntime/Grid.h"
+#include "OslRuntime/Jit.h"
+#include "OslRuntime/Stats.h"
+
+#include "mlir/IR/MLIRContext.h"
+#include "mlir/IR/OwningOpRef.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace llvm {
+class LLVMContext;
+class Module;
+} // namespace llvm
+
+namespace osl {
+
+struct CompileOptions {
+  /// Lanes per batch: 1, 4, 8 or 16; 0 picks the widest the host supports.
+  int width = 0;
+  std::vector<ParamOverride> params;
+};
+
+/// One shader compiled for one width. Keeps its JIT alive.
+class CompiledShader {
+public:
+  BatchKernel kernel = nullptr;
+  int width = 0;
+  std::string name;
+  /// Output parameters in kernel row order.
+  std::vector<OutputSpec> outputs;
+
+private:
+  friend class ShaderCompiler;
+  std::unique_ptr<Jit> jit;
+};
+
+class ShaderCompiler {
+public:
+  /// Diagnostics (file:line:col: error: ...) go to `errs`.
+  ShaderCompiler(const CompileOptions &options, llvm::raw_ostream &errs,
+                 Stats *stats = nullptr);
+  ~ShaderCompiler();
+
+  /// Front end; false after printing diagnostics.
+  bool parse(llvm::StringRef source, llvm::StringRef filename);
+  /// Runs the osl-to-llvm pipeline on the parsed module.
+  bool lower();
+  /// Translates to LLVM IR and optimizes it for the host.
+  bool translate();
+  /// JIT-compiles the optimized module into a kernel.
+  std::unique_ptr<CompiledShader> load();
+
+  /// All four stages.
+  std::unique_ptr<CompiledShader> compile(llvm::StringRef source,
+                                          llvm::StringRef filename);
+
+  mlir::ModuleOp module() { return mlirModule.get(); }
+  llvm::Module *llvmModule() { return llvmIR.get(); }
+  int width() const { return options.width; }
+  const std::vector<OutputSpec> &outputs() const { return outputSpecs; }
+
+private:
+  CompileOptions options;
+  llvm::raw_ostream &errs;
+  Stats *stats;
+  mlir::MLIRContext context;
+  mlir::OwningOpRef<mlir::ModuleOp> mlirModule;
+  std::unique_ptr<llvm::LLVMContext> llvmContext;
+  std::unique_ptr<llvm::Module> llvmIR;
+  std::unique_ptr<Jit> jit;
+  std::vector<OutputSpec> outputSpecs;
+  std::string shaderName;
+};
+
+} // namespace osl
+
+#endif // OSLCOMPILER_SHADERCOMPILER_H

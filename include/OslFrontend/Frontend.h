@@ -1,0 +1,42 @@
+//===- Frontend.h - OSL source to the osl dialect ---------------*- C++ -*-===//
+//
+// The front end parses one OSL source file (functions and one shader) and
+// emits a module holding `func.func @<shader>()` in the osl dialect.
+// Variables become SSA values, user functions are inlined, and string
+// values are compile-time constants.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLFRONTEND_FRONTEND_H
+#define OSLFRONTEND_FRONTEND_H
+
+#include "mlir/IR/BuiltinOps.h"
+#include "mlir/IR/MLIRContext.h"
+#include "mlir/IR/OwningOpRef.h"
+#include "llvm/ADT/ArrayRef.h"
+#include "llvm/ADT/StringRef.h"
+#include "llvm/Support/raw_ostream.h"
+
+#include <string>
+
+namespace osl {
+
+/// An instance value for a shader parameter, testshade style: "0.5", "3",
+/// "0.1,0.2,0.3" for a triple (one number is repeated), comma-separated
+/// lists for arrays, or the text itself for a string parameter.
+struct ParamOverride {
+  std::string name;
+  std::string value;
+};
+
+/// Parses `source` (named `filename` in diagnostics) and returns a module
+/// with the shader, or null after printing diagnostics to `errs` as
+/// `filename:line:col: error: message`. Loads the osl, func and arith
+/// dialects into `context` if they are not loaded yet.
+mlir::OwningOpRef<mlir::ModuleOp>
+parseOslShader(llvm::StringRef source, llvm::StringRef filename,
+               mlir::MLIRContext &context,
+               llvm::ArrayRef<ParamOverride> overrides, llvm::raw_ostream &errs);
+
+} // namespace osl
+
+#endif // OSLFRONTEND_FRONTEND_H

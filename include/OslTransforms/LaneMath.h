@@ -1,0 +1,80 @@
+//===- LaneMath.h - OSL semantics on lane values ----------------*- C++ -*-===//
+//
+// A lane value is one scalar per shading point: f32/i32/i1 for a uniform
+// value, vector<W x f32/i32/i1> for a varying one. Every function here
+// builds the same arith/math ops for both, so uniform and varying code (and
+// every width) compute bit-identical results. OSL's edge rules (safe
+// division, clamped asin, log of 0...) live here and nowhere else.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLTRANSFORMS_LANEMATH_H
+#define OSLTRANSFORMS_LANEMATH_H
+
+#include "mlir/IR/Builders.h"
+#include "mlir/IR/Value.h"
+
+namespace mlir::osl::lane {
+
+/// A constant with the shape of `like` (a lane type or a value's type).
+Value constant(OpBuilder &b, Location loc, Type like, double value);
+Value constantLike(OpBuilder &b, Location loc, Value like, double value);
+/// `laneType` with its element replaced by `element`.
+Type withElement(Type laneType, Type element);
+/// Broadcasts a scalar to `width` lanes (width 0: leave scalar).
+Value broadcast(OpBuilder &b, Location loc, Value scalar, int64_t width);
+
+Value add(OpBuilder &b, Location loc, ValueRange x);
+Value sub(OpBuilder &b, Location loc, ValueRange x);
+Value mul(OpBuilder &b, Location loc, ValueRange x);
+Value div(OpBuilder &b, Location loc, ValueRange x);
+Value mod(OpBuilder &b, Location loc, ValueRange x);
+Value neg(OpBuilder &b, Location loc, ValueRange x);
+Value min(OpBuilder &b, Location loc, ValueRange x);
+Value max(OpBuilder &b, Location loc, ValueRange x);
+Value abs(OpBuilder &b, Location loc, ValueRange x);
+Value logicalAnd(OpBuilder &b, Location loc, ValueRange x);
+Value logicalOr(OpBuilder &b, Location loc, ValueRange x);
+Value logicalNot(OpBuilder &b, Location loc, ValueRange x);
+Value bitAnd(OpBuilder &b, Location loc, ValueRange x);
+Value bitOr(OpBuilder &b, Location loc, ValueRange x);
+Value bitXor(OpBuilder &b, Location loc, ValueRange x);
+Value bitNot(OpBuilder &b, Location loc, ValueRange x);
+Value shl(OpBuilder &b, Location loc, ValueRange x);
+Value shr(OpBuilder &b, Location loc, ValueRange x);
+
+Value sin(OpBuilder &b, Location loc, ValueRange x);
+Value cos(OpBuilder &b, Location loc, ValueRange x);
+Value tan(OpBuilder &b, Location loc, ValueRange x);
+Value asin(OpBuilder &b, Location loc, ValueRange x);
+Value acos(OpBuilder &b, Location loc, ValueRange x);
+Value atan(OpBuilder &b, Location loc, ValueRange x);
+Value atan2(OpBuilder &b, Location loc, ValueRange x);
+Value exp(OpBuilder &b, Location loc, ValueRange x);
+Value exp2(OpBuilder &b, Location loc, ValueRange x);
+Value log(OpBuilder &b, Location loc, ValueRange x);
+Value log2(OpBuilder &b, Location loc, ValueRange x);
+Value log10(OpBuilder &b, Location loc, ValueRange x);
+Value sqrt(OpBuilder &b, Location loc, ValueRange x);
+Value inverseSqrt(OpBuilder &b, Location loc, ValueRange x);
+Value floor(OpBuilder &b, Location loc, ValueRange x);
+Value ceil(OpBuilder &b, Location loc, ValueRange x);
+Value round(OpBuilder &b, Location loc, ValueRange x);
+Value trunc(OpBuilder &b, Location loc, ValueRange x);
+Value sign(OpBuilder &b, Location loc, ValueRange x);
+Value pow(OpBuilder &b, Location loc, ValueRange x);
+Value fmod(OpBuilder &b, Location loc, ValueRange x);
+Value step(OpBuilder &b, Location loc, ValueRange x);
+Value mix(OpBuilder &b, Location loc, ValueRange x);
+Value clamp(OpBuilder &b, Location loc, ValueRange x);
+Value smoothstep(OpBuilder &b, Location loc, ValueRange x);
+Value select(OpBuilder &b, Location loc, ValueRange x);
+
+/// OSL comparison `predicate` (eq, ne, lt, le, gt, ge) on two lane values.
+Value compare(OpBuilder &b, Location loc, StringRef predicate, Value lhs,
+              Value rhs);
+/// Converts between f32, i32 and i1 lane values with OSL's rules.
+Value convert(OpBuilder &b, Location loc, Value x, Type toElement);
+
+} // namespace mlir::osl::lane
+
+#endif // OSLTRANSFORMS_LANEMATH_H

@@ -1,0 +1,63 @@
+//===- NoiseBuilder.h - Emit OSL noise as arith ops --------------*- C++ -*-===//
+//
+// Builds OSL's noise functions out of `arith` (plus `math.floor`) ops, for
+// scalar f32 or vector<W x f32> operands, so that the lowering of the noise
+// ops is inlined and width-generic. The emitted computation mirrors
+// osl::ref (OslReference/Noise.h) operation by operation and is
+// bit-identical to it at every width: no FMA, no fast-math flags.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLTRANSFORMS_NOISEBUILDER_H
+#define OSLTRANSFORMS_NOISEBUILDER_H
+
+#include "mlir/IR/Builders.h"
+#include "mlir/IR/Location.h"
+#include "mlir/IR/Value.h"
+#include "mlir/IR/ValueRange.h"
+#include "llvm/ADT/StringRef.h"
+
+#include <array>
+#include <optional>
+
+namespace mlir::osl {
+
+enum class NoiseKind {
+  Perlin,   ///< "perlin", "snoise": signed, about [-1, 1]
+  UPerlin,  ///< "uperlin", "noise": 0.5 * (perlin + 1)
+  Cell,     ///< "cell", "cellnoise": hash of floor(coords), [0, 1]
+  Hash,     ///< "hash", "hashnoise": hash of the coords' bits, [0, 1]
+  Simplex,  ///< "simplex": signed simplex noise
+  USimplex, ///< "usimplex": 0.5 * (simplex + 1)
+};
+
+/// Every Value in `coords` (1 to 4 of them, OSL's domain order x, y, z, w)
+/// has the same type: f32 or vector<W x f32>. Results have that same type.
+/// Emits only arith ops (vector constants as splat arith.constant) and
+/// math.floor at b's insertion point; the Math dialect must be loaded.
+mlir::Value buildNoiseFloat(mlir::OpBuilder &b, mlir::Location loc,
+                            NoiseKind kind, mlir::ValueRange coords);
+std::array<mlir::Value, 3> buildNoiseTriple(mlir::OpBuilder &b,
+                                            mlir::Location loc, NoiseKind kind,
+                                            mlir::ValueRange coords);
+
+/// Periodic noise (OSL's pnoise): `periods` has one value per coordinate, of
+/// the same type. Perlin/UPerlin wrap the integer lattice (periods are
+/// floored and clamped to at least 1); Cell/Hash wrap the coordinates.
+/// Returns a null Value (or nulls) for Simplex/USimplex, which OSL does not
+/// define as periodic.
+mlir::Value buildPeriodicNoiseFloat(mlir::OpBuilder &b, mlir::Location loc,
+                                    NoiseKind kind, mlir::ValueRange coords,
+                                    mlir::ValueRange periods);
+std::array<mlir::Value, 3>
+buildPeriodicNoiseTriple(mlir::OpBuilder &b, mlir::Location loc,
+                         NoiseKind kind, mlir::ValueRange coords,
+                         mlir::ValueRange periods);
+
+/// Parses an OSL noise type name: "perlin"/"snoise", "uperlin"/"noise",
+/// "cell"/"cellnoise", "hash"/"hashnoise", "simplex", "usimplex".
+/// ("gabor" and unknown names give std::nullopt.)
+std::optional<NoiseKind> parseNoiseName(llvm::StringRef name);
+
+} // namespace mlir::osl
+
+#endif // OSLTRANSFORMS_NOISEBUILDER_H

@@ -1,0 +1,134 @@
+//===- ShaderCompiler.cpp - OSL source to a callable batch kernel ---------===//
+#include "OslCompiler/ShaderCompiler.h"
+
+#include "OslDialect/OslDialect.h"
+#include "OslTransforms/Passes.h"
+
+#include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
+#include "mlir/IR/Diagnostics.h"
+#include "mlir/Parser/Parser.h"
+#include "mlir/Pass/PassManager.h"
+#include "mlir/Target/LLVMIR/Dialect/Builtin/BuiltinToLLVMIRTranslation.h"
+#include "mlir/Target/LLVMIR/Dialect/LLVMIR/LLVMToLLVMIRTranslation.h"
+#include "mlir/Target/LLVMIR/Export.h"
+#include "llvm/IR/LLVMContext.h"
+#include "llvm/IR/Module.h"
+#include "llvm/Support/SourceMgr.h"
+
+using namespace osl;
+
+namespace {
+std::string paramBindings(const std::vector<ParamOverride> &) {
+  // The front end already turned overrides into constants.
+  return "";
+}
+} // namespace
+
+ShaderCompiler::ShaderCompiler(const CompileOptions &options,
+                               llvm::raw_ostream &errs, Stats *stats)
+    : options(options), errs(errs), stats(stats),
+      context(mlir::MLIRContext::Threading::DISABLED) {
+  if (this->options.width == 0)
+    this->options.width = Jit::hostMaxWidth();
+  mlir::DialectRegistry registry;
+  registry.insert<mlir::osl::OslDialect, mlir::func::FuncDialect,
+                  mlir::arith::ArithDialect, mlir::math::MathDialect,
+                  mlir::scf::SCFDialect, mlir::vector::VectorDialect,
+                  mlir::cf::ControlFlowDialect, mlir::LLVM::LLVMDialect>();
+  mlir::registerBuiltinDialectTranslation(registry);
+  mlir::registerLLVMDialectTranslation(registry);
+  context.appendDialectRegistry(registry);
+  context.loadAllAvailableDialects();
+}
+
+ShaderCompiler::~ShaderCompiler() = default;
+
+bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
+  ScopedTimer timer(stats, "front end");
+  if (filename.ends_with(".mlir")) {
+    // osl dialect written or edited by hand: the IR is the interface.
+    llvm::SourceMgr sourceMgr;
+    sourceMgr.AddNewSourceBuffer(
+        llvm::MemoryBuffer::getMemBuffer(source, filename), llvm::SMLoc());
+    mlir::SourceMgrDiagnosticHandler handler(sourceMgr, &context, errs);
+    mlirModule = mlir::parseSourceFile<mlir::ModuleOp>(sourceMgr, &context);
+  } else {
+    mlirModule = parseOslShader(source, filename, context, options.params, errs);
+  }
+  if (!mlirModule)
+    return false;
+  // Output rows follow the order of osl.output ops, as in the lowering.
+  outputSpecs.clear();
+  mlirModule->walk([&](mlir::func::FuncOp f) { shaderName = f.getSymName().str(); });
+  mlirModule->walk([&](mlir::osl::OutputOp out) {
+    mlir::Type t = mlir::osl::getUniformType(out.getValue().getType());
+    outputSpecs.push_back({out.getName().str(), mlir::osl::isTriple(t) ? 3 : 1});
+  });
+  return true;
+}
+
+bool ShaderCompiler::lower() {
+  ScopedTimer timer(stats, "mlir passes");
+  mlir::PassManager pm(&context);
+  mlir::osl::buildOslToLLVMPipeline(pm, options.width,
+                                    paramBindings(options.params));
+  // Pass failures report through the context's diagnostics, with the
+  // shader's file:line:col locations.
+  mlir::ScopedDiagnosticHandler handler(&context, [&](mlir::Diagnostic &d) {
+    if (d.getSeverity() == mlir::DiagnosticSeverity::Error) {
+      d.getLocation().print(errs);
+      errs << ": error: " << d.str() << "\n";
+    }
+    return mlir::success();
+  });
+  return mlir::succeeded(pm.run(*mlirModule));
+}
+
+bool ShaderCompiler::translate() {
+  {
+    ScopedTimer timer(stats, "llvm translate");
+    llvmContext = std::make_unique<llvm::LLVMContext>();
+    llvmIR = mlir::translateModuleToLLVMIR(*mlirModule, *llvmContext, shaderName);
+    if (!llvmIR) {
+      errs << "error: translation to LLVM IR failed\n";
+      return false;
+    }
+  }
+  auto created = Jit::create(stats);
+  if (!created) {
+    errs << "error: " << llvm::toString(created.takeError()) << "\n";
+    return false;
+  }
+  jit = std::move(*created);
+  if (llvm::Error e = jit->optimize(*llvmIR)) {
+    errs << "error: " << llvm::toString(std::move(e)) << "\n";
+    return false;
+  }
+  return true;
+}
+
+std::unique_ptr<CompiledShader> ShaderCompiler::load() {
+  if (llvm::Error e = jit->addModule(std::move(llvmIR), std::move(llvmContext))) {
+    errs << "error: " << llvm::toString(std::move(e)) << "\n";
+    return nullptr;
+  }
+  auto symbol = jit->lookup("osl_batch");
+  if (!symbol) {
+    errs << "error: " << llvm::toString(symbol.takeError()) << "\n";
+    return nullptr;
+  }
+  auto shader = std::make_unique<CompiledShader>();
+  shader->kernel = reinterpret_cast<BatchKernel>(*symbol);
+  shader->width = options.width;
+  shader->name = shaderName;
+  shader->outputs = outputSpecs;
+  shader->jit = std::move(jit);
+  return shader;
+}
+
+std::unique_ptr<CompiledShader> ShaderCompiler::compile(llvm::StringRef source,
+                                                        llvm::StringRef filename) {
+  if (!parse(source, filename) || !lower() || !translate())
+    return nullptr;
+  return load();
+}

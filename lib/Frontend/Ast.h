@@ -1,0 +1,120 @@
+//===- Ast.h - OSL syntax tree ----------------------------------*- C++ -*-===//
+#ifndef OSLFRONTEND_AST_H
+#define OSLFRONTEND_AST_H
+
+#include "Diagnostics.h"
+#include "Types.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace osl::frontend {
+
+struct Expr;
+struct Stmt;
+struct FunctionDecl;
+using ExprPtr = std::unique_ptr<Expr>;
+using StmtPtr = std::unique_ptr<Stmt>;
+
+enum class ExprKind {
+  IntLit,    // intValue
+  FloatLit,  // floatValue
+  StringLit, // name = the string
+  Ident,     // name
+  Unary,     // name = "-", "+", "!", "~"; args[0]
+  Binary,    // name = operator ("+", "&&", "==", ...); args[0], args[1]
+  Assign,    // name = "=", "+=", ...; args[0] = target, args[1] = value
+  IncDec,    // name = "++" or "--"; prefix; args[0]
+  Ternary,   // args = cond, then, else
+  Call,      // name = function; args; ctorType set for type constructors
+  Index,     // args[0][args[1]]
+  Member,    // args[0].name
+  Cast,      // (castType) args[0]
+  InitList,  // { args... } (array initializers)
+};
+
+struct Expr {
+  ExprKind kind;
+  SrcLoc loc;
+  std::string name;
+  long long intValue = 0;
+  double floatValue = 0;
+  bool prefix = false;        // IncDec
+  bool isCtor = false;        // Call: `color(...)`, `float(...)`...
+  OslType castType;           // Cast target or constructor type
+  std::vector<ExprPtr> args;
+
+  Expr(ExprKind kind, SrcLoc loc) : kind(kind), loc(loc) {}
+};
+
+struct Declarator {
+  std::string name;
+  SrcLoc loc;
+  int arrayLen = -1; // as in OslType
+  ExprPtr init;      // may be null; an InitList for arrays
+};
+
+enum class StmtKind {
+  Block,    // body
+  Decl,     // declType, decls
+  ExprStmt, // expr
+  If,       // expr, thenStmt, elseStmt (may be null)
+  For,      // init (may be null), expr (cond, may be null), step (may be null), thenStmt = body
+  While,    // expr, thenStmt = body
+  DoWhile,  // thenStmt = body, expr
+  Break,
+  Continue,
+  Return,   // expr (may be null)
+  FuncDef,  // func (a function nested in a body)
+  Empty,
+};
+
+struct Stmt {
+  StmtKind kind;
+  SrcLoc loc;
+  std::vector<StmtPtr> body;
+  OslType declType;
+  std::vector<Declarator> decls;
+  ExprPtr expr;
+  ExprPtr step;
+  StmtPtr init;
+  StmtPtr thenStmt;
+  StmtPtr elseStmt;
+  std::unique_ptr<FunctionDecl> func;
+
+  Stmt(StmtKind kind, SrcLoc loc) : kind(kind), loc(loc) {}
+};
+
+struct Param {
+  OslType type;
+  std::string name;
+  SrcLoc loc;
+  bool isOutput = false;
+  ExprPtr init; // shader parameters: the default (may be an InitList)
+};
+
+struct FunctionDecl {
+  OslType returnType;
+  std::string name;
+  SrcLoc loc;
+  std::vector<Param> params;
+  StmtPtr body; // a Block
+};
+
+struct ShaderDecl {
+  std::string shaderType; // shader, surface, displacement, volume, light
+  std::string name;
+  SrcLoc loc;
+  std::vector<Param> params;
+  StmtPtr body;
+};
+
+struct Program {
+  std::vector<std::unique_ptr<FunctionDecl>> functions;
+  std::unique_ptr<ShaderDecl> shader;
+};
+
+} // namespace osl::frontend
+
+#endif // OSLFRONTEND_AST_H

@@ -1,0 +1,241 @@
+//===- IRGen.h - Syntax tree to the osl dialect -----------------*- C++ -*-===//
+//
+// Variables are SSA: each variable's current value lives in the emitter
+// (Var::val) and is replaced on assignment. Structured control flow
+// (osl.if, osl.while) carries the variables its regions assign, found by a
+// syntactic scan (scanAssigned). User functions are inlined at each call.
+// Strings are compile-time constants.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLFRONTEND_IRGEN_H
+#define OSLFRONTEND_IRGEN_H
+
+#include "Ast.h"
+#include "OslDialect/OslDialect.h"
+#include "OslFrontend/Frontend.h"
+
+#include "mlir/Dialect/Func/IR/FuncOps.h"
+#include "mlir/IR/Builders.h"
+#include "llvm/ADT/StringMap.h"
+#include "llvm/ADT/StringSet.h"
+
+#include <deque>
+#include <optional>
+#include <set>
+
+namespace osl::frontend {
+
+/// A value of some OSL type: one IR value for numbers and triples, a
+/// compile-time string, or the elements of an array.
+struct RValue {
+  OslType type;
+  mlir::Value value;
+  std::string str;
+  std::vector<mlir::Value> elems;
+
+  static RValue num(OslType t, mlir::Value v) {
+    RValue r;
+    r.type = t;
+    r.value = v;
+    return r;
+  }
+  static RValue string(std::string s) {
+    RValue r;
+    r.type = OslType(BaseType::String);
+    r.str = std::move(s);
+    return r;
+  }
+  static RValue voidValue() { return RValue(); }
+};
+
+struct Var {
+  std::string name;
+  OslType type;
+  SrcLoc loc;
+  unsigned id = 0;       // creation order: carried values are sorted by it
+  RValue val;            // the current value
+  bool isGlobal = false; // a shader global, read lazily (see readVar)
+  bool isOutputParam = false;
+};
+
+struct Scope;
+/// A function and the scope it was defined in (its free names resolve
+/// there: globals for top-level functions, the enclosing body for nested
+/// ones).
+struct FunctionRef {
+  const FunctionDecl *decl;
+  Scope *scope;
+};
+
+struct Scope {
+  Scope *parent = nullptr;
+  llvm::StringMap<Var *> vars;
+  llvm::StringMap<std::vector<FunctionRef>> funcs;
+};
+
+/// One step of an lvalue: an array element or a triple component, with
+/// its index (a constant when `constIndex >= 0`).
+struct Access {
+  bool component = false;
+  mlir::Value index; // i32
+  int64_t constIndex = -1;
+  int length = 0; // number of elements or 3
+  SrcLoc loc;
+};
+
+struct LValue {
+  Var *var = nullptr;
+  std::vector<Access> path;
+  OslType type; // of the designated element
+};
+
+class IRGen {
+public:
+  IRGen(mlir::MLIRContext &ctx, Diagnostics &diags,
+        llvm::ArrayRef<ParamOverride> overrides);
+
+  mlir::OwningOpRef<mlir::ModuleOp> emitProgram(const Program &program);
+
+  // --- building blocks shared with Builtins.cpp -------------------------------
+  mlir::OpBuilder &builder() { return b; }
+  Diagnostics &diagnostics() { return diags; }
+  mlir::Location loc(SrcLoc l);
+  bool error(SrcLoc l, const llvm::Twine &msg) {
+    diags.error(l, msg);
+    return false;
+  }
+
+  mlir::Value constInt(int32_t v, SrcLoc l);
+  mlir::Value constFloat(float v, SrcLoc l);
+  mlir::Value constBool(bool v, SrcLoc l);
+  mlir::Value constTriple(float x, float y, float z, SrcLoc l);
+  /// Zero of a non-array numeric type, a zeroed array, or "" for strings.
+  RValue zeroValue(OslType t, SrcLoc l);
+  static std::optional<int64_t> getConstInt(mlir::Value v);
+  static std::optional<bool> getConstBool(mlir::Value v);
+
+  /// osl.convert to another base type (uniformity kept), folding constants.
+  mlir::Value convert(mlir::Value v, mlir::Type toBase, SrcLoc l);
+  /// Implicit conversion (assignment rules): int->float, scalars->triples,
+  /// triple<->triple, bool->int/float; arrays element by element.
+  /// Reports "cannot convert 'A' to 'B' <context>".
+  std::optional<RValue> coerce(RValue v, OslType to, SrcLoc l,
+                               const llvm::Twine &context);
+  /// Explicit cast: coerce plus float->int truncation.
+  std::optional<RValue> cast(RValue v, OslType to, SrcLoc l);
+  /// Is `from` implicitly convertible to `to`; cost for overload ranking
+  /// (0 exact, larger is worse), or -1.
+  static int conversionCost(OslType from, OslType to);
+  /// A condition as i1: numbers and triples compare != 0.
+  std::optional<mlir::Value> toBool(const RValue &v, SrcLoc l);
+
+  std::optional<RValue> emitExpr(const Expr &e, const OslType *expected = nullptr);
+
+  /// Arithmetic/comparison/bitwise operators on two values.
+  std::optional<RValue> emitBinaryOp(llvm::StringRef op, RValue lhs, RValue rhs,
+                                     SrcLoc l);
+
+private:
+  // --- program structure -----------------------------------------------------
+  bool emitShader(const ShaderDecl &shader, mlir::func::FuncOp func);
+  bool emitParam(const Param &p, Scope *scope);
+  std::optional<RValue> overrideValue(const Param &p, const std::string &text);
+  void collectFunctions(const Stmt &s);
+
+  // --- scopes and variables --------------------------------------------------
+  Scope *newScope(Scope *parent);
+  Var *declareVar(Scope *scope, const std::string &name, OslType type, SrcLoc l,
+                  RValue init);
+  Var *lookupVar(llvm::StringRef name);
+  /// The current value of a variable (materializes a global).
+  RValue readVar(Var *v, SrcLoc l);
+  std::vector<FunctionRef> lookupFunctions(llvm::StringRef name);
+
+  // --- statements ------------------------------------------------------------
+  bool emitStmt(const Stmt &s);
+  bool emitBlockBody(const std::vector<StmtPtr> &stmts);
+  bool emitDecl(const Stmt &s);
+  bool emitIf(const Stmt &s);
+  bool emitLoop(const Stmt &s);
+
+  /// Names assigned anywhere in a statement or expression (including
+  /// through output arguments and the bodies of called user functions).
+  void scanAssigned(const Stmt &s, llvm::StringSet<> &names);
+  void scanAssigned(const Expr &e, llvm::StringSet<> &names);
+  bool hasSideEffects(const Expr &e);
+  /// The outer variables a region must carry, sorted by creation.
+  std::vector<Var *> carriedVars(const llvm::StringSet<> &names);
+  std::vector<mlir::Value> flatten(const std::vector<Var *> &vars, SrcLoc l);
+  void unflatten(const std::vector<Var *> &vars, mlir::ValueRange values);
+
+  // --- expressions -----------------------------------------------------------
+  std::optional<RValue> emitIdent(const Expr &e);
+  std::optional<RValue> emitUnary(const Expr &e);
+  std::optional<RValue> emitBinary(const Expr &e);
+  std::optional<RValue> emitLogical(const Expr &e);
+  std::optional<RValue> emitTernary(const Expr &e, const OslType *expected);
+  std::optional<RValue> emitAssign(const Expr &e);
+  std::optional<RValue> emitIncDec(const Expr &e);
+  std::optional<RValue> emitIndexOrMember(const Expr &e);
+  std::optional<RValue> emitCall(const Expr &e, const OslType *expected);
+  std::optional<RValue> emitUserCall(const Expr &e,
+                                     const std::vector<FunctionRef> &cands,
+                                     const OslType *expected, bool &noMatch);
+  /// Runs `emitArm` in both arms of an osl.if on `cond` and returns the
+  /// values each arm produces (plus the carried variables).
+  std::optional<RValue> emitIfExpr(mlir::Value cond, SrcLoc l,
+                                   const llvm::StringSet<> &assigned,
+                                   llvm::function_ref<std::optional<RValue>()> thenArm,
+                                   llvm::function_ref<std::optional<RValue>()> elseArm);
+  /// Common type of two branches (ternary) or nullopt.
+  std::optional<OslType> unify(OslType a, OslType b);
+
+  std::optional<LValue> emitLValue(const Expr &e);
+  RValue loadLValue(const LValue &lv, SrcLoc l);
+  bool storeLValue(const LValue &lv, RValue v, SrcLoc l);
+  RValue updatePath(const RValue &cur, const std::vector<Access> &path, size_t k,
+                    const RValue &newValue, SrcLoc l);
+  /// Reads element `a` of an array (elems) or triple, index clamped.
+  RValue readAccess(const RValue &cur, const Access &a, SrcLoc l);
+  /// i1: does the (clamped) index select element k of n?
+  mlir::Value selectsElement(mlir::Value index, int k, int n, SrcLoc l);
+
+  mlir::MLIRContext &ctx;
+  Diagnostics &diags;
+  llvm::ArrayRef<ParamOverride> overrides;
+  mlir::OpBuilder b;
+  mlir::Block *entryBlock = nullptr;
+  mlir::Operation *lastGlobal = nullptr; // globals are emitted at the top
+
+  std::deque<Scope> scopes;
+  std::deque<Var> vars;
+  Scope *root = nullptr;
+  Scope *current = nullptr;
+  unsigned nextVarId = 0;
+
+  /// All user functions by name (for the assignment scan).
+  llvm::StringMap<std::vector<const FunctionDecl *>> allFunctions;
+
+  struct InlineFrame {
+    const FunctionDecl *fn;
+    std::set<const Stmt *> tailReturns;
+    Var *returnVar = nullptr;
+  };
+  std::vector<InlineFrame> inlineStack;
+  unsigned exprDepth = 0;
+};
+
+/// Library functions (Builtins.cpp). Returns nullopt with an error
+/// reported, or sets `known` to false (and reports nothing) when `name`
+/// is not a builtin.
+std::optional<RValue> emitBuiltinCall(IRGen &gen, const Expr &call,
+                                      const OslType *expected, bool &known);
+/// Is `name` a builtin function (supported or not)?
+bool isBuiltinName(llvm::StringRef name);
+
+/// The name of the hidden variable holding a function's return value.
+inline constexpr const char *kReturnVarName = "$return";
+
+} // namespace osl::frontend
+
+#endif // OSLFRONTEND_IRGEN_H

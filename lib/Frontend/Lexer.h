@@ -1,0 +1,44 @@
+//===- Lexer.h - OSL tokens -------------------------------------*- C++ -*-===//
+#ifndef OSLFRONTEND_LEXER_H
+#define OSLFRONTEND_LEXER_H
+
+#include "Diagnostics.h"
+
+#include "llvm/ADT/StringRef.h"
+
+#include <string>
+#include <vector>
+
+namespace osl::frontend {
+
+enum class TokKind { Eof, Ident, Int, Float, String, Punct };
+
+struct Token {
+  TokKind kind = TokKind::Eof;
+  /// Identifier or punctuator spelling; a string literal's value (escapes
+  /// resolved); a number's spelling.
+  std::string text;
+  SrcLoc loc;
+  /// First token on its (logical) line: preprocessor directives start so.
+  bool startOfLine = false;
+  /// Whitespace or a comment precedes the token (function-like macros
+  /// need `NAME(` without a space).
+  bool spaceBefore = false;
+
+  bool is(TokKind k) const { return kind == k; }
+  bool isPunct(llvm::StringRef p) const { return kind == TokKind::Punct && text == p; }
+  bool isIdent(llvm::StringRef name) const {
+    return kind == TokKind::Ident && text == name;
+  }
+};
+
+/// Splits source text into tokens (no preprocessing). Returns false after
+/// reporting an error. The token list always ends with an Eof token.
+bool lex(llvm::StringRef source, Diagnostics &diags, std::vector<Token> &out);
+
+/// Describes a token for "unexpected token" messages: 'x', end of file...
+std::string describeToken(const Token &tok);
+
+} // namespace osl::frontend
+
+#endif // OSLFRONTEND_LEXER_H

@@ -1,0 +1,500 @@
+//===- Preprocessor.cpp - A small C-style preprocessor -----------------------===//
+#include "Preprocessor.h"
+
+#include "llvm/ADT/SmallVector.h"
+#include "llvm/ADT/StringMap.h"
+#include "llvm/ADT/StringSet.h"
+
+#include <algorithm>
+#include <cstdlib>
+
+using namespace osl::frontend;
+
+namespace {
+
+struct Macro {
+  bool functionLike = false;
+  std::vector<std::string> params;
+  std::vector<Token> body;
+};
+
+/// Limits that keep pathological macros from running away.
+constexpr unsigned kMaxExpansionDepth = 128;
+constexpr size_t kMaxOutputTokens = 4u << 20;
+
+class Preprocessor {
+public:
+  Preprocessor(const std::vector<Token> &raw, Diagnostics &diags)
+      : raw(raw), diags(diags) {
+    auto define = [&](const char *name, const char *value) {
+      Macro m;
+      Token t;
+      t.kind = TokKind::Int;
+      t.text = value;
+      m.body.push_back(t);
+      macros[name] = m;
+    };
+    define("OSL_VERSION_MAJOR", "1");
+    define("OSL_VERSION_MINOR", "13");
+    define("OSL_VERSION_PATCH", "12");
+    define("OSL_VERSION", "11312");
+  }
+
+  bool run(std::vector<Token> &out) {
+    size_t i = 0;
+    std::vector<Token> text; // a run of ordinary lines
+    while (true) {
+      const Token &tok = raw[i];
+      if (tok.is(TokKind::Eof) || (tok.isPunct("#") && tok.startOfLine)) {
+        if (!text.empty()) {
+          if (!expand(text, out, {}, 0))
+            return false;
+          text.clear();
+        }
+        if (tok.is(TokKind::Eof))
+          break;
+        // Gather the directive's line.
+        SrcLoc hashLoc = tok.loc;
+        ++i;
+        std::vector<Token> line;
+        while (!raw[i].is(TokKind::Eof) && !raw[i].startOfLine)
+          line.push_back(raw[i++]);
+        if (!directive(hashLoc, line))
+          return false;
+        continue;
+      }
+      if (active())
+        text.push_back(tok);
+      ++i;
+    }
+    if (!conds.empty()) {
+      diags.error(conds.back().loc, "unterminated conditional directive (missing #endif)");
+      return false;
+    }
+    Token eof = raw.back();
+    out.push_back(eof);
+    return true;
+  }
+
+private:
+  struct Cond {
+    SrcLoc loc;
+    bool parentActive; // the enclosing region is being compiled
+    bool taken;        // some branch of this #if has been taken
+    bool active;       // the current branch is being compiled
+    bool sawElse;
+  };
+
+  bool active() const { return conds.empty() || conds.back().active; }
+
+  bool directive(SrcLoc hashLoc, std::vector<Token> &line) {
+    if (line.empty())
+      return true; // null directive
+    const Token &name = line[0];
+    if (!name.is(TokKind::Ident)) {
+      if (!active())
+        return true;
+      diags.error(name.loc, "expected a preprocessor directive after '#', found " +
+                                describeToken(name));
+      return false;
+    }
+    const std::string &d = name.text;
+    // Conditionals are tracked even in inactive regions.
+    if (d == "if" || d == "ifdef" || d == "ifndef") {
+      bool parentActive = active();
+      bool value = false;
+      if (parentActive) {
+        if (d == "if") {
+          if (!evalCondition(name, line, value))
+            return false;
+        } else {
+          if (line.size() < 2 || !line[1].is(TokKind::Ident)) {
+            diags.error(line.size() < 2 ? name.loc : line[1].loc,
+                        "#" + d + " needs a macro name");
+            return false;
+          }
+          value = macros.count(line[1].text) != 0;
+          if (d == "ifndef")
+            value = !value;
+        }
+      }
+      conds.push_back({hashLoc, parentActive, value, parentActive && value, false});
+      return true;
+    }
+    if (d == "elif" || d == "else" || d == "endif") {
+      if (conds.empty()) {
+        diags.error(name.loc, "#" + d + " without #if");
+        return false;
+      }
+      Cond &c = conds.back();
+      if (d == "endif") {
+        conds.pop_back();
+        return true;
+      }
+      if (c.sawElse) {
+        diags.error(name.loc, "#" + d + " after #else");
+        return false;
+      }
+      if (d == "else") {
+        c.sawElse = true;
+        c.active = c.parentActive && !c.taken;
+        c.taken = true;
+        return true;
+      }
+      bool value = false;
+      if (c.parentActive && !c.taken) {
+        if (!evalCondition(name, line, value))
+          return false;
+      }
+      c.active = c.parentActive && !c.taken && value;
+      c.taken = c.taken || value;
+      return true;
+    }
+    if (!active())
+      return true;
+    if (d == "include") {
+      std::string file;
+      if (line.size() >= 2 && line[1].is(TokKind::String)) {
+        file = line[1].text;
+      } else if (line.size() >= 2 && line[1].isPunct("<")) {
+        for (size_t k = 2; k < line.size() && !line[k].isPunct(">"); ++k)
+          file += line[k].text;
+      }
+      if (file == "stdosl.h")
+        return true; // built in
+      diags.error(name.loc, file.empty() ? llvm::Twine("malformed #include")
+                                          : "#include \"" + file +
+                                                "\" is not supported (only stdosl.h)");
+      return false;
+    }
+    if (d == "define")
+      return define(name, line);
+    if (d == "undef") {
+      if (line.size() < 2 || !line[1].is(TokKind::Ident)) {
+        diags.error(name.loc, "#undef needs a macro name");
+        return false;
+      }
+      macros.erase(line[1].text);
+      return true;
+    }
+    if (d == "pragma")
+      return true;
+    if (d == "error") {
+      std::string msg;
+      for (size_t k = 1; k < line.size(); ++k)
+        msg += (k > 1 ? " " : "") + line[k].text;
+      diags.error(name.loc, "#error " + msg);
+      return false;
+    }
+    diags.error(name.loc, "unsupported preprocessor directive '#" + d + "'");
+    return false;
+  }
+
+  bool define(const Token &directiveTok, std::vector<Token> &line) {
+    if (line.size() < 2 || !line[1].is(TokKind::Ident)) {
+      diags.error(line.size() < 2 ? directiveTok.loc : line[1].loc,
+                  "#define needs a macro name");
+      return false;
+    }
+    Macro m;
+    size_t k = 2;
+    if (k < line.size() && line[k].isPunct("(") && !line[k].spaceBefore) {
+      m.functionLike = true;
+      ++k;
+      if (k < line.size() && line[k].isPunct(")")) {
+        ++k;
+      } else {
+        while (true) {
+          if (k >= line.size() || !line[k].is(TokKind::Ident)) {
+            diags.error(k < line.size() ? line[k].loc : line[1].loc,
+                        "expected a macro parameter name");
+            return false;
+          }
+          m.params.push_back(line[k].text);
+          ++k;
+          if (k < line.size() && line[k].isPunct(",")) {
+            ++k;
+            continue;
+          }
+          if (k < line.size() && line[k].isPunct(")")) {
+            ++k;
+            break;
+          }
+          diags.error(k < line.size() ? line[k].loc : line[1].loc,
+                      "expected ',' or ')' in macro parameter list");
+          return false;
+        }
+      }
+    }
+    for (; k < line.size(); ++k) {
+      if (line[k].isPunct("#") || line[k].isPunct("##")) {
+        diags.error(line[k].loc, "'" + line[k].text +
+                                     "' in macros (stringizing/pasting) is not supported");
+        return false;
+      }
+      m.body.push_back(line[k]);
+    }
+    macros[line[1].text] = std::move(m);
+    return true;
+  }
+
+  /// Macro-expands `in` into `out`. `hidden` holds macros being expanded.
+  bool expand(const std::vector<Token> &in, std::vector<Token> &out,
+              const llvm::StringSet<> &hidden, unsigned depth) {
+    if (depth > kMaxExpansionDepth) {
+      diags.error(in.empty() ? SrcLoc() : in.front().loc,
+                  "macro expansion nested too deeply");
+      return false;
+    }
+    for (size_t i = 0; i < in.size(); ++i) {
+      const Token &tok = in[i];
+      if (out.size() > kMaxOutputTokens) {
+        diags.error(tok.loc, "macro expansion is too large");
+        return false;
+      }
+      auto it = tok.is(TokKind::Ident) && !hidden.contains(tok.text)
+                    ? macros.find(tok.text)
+                    : macros.end();
+      if (it == macros.end()) {
+        out.push_back(tok);
+        continue;
+      }
+      const Macro &m = it->second;
+      llvm::StringSet<> inner = hidden;
+      inner.insert(tok.text);
+      std::vector<Token> result;
+      if (!m.functionLike) {
+        result = m.body;
+      } else {
+        if (i + 1 >= in.size() || !in[i + 1].isPunct("(")) {
+          out.push_back(tok); // a function-like macro name alone
+          continue;
+        }
+        // Collect the arguments.
+        std::vector<std::vector<Token>> args(1);
+        size_t k = i + 2;
+        int parens = 0;
+        for (; k < in.size(); ++k) {
+          const Token &a = in[k];
+          if (a.isPunct("(")) {
+            ++parens;
+          } else if (a.isPunct(")")) {
+            if (parens == 0)
+              break;
+            --parens;
+          } else if (a.isPunct(",") && parens == 0) {
+            args.emplace_back();
+            continue;
+          }
+          args.back().push_back(a);
+        }
+        if (k >= in.size()) {
+          diags.error(tok.loc, "unterminated call of macro '" + tok.text + "'");
+          return false;
+        }
+        if (m.params.empty() && args.size() == 1 && args[0].empty())
+          args.clear();
+        if (args.size() != m.params.size()) {
+          diags.error(tok.loc, "macro '" + tok.text + "' takes " +
+                                   llvm::Twine(m.params.size()) + " argument(s), got " +
+                                   llvm::Twine(args.size()));
+          return false;
+        }
+        std::vector<std::vector<Token>> expandedArgs(args.size());
+        for (size_t a = 0; a < args.size(); ++a)
+          if (!expand(args[a], expandedArgs[a], hidden, depth + 1))
+            return false;
+        for (const Token &b : m.body) {
+          auto p = b.is(TokKind::Ident)
+                       ? std::find(m.params.begin(), m.params.end(), b.text)
+                       : m.params.end();
+          if (p == m.params.end()) {
+            result.push_back(b);
+            continue;
+          }
+          auto &arg = expandedArgs[p - m.params.begin()];
+          result.insert(result.end(), arg.begin(), arg.end());
+        }
+        i = k; // the closing ')'
+      }
+      // Expanded tokens report the position of the macro use.
+      for (Token &r : result) {
+        r.loc = tok.loc;
+        r.startOfLine = false;
+      }
+      if (!expand(result, out, inner, depth + 1))
+        return false;
+    }
+    return true;
+  }
+
+  // --- #if expressions -----------------------------------------------------
+
+  bool evalCondition(const Token &directiveTok, std::vector<Token> &line,
+                     bool &value) {
+    // Replace defined(X) / defined X before expanding macros.
+    std::vector<Token> pre;
+    for (size_t k = 1; k < line.size(); ++k) {
+      if (line[k].isIdent("defined")) {
+        size_t n = k + 1;
+        bool paren = n < line.size() && line[n].isPunct("(");
+        if (paren)
+          ++n;
+        if (n >= line.size() || !line[n].is(TokKind::Ident) ||
+            (paren && (n + 1 >= line.size() || !line[n + 1].isPunct(")")))) {
+          diags.error(line[k].loc, "malformed 'defined' in #" + directiveTok.text);
+          return false;
+        }
+        Token t = line[k];
+        t.kind = TokKind::Int;
+        t.text = macros.count(line[n].text) ? "1" : "0";
+        pre.push_back(t);
+        k = paren ? n + 1 : n;
+        continue;
+      }
+      pre.push_back(line[k]);
+    }
+    if (pre.empty()) {
+      diags.error(directiveTok.loc, "#" + directiveTok.text + " needs an expression");
+      return false;
+    }
+    std::vector<Token> toks;
+    if (!expand(pre, toks, {}, 0))
+      return false;
+    Token end;
+    end.kind = TokKind::Eof;
+    end.loc = toks.back().loc;
+    toks.push_back(end);
+    cur = &toks;
+    pos = 0;
+    evalDepth = 0;
+    double v;
+    if (!evalExpr(v, 0))
+      return false;
+    if (!toks[pos].is(TokKind::Eof)) {
+      diags.error(toks[pos].loc, "unexpected " + describeToken(toks[pos]) + " in #" +
+                                     directiveTok.text);
+      return false;
+    }
+    value = v != 0;
+    return true;
+  }
+
+  static int precedence(const Token &t) {
+    if (t.kind != TokKind::Punct)
+      return -1;
+    static const std::pair<const char *, int> table[] = {
+        {"||", 1}, {"&&", 2}, {"|", 3},  {"^", 4},  {"&", 5},  {"==", 6},
+        {"!=", 6}, {"<", 7},  {"<=", 7}, {">", 7},  {">=", 7}, {"<<", 8},
+        {">>", 8}, {"+", 9},  {"-", 9},  {"*", 10}, {"/", 10}, {"%", 10}};
+    for (auto &[op, prec] : table)
+      if (t.text == op)
+        return prec;
+    return -1;
+  }
+
+  bool evalExpr(double &v, int minPrec) {
+    if (!evalUnary(v))
+      return false;
+    while (true) {
+      const Token &op = (*cur)[pos];
+      int prec = precedence(op);
+      if (prec < 0 || prec < minPrec)
+        return true;
+      ++pos;
+      double r;
+      if (!evalExpr(r, prec + 1))
+        return false;
+      long long a = (long long)v, b = (long long)r;
+      const std::string &o = op.text;
+      if (o == "||") v = (v != 0) || (r != 0);
+      else if (o == "&&") v = (v != 0) && (r != 0);
+      else if (o == "|") v = double(a | b);
+      else if (o == "^") v = double(a ^ b);
+      else if (o == "&") v = double(a & b);
+      else if (o == "==") v = v == r;
+      else if (o == "!=") v = v != r;
+      else if (o == "<") v = v < r;
+      else if (o == "<=") v = v <= r;
+      else if (o == ">") v = v > r;
+      else if (o == ">=") v = v >= r;
+      else if (o == "<<") v = double(a << (b & 63));
+      else if (o == ">>") v = double(a >> (b & 63));
+      else if (o == "+") v = v + r;
+      else if (o == "-") v = v - r;
+      else if (o == "*") v = v * r;
+      else if (o == "/") v = r == 0 ? 0 : v / r;
+      else if (o == "%") v = b == 0 ? 0 : double(a % b);
+    }
+  }
+
+  bool evalUnary(double &v) {
+    if (evalDepth >= 200) {
+      diags.error((*cur)[pos].loc, "#if expression nested too deeply");
+      return false;
+    }
+    ++evalDepth;
+    bool ok = evalPrimary(v);
+    --evalDepth;
+    return ok;
+  }
+
+  bool evalPrimary(double &v) {
+    const Token &t = (*cur)[pos];
+    if (t.isPunct("!") || t.isPunct("-") || t.isPunct("+") || t.isPunct("~")) {
+      ++pos;
+      if (!evalUnary(v))
+        return false;
+      if (t.text == "!") v = v == 0;
+      else if (t.text == "-") v = -v;
+      else if (t.text == "~") v = double(~(long long)v);
+      return true;
+    }
+    if (t.isPunct("(")) {
+      ++pos;
+      if (!evalExpr(v, 0))
+        return false;
+      if (!(*cur)[pos].isPunct(")")) {
+        diags.error((*cur)[pos].loc, "expected ')' in #if expression, found " +
+                                         describeToken((*cur)[pos]));
+        return false;
+      }
+      ++pos;
+      return true;
+    }
+    if (t.is(TokKind::Int) || t.is(TokKind::Float)) {
+      llvm::StringRef s(t.text);
+      long long iv;
+      if (t.is(TokKind::Int) && !s.getAsInteger(0, iv))
+        v = double(iv);
+      else
+        v = std::strtod(t.text.c_str(), nullptr);
+      ++pos;
+      return true;
+    }
+    if (t.is(TokKind::Ident)) {
+      v = 0; // undefined identifiers are 0, as in C
+      ++pos;
+      return true;
+    }
+    diags.error(t.loc, "unexpected " + describeToken(t) + " in #if expression");
+    return false;
+  }
+
+  const std::vector<Token> &raw;
+  Diagnostics &diags;
+  llvm::StringMap<Macro> macros;
+  std::vector<Cond> conds;
+  // #if evaluation state.
+  std::vector<Token> *cur = nullptr;
+  size_t pos = 0;
+  unsigned evalDepth = 0;
+};
+
+} // namespace
+
+bool osl::frontend::preprocess(const std::vector<Token> &raw, Diagnostics &diags,
+                               std::vector<Token> &out) {
+  Preprocessor pp(raw, diags);
+  return pp.run(out);
+}

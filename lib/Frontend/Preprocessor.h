@@ -1,0 +1,23 @@
+//===- Preprocessor.h - A small C-style preprocessor ------------*- C++ -*-===//
+//
+// Supports what shaders commonly use: #include <stdosl.h> (ignored: its
+// contents are built in), object-like and function-like #define, #undef,
+// #if/#elif/#else/#endif with defined(), #ifdef/#ifndef, #pragma (ignored)
+// and #error. Stringizing (#) and pasting (##) are reported unsupported.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLFRONTEND_PREPROCESSOR_H
+#define OSLFRONTEND_PREPROCESSOR_H
+
+#include "Lexer.h"
+
+namespace osl::frontend {
+
+/// Expands `raw` (from lex()) into the token stream the parser reads.
+/// Returns false after reporting an error.
+bool preprocess(const std::vector<Token> &raw, Diagnostics &diags,
+                std::vector<Token> &out);
+
+} // namespace osl::frontend
+
+#endif // OSLFRONTEND_PREPROCESSOR_H

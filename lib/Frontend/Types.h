@@ -1,0 +1,72 @@
+//===- Types.h - OSL types as the front end sees them -----------*- C++ -*-===//
+//
+// The IR only knows f32, i32, i1 and vector<3xf32>; the front end keeps the
+// OSL type (point vs vector vs normal vs color, strings, arrays) itself.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLFRONTEND_TYPES_H
+#define OSLFRONTEND_TYPES_H
+
+#include "mlir/IR/Builders.h"
+#include "mlir/IR/Types.h"
+#include "llvm/ADT/StringRef.h"
+
+#include <string>
+
+namespace osl::frontend {
+
+enum class BaseType {
+  Void,
+  Int,
+  Float,
+  Point,
+  Vector,
+  Normal,
+  Color,
+  String,
+  Matrix,  // parsed, not supported by the IR yet
+  Closure, // parsed, not supported by the IR yet
+  Bool,    // internal: the i1 result of a comparison; OSL calls it int
+};
+
+/// An OSL type: a base type, possibly a fixed-size array.
+struct OslType {
+  BaseType base = BaseType::Void;
+  /// -1: not an array; 0: array of unspecified length (function
+  /// parameters); N: array of N elements.
+  int arrayLen = -1;
+
+  OslType() = default;
+  OslType(BaseType base, int arrayLen = -1) : base(base), arrayLen(arrayLen) {}
+
+  bool isArray() const { return arrayLen >= 0; }
+  OslType element() const { return OslType(base); }
+  bool isTriple() const {
+    return !isArray() && (base == BaseType::Point || base == BaseType::Vector ||
+                          base == BaseType::Normal || base == BaseType::Color);
+  }
+  bool isFloat() const { return !isArray() && base == BaseType::Float; }
+  bool isInt() const { return !isArray() && base == BaseType::Int; }
+  bool isBool() const { return !isArray() && base == BaseType::Bool; }
+  /// int, float or bool (a number).
+  bool isScalar() const { return isInt() || isFloat() || isBool(); }
+  /// Something the IR holds as one value (number or triple).
+  bool isNumeric() const { return isScalar() || isTriple(); }
+  bool isString() const { return !isArray() && base == BaseType::String; }
+  bool isVoid() const { return base == BaseType::Void; }
+  bool operator==(const OslType &o) const {
+    return base == o.base && arrayLen == o.arrayLen;
+  }
+  bool operator!=(const OslType &o) const { return !(*this == o); }
+
+  /// The OSL spelling: "float", "color", "float[4]", "int" for Bool.
+  std::string str() const;
+};
+
+llvm::StringRef baseTypeName(BaseType base);
+/// The IR type of a non-array numeric type (uniform).
+mlir::Type irType(mlir::Builder &b, OslType type);
+
+} // namespace osl::frontend
+
+#endif // OSLFRONTEND_TYPES_H

@@ -1,0 +1,513 @@
+//===- ConvertToVector.cpp - osl to vector code of width W ----------------===//
+//
+// Varying values become vectors of W lanes (triples: vector<3 x W x f32>,
+// one row per component, so each component is one SIMD register); uniform
+// values stay scalar. Each lane-wise op is lowered component by component
+// through LaneMath, which builds the same arith ops for scalars and
+// vectors. The shader function becomes the batch kernel of
+// OslRuntime/GlobalsLayout.h.
+//
+//===----------------------------------------------------------------------===//
+#include "OslDialect/OslDialect.h"
+#include "OslRuntime/GlobalsLayout.h"
+#include "OslTransforms/LaneMath.h"
+#include "OslTransforms/LibraryBuilders.h"
+#include "OslTransforms/NoiseBuilder.h"
+#include "OslTransforms/Passes.h"
+
+#include "mlir/Dialect/SCF/Transforms/Patterns.h"
+#include "mlir/Transforms/DialectConversion.h"
+
+namespace mlir::osl {
+#define GEN_PASS_DEF_CONVERTTOVECTOR
+#include "OslTransforms/Passes.h.inc"
+} // namespace mlir::osl
+
+using namespace mlir;
+using namespace mlir::osl;
+
+namespace {
+
+//===----------------------------------------------------------------------===//
+// Types and lane values
+//===----------------------------------------------------------------------===//
+
+class VaryingTypeConverter : public TypeConverter {
+public:
+  explicit VaryingTypeConverter(int64_t width) : width(width) {
+    addConversion([](Type t) { return t; });
+    addConversion([width](VaryingType t) -> Type {
+      Type e = t.getElementType();
+      if (isTriple(e))
+        return VectorType::get({3, width}, Float32Type::get(t.getContext()));
+      return VectorType::get({width}, e);
+    });
+    auto cast = [](OpBuilder &b, Type type, ValueRange inputs,
+                   Location loc) -> std::optional<Value> {
+      return b.create<UnrealizedConversionCastOp>(loc, type, inputs).getResult(0);
+    };
+    addSourceMaterialization(cast);
+    addTargetMaterialization(cast);
+    addArgumentMaterialization(cast);
+  }
+  int64_t width;
+};
+
+/// Splits converted values into per-component lane values and back.
+struct Lanes {
+  OpBuilder &b;
+  Location loc;
+  int64_t width;
+
+  /// Components of `value` (converted) whose osl type is `oslType`, made
+  /// varying (broadcast) when `varying` is set.
+  SmallVector<Value> unpack(Value value, Type oslType, bool varying) {
+    SmallVector<Value> comps;
+    if (isTriple(getUniformType(oslType)))
+      for (int64_t i = 0; i < 3; ++i)
+        comps.push_back(b.create<vector::ExtractOp>(loc, value, ArrayRef<int64_t>{i}));
+    else
+      comps.push_back(value);
+    if (varying && !isVarying(oslType))
+      for (Value &c : comps)
+        c = lane::broadcast(b, loc, c, width);
+    return comps;
+  }
+
+  Value pack(ArrayRef<Value> comps, Type convertedType) {
+    if (comps.size() == 1)
+      return comps.front();
+    Value acc = lane::constant(b, loc, convertedType, 0);
+    for (auto [i, c] : llvm::enumerate(comps))
+      acc = b.create<vector::InsertOp>(loc, c, acc, ArrayRef<int64_t>{int64_t(i)});
+    return acc;
+  }
+};
+
+using LaneFn = Value (*)(OpBuilder &, Location, ValueRange);
+
+/// The kernel's arguments: globals, outputs, nactive.
+Value kernelArg(Operation *op, unsigned i) {
+  return op->getParentOfType<func::FuncOp>().getArgument(i);
+}
+
+/// Lanes [0, nactive): lane index < nactive.
+Value activeLanes(OpBuilder &b, Location loc, Operation *op, int64_t width) {
+  auto indexType = VectorType::get({width}, b.getI32Type());
+  SmallVector<int32_t> iota(width);
+  for (int64_t i = 0; i < width; ++i)
+    iota[i] = i;
+  Value lanes = b.create<arith::ConstantOp>(
+      loc, DenseElementsAttr::get(indexType, ArrayRef<int32_t>(iota)));
+  Value n = lane::broadcast(b, loc, kernelArg(op, 2), width);
+  return b.create<arith::CmpIOp>(loc, arith::CmpIPredicate::slt, lanes, n);
+}
+
+/// Address of row `row` of a structure-of-arrays block of W-float rows.
+Value rowAddress(OpBuilder &b, Location loc, Value base, int64_t row,
+                 int64_t width) {
+  auto ptr = LLVM::LLVMPointerType::get(b.getContext());
+  return b.create<LLVM::GEPOp>(loc, ptr, b.getF32Type(), base,
+                               ArrayRef<LLVM::GEPArg>{int32_t(row * width)});
+}
+
+//===----------------------------------------------------------------------===//
+// Conversion patterns
+//===----------------------------------------------------------------------===//
+
+/// Base for osl patterns: access to the width and lane helpers.
+template <typename OpTy>
+struct OslPattern : public OpConversionPattern<OpTy> {
+  OslPattern(const VaryingTypeConverter &converter, MLIRContext *ctx)
+      : OpConversionPattern<OpTy>(converter, ctx), width(converter.width) {}
+  Type convert(Type t) const { return this->getTypeConverter()->convertType(t); }
+  int64_t width;
+};
+
+/// Lower a lane-wise op by applying a LaneMath function to each component.
+/// Scalar operands of triple ops (a select's condition) repeat per component.
+template <typename OpTy>
+struct ComponentwiseLowering : public OslPattern<OpTy> {
+  ComponentwiseLowering(const VaryingTypeConverter &converter, MLIRContext *ctx,
+                        LaneFn fn)
+      : OslPattern<OpTy>(converter, ctx), fn(fn) {}
+
+  LogicalResult matchAndRewrite(OpTy op, typename OpTy::Adaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    Type resultType = op->getResult(0).getType();
+    bool varying = isVarying(resultType);
+    Lanes lanes{rewriter, loc, this->width};
+    size_t ncomp = isTriple(getUniformType(resultType)) ? 3 : 1;
+    SmallVector<SmallVector<Value>> operands;
+    for (auto [converted, original] :
+         llvm::zip(adaptor.getOperands(), op->getOperands()))
+      operands.push_back(lanes.unpack(converted, original.getType(), varying));
+    SmallVector<Value> comps;
+    for (size_t c = 0; c < ncomp; ++c) {
+      SmallVector<Value> args;
+      for (auto &o : operands)
+        args.push_back(o.size() == 1 ? o[0] : o[c]);
+      comps.push_back(fn(rewriter, loc, args));
+    }
+    rewriter.replaceOp(op, lanes.pack(comps, this->convert(resultType)));
+    return success();
+  }
+  LaneFn fn;
+};
+
+/// Lower osl.global to loads of its rows from the globals block.
+struct GlobalLowering : public OslPattern<GlobalOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(GlobalOp op, OpAdaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    const ::osl::GlobalSlot *slot = ::osl::findGlobal(op.getName().str());
+    Location loc = op.getLoc();
+    Lanes lanes{rewriter, loc, width};
+    auto rowType = VectorType::get({width}, rewriter.getF32Type());
+    SmallVector<Value> rows;
+    for (int i = 0; i < slot->rows; ++i) {
+      Value addr = rowAddress(rewriter, loc, kernelArg(op, 0), slot->row + i, width);
+      rows.push_back(rewriter.create<LLVM::LoadOp>(loc, rowType, addr, 4));
+    }
+    rewriter.replaceOp(op, lanes.pack(rows, convert(op.getType())));
+    return success();
+  }
+};
+
+/// Lower osl.output to masked stores of its rows: lanes past nactive are
+/// never written. Int and bool outputs are stored as float values.
+struct OutputLowering : public OslPattern<OutputOp> {
+  OutputLowering(const VaryingTypeConverter &converter, MLIRContext *ctx,
+                 const llvm::DenseMap<Operation *, int64_t> &firstRow)
+      : OslPattern(converter, ctx), firstRow(firstRow) {}
+  LogicalResult matchAndRewrite(OutputOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    Lanes lanes{rewriter, loc, width};
+    SmallVector<Value> rows =
+        lanes.unpack(adaptor.getValue(), op.getValue().getType(), /*varying=*/true);
+    Value mask = activeLanes(rewriter, loc, op, width);
+    for (auto [i, row] : llvm::enumerate(rows)) {
+      Value value = lane::convert(rewriter, loc, row, rewriter.getF32Type());
+      Value addr = rowAddress(rewriter, loc, kernelArg(op, 1),
+                              firstRow.lookup(op) + i, width);
+      rewriter.create<LLVM::MaskedStoreOp>(loc, value, addr, mask, 4);
+    }
+    rewriter.eraseOp(op);
+    return success();
+  }
+  const llvm::DenseMap<Operation *, int64_t> &firstRow;
+};
+
+struct BatchMaskLowering : public OslPattern<BatchMaskOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(BatchMaskOp op, OpAdaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    rewriter.replaceOp(op, activeLanes(rewriter, op.getLoc(), op, width));
+    return success();
+  }
+};
+
+struct AnyLowering : public OslPattern<AnyOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(AnyOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    if (!isVarying(op.getMask().getType())) {
+      rewriter.replaceOp(op, adaptor.getMask());
+      return success();
+    }
+    rewriter.replaceOpWithNewOp<vector::ReductionOp>(op, vector::CombiningKind::OR,
+                                                     adaptor.getMask());
+    return success();
+  }
+};
+
+struct BroadcastLowering : public OslPattern<BroadcastOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(BroadcastOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Lanes lanes{rewriter, op.getLoc(), width};
+    rewriter.replaceOp(op, lanes.pack(lanes.unpack(adaptor.getValue(),
+                                                   op.getValue().getType(), true),
+                                      convert(op.getType())));
+    return success();
+  }
+};
+
+struct CmpLowering : public OslPattern<CmpOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(CmpOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    bool varying = isVarying(op.getType());
+    Lanes lanes{rewriter, loc, width};
+    auto lhs = lanes.unpack(adaptor.getLhs(), op.getLhs().getType(), varying);
+    auto rhs = lanes.unpack(adaptor.getRhs(), op.getRhs().getType(), varying);
+    StringRef pred = op.getPredicate();
+    Value result;
+    // Triples compare equal when every component does.
+    for (auto [l, r] : llvm::zip(lhs, rhs)) {
+      Value c = lane::compare(rewriter, loc, pred == "ne" ? "eq" : pred, l, r);
+      result = result ? rewriter.create<arith::AndIOp>(loc, result, c).getResult() : c;
+    }
+    if (pred == "ne")
+      result = lane::logicalNot(rewriter, loc, {result});
+    rewriter.replaceOp(op, result);
+    return success();
+  }
+};
+
+struct ConvertLowering : public OslPattern<ConvertOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(ConvertOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    Lanes lanes{rewriter, loc, width};
+    Type to = getUniformType(op.getType());
+    bool varying = isVarying(op.getType());
+    Value x = lanes.unpack(adaptor.getValue(), op.getValue().getType(), varying)[0];
+    if (isTriple(to)) {
+      Value f = lane::convert(rewriter, loc, x, rewriter.getF32Type());
+      rewriter.replaceOp(op, lanes.pack({f, f, f}, convert(op.getType())));
+      return success();
+    }
+    rewriter.replaceOp(op, lane::convert(rewriter, loc, x, to));
+    return success();
+  }
+};
+
+struct ConstructLowering : public OslPattern<ConstructOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(ConstructOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Lanes lanes{rewriter, op.getLoc(), width};
+    bool varying = isVarying(op.getType());
+    SmallVector<Value> comps;
+    for (auto [c, o] : llvm::zip(adaptor.getOperands(), op->getOperands()))
+      comps.push_back(lanes.unpack(c, o.getType(), varying)[0]);
+    rewriter.replaceOp(op, lanes.pack(comps, convert(op.getType())));
+    return success();
+  }
+};
+
+struct ExtractLowering : public OslPattern<ExtractOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(ExtractOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Lanes lanes{rewriter, op.getLoc(), width};
+    auto comps = lanes.unpack(adaptor.getVector(), op.getVector().getType(),
+                              isVarying(op.getType()));
+    rewriter.replaceOp(op, comps[op.getIndex()]);
+    return success();
+  }
+};
+
+struct InsertLowering : public OslPattern<InsertOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(InsertOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Lanes lanes{rewriter, op.getLoc(), width};
+    bool varying = isVarying(op.getType());
+    auto comps = lanes.unpack(adaptor.getVector(), op.getVector().getType(), varying);
+    comps[op.getIndex()] =
+        lanes.unpack(adaptor.getValue(), op.getValue().getType(), varying)[0];
+    rewriter.replaceOp(op, lanes.pack(comps, convert(op.getType())));
+    return success();
+  }
+};
+
+/// Geometry on triples: dot, length, distance, cross, normalize.
+template <typename OpTy>
+struct GeometryLowering : public OslPattern<OpTy> {
+  using OslPattern<OpTy>::OslPattern;
+
+  static Value dot(OpBuilder &b, Location loc, ArrayRef<Value> a, ArrayRef<Value> c) {
+    Value s = lane::mul(b, loc, {a[0], c[0]});
+    s = lane::add(b, loc, {s, lane::mul(b, loc, {a[1], c[1]})});
+    return lane::add(b, loc, {s, lane::mul(b, loc, {a[2], c[2]})});
+  }
+
+  LogicalResult matchAndRewrite(OpTy op, typename OpTy::Adaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    Type resultType = op->getResult(0).getType();
+    bool varying = isVarying(resultType);
+    Lanes lanes{rewriter, loc, this->width};
+    SmallVector<SmallVector<Value>> v;
+    for (auto [c, o] : llvm::zip(adaptor.getOperands(), op->getOperands()))
+      v.push_back(lanes.unpack(c, o.getType(), varying));
+    auto &b = rewriter;
+    SmallVector<Value> out;
+    if constexpr (std::is_same_v<OpTy, DotOp>) {
+      out = {dot(b, loc, v[0], v[1])};
+    } else if constexpr (std::is_same_v<OpTy, LengthOp>) {
+      out = {lane::sqrt(b, loc, {dot(b, loc, v[0], v[0])})};
+    } else if constexpr (std::is_same_v<OpTy, DistanceOp>) {
+      SmallVector<Value> d;
+      for (int i = 0; i < 3; ++i)
+        d.push_back(lane::sub(b, loc, {v[0][i], v[1][i]}));
+      out = {lane::sqrt(b, loc, {dot(b, loc, d, d)})};
+    } else if constexpr (std::is_same_v<OpTy, CrossOp>) {
+      for (int i = 0; i < 3; ++i) {
+        int j = (i + 1) % 3, k = (i + 2) % 3;
+        out.push_back(lane::sub(b, loc, {lane::mul(b, loc, {v[0][j], v[1][k]}),
+                                         lane::mul(b, loc, {v[0][k], v[1][j]})}));
+      }
+    } else {
+      // normalize: a zero vector stays zero (safe division).
+      Value len = lane::sqrt(b, loc, {dot(b, loc, v[0], v[0])});
+      for (int i = 0; i < 3; ++i)
+        out.push_back(lane::div(b, loc, {v[0][i], len}));
+    }
+    rewriter.replaceOp(op, lanes.pack(out, this->convert(resultType)));
+    return success();
+  }
+};
+
+struct NoiseLowering : public OslPattern<NoiseOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(NoiseOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    std::optional<NoiseKind> kind = parseNoiseName(op.getKind());
+    if (!kind)
+      return op.emitError("noise type '") << op.getKind() << "' is not supported yet";
+    Location loc = op.getLoc();
+    bool varying = isVarying(op.getType());
+    Lanes lanes{rewriter, loc, width};
+    SmallVector<Value> coords;
+    for (auto [c, o] : llvm::zip(adaptor.getCoords(), op.getCoords()))
+      llvm::append_range(coords, lanes.unpack(c, o.getType(), varying));
+    if (isTriple(getUniformType(op.getType()))) {
+      std::array<Value, 3> r = buildNoiseTriple(rewriter, loc, *kind, coords);
+      rewriter.replaceOp(op, lanes.pack(r, convert(op.getType())));
+    } else {
+      rewriter.replaceOp(op, buildNoiseFloat(rewriter, loc, *kind, coords));
+    }
+    return success();
+  }
+};
+
+struct TransformLowering : public OslPattern<TransformOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(TransformOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    std::optional<Matrix44> m = namedSpaceTransform(op.getFrom(), op.getTo());
+    if (!m)
+      return op.emitError("unknown coordinate space in transform from '")
+             << op.getFrom() << "' to '" << op.getTo() << "'";
+    Lanes lanes{rewriter, op.getLoc(), width};
+    auto p = lanes.unpack(adaptor.getValue(), op.getValue().getType(),
+                          isVarying(op.getType()));
+    std::array<Value, 3> r =
+        buildTransform(rewriter, op.getLoc(), *m, op.getKind(), {p[0], p[1], p[2]});
+    rewriter.replaceOp(op, lanes.pack(r, convert(op.getType())));
+    return success();
+  }
+};
+
+struct SplineLowering : public OslPattern<SplineOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(SplineOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    bool varying = isVarying(op.getType());
+    Lanes lanes{rewriter, loc, width};
+    Value x = lanes.unpack(adaptor.getX(), op.getX().getType(), varying)[0];
+    SmallVector<SmallVector<Value>> knots;
+    for (auto [c, o] : llvm::zip(adaptor.getKnots(), op.getKnots()))
+      knots.push_back(lanes.unpack(c, o.getType(), false));
+    FailureOr<SmallVector<Value>> r = buildSpline(rewriter, loc, op.getBasis(), x, knots);
+    if (failed(r))
+      return op.emitError("spline basis '") << op.getBasis() << "' is not supported yet";
+    rewriter.replaceOp(op, lanes.pack(*r, convert(op.getType())));
+    return success();
+  }
+};
+
+void populateLaneOpPatterns(const VaryingTypeConverter &converter,
+                            RewritePatternSet &patterns) {
+  MLIRContext *ctx = patterns.getContext();
+#define LANE(Op, fn) patterns.add<ComponentwiseLowering<Op>>(converter, ctx, &lane::fn)
+  LANE(AddOp, add); LANE(SubOp, sub); LANE(MulOp, mul); LANE(DivOp, div);
+  LANE(ModOp, mod); LANE(NegOp, neg); LANE(MinOp, min); LANE(MaxOp, max);
+  LANE(AbsOp, abs); LANE(AndOp, logicalAnd); LANE(OrOp, logicalOr);
+  LANE(NotOp, logicalNot); LANE(BitAndOp, bitAnd); LANE(BitOrOp, bitOr);
+  LANE(BitXorOp, bitXor); LANE(BitNotOp, bitNot); LANE(ShlOp, shl);
+  LANE(ShrOp, shr); LANE(SinOp, sin); LANE(CosOp, cos); LANE(TanOp, tan);
+  LANE(AsinOp, asin); LANE(AcosOp, acos); LANE(AtanOp, atan);
+  LANE(Atan2Op, atan2); LANE(ExpOp, exp); LANE(Exp2Op, exp2); LANE(LogOp, log);
+  LANE(Log2Op, log2); LANE(Log10Op, log10); LANE(SqrtOp, sqrt);
+  LANE(InverseSqrtOp, inverseSqrt); LANE(FloorOp, floor); LANE(CeilOp, ceil);
+  LANE(RoundOp, round); LANE(TruncOp, trunc); LANE(SignOp, sign);
+  LANE(PowOp, pow); LANE(FmodOp, fmod); LANE(StepOp, step); LANE(MixOp, mix);
+  LANE(ClampOp, clamp); LANE(SmoothStepOp, smoothstep); LANE(SelectOp, select);
+#undef LANE
+  patterns.add<GlobalLowering, BatchMaskLowering, AnyLowering, BroadcastLowering,
+               CmpLowering, ConvertLowering, ConstructLowering, ExtractLowering,
+               InsertLowering, GeometryLowering<DotOp>, GeometryLowering<LengthOp>,
+               GeometryLowering<DistanceOp>, GeometryLowering<CrossOp>,
+               GeometryLowering<NormalizeOp>, NoiseLowering, TransformLowering,
+               SplineLowering>(converter, ctx);
+}
+
+//===----------------------------------------------------------------------===//
+// Convert osl to vector pass
+//===----------------------------------------------------------------------===//
+
+/// Gives the shader function the batch-kernel signature.
+void makeKernelSignature(func::FuncOp func) {
+  MLIRContext *ctx = func.getContext();
+  auto ptr = LLVM::LLVMPointerType::get(ctx);
+  auto i32 = IntegerType::get(ctx, 32);
+  func->setAttr("osl.shader_name", StringAttr::get(ctx, func.getSymName()));
+  func.setSymName("osl_batch");
+  func.setType(FunctionType::get(ctx, {ptr, ptr, i32}, {}));
+  Location loc = func.getLoc();
+  func.getBody().front().addArguments({ptr, ptr, i32}, {loc, loc, loc});
+}
+
+struct ConvertToVectorPass
+    : public mlir::osl::impl::ConvertToVectorBase<ConvertToVectorPass> {
+  using mlir::osl::impl::ConvertToVectorBase<ConvertToVectorPass>::ConvertToVectorBase;
+
+  void runOnOperation() override {
+    if (width != 1 && width != 4 && width != 8 && width != 16) {
+      getOperation().emitError("width must be 1, 4, 8 or 16, got ") << width;
+      return signalPassFailure();
+    }
+    SmallVector<func::FuncOp> shaders;
+    getOperation().walk([&](func::FuncOp f) {
+      if (f.getNumArguments() == 0 && !f.isExternal())
+        shaders.push_back(f);
+    });
+    if (shaders.size() != 1) {
+      getOperation().emitError("expected one shader function, found ")
+          << shaders.size();
+      return signalPassFailure();
+    }
+    llvm::DenseMap<Operation *, int64_t> outputRow;
+    int64_t row = 0;
+    shaders[0].walk([&](OutputOp out) {
+      outputRow[out] = row;
+      row += isTriple(getUniformType(out.getValue().getType())) ? 3 : 1;
+    });
+    makeKernelSignature(shaders[0]);
+
+    MLIRContext *ctx = &getContext();
+    VaryingTypeConverter converter(width);
+    ConversionTarget target(*ctx);
+    target.addIllegalDialect<OslDialect>();
+    target.addLegalDialect<arith::ArithDialect, math::MathDialect,
+                           vector::VectorDialect, LLVM::LLVMDialect,
+                           func::FuncDialect>();
+    RewritePatternSet patterns(ctx);
+    populateLaneOpPatterns(converter, patterns);
+    patterns.add<OutputLowering>(converter, ctx, outputRow);
+    scf::populateSCFStructuralTypeConversionsAndLegality(converter, patterns, target);
+    if (failed(applyPartialConversion(getOperation(), target, std::move(patterns))))
+      signalPassFailure();
+  }
+};
+
+} // namespace

@@ -1,0 +1,241 @@
+//===- InsertMaskStack.cpp - Varying control flow to masked code ----------===//
+//
+// OSL's batched rules (DESIGN.md §2): entering a varying `if` pushes
+// cond AND top; both arms run under their masks and their values merge per
+// lane. A varying loop iterates while any lane is active and lanes that
+// left keep their values. Every mask is a value here; the innermost one is
+// threaded down the recursion, so nested constructs see `top` directly.
+//
+// Arms are pure (outputs are written once, at the end of the shader), so
+// running an arm for lanes that are off is harmless, except for loops,
+// which would iterate for those lanes: they are seeded with the mask.
+//
+//===----------------------------------------------------------------------===//
+#include "OslDialect/OslDialect.h"
+#include "OslTransforms/Passes.h"
+
+#include "mlir/IR/Builders.h"
+#include "mlir/IR/IRMapping.h"
+
+namespace mlir::osl {
+#define GEN_PASS_DEF_INSERTMASKSTACK
+#include "OslTransforms/Passes.h.inc"
+} // namespace mlir::osl
+
+using namespace mlir;
+using namespace mlir::osl;
+
+namespace {
+
+class MaskStackBuilder {
+public:
+  explicit MaskStackBuilder(func::FuncOp func) : func(func) {}
+
+  LogicalResult run() { return processBlock(func.getBody().front(), Value()); }
+
+private:
+  /// `mask` is the innermost active mask; null means every lane of the
+  /// batch (no varying construct encloses this block).
+  LogicalResult processBlock(Block &block, Value mask) {
+    for (Operation &op : llvm::make_early_inc_range(block)) {
+      LogicalResult result = success();
+      if (auto ifOp = dyn_cast<IfOp>(op))
+        result = isVarying(ifOp.getCondition().getType())
+                     ? flattenVaryingIf(ifOp, mask)
+                     : convertUniformIf(ifOp, mask);
+      else if (auto loop = dyn_cast<WhileOp>(op))
+        result = isVarying(loopCondition(loop).getCondition().getType())
+                     ? maskVaryingLoop(loop, mask)
+                     : convertUniformLoop(loop, mask);
+      if (failed(result))
+        return failure();
+    }
+    return success();
+  }
+
+  static ConditionOp loopCondition(WhileOp loop) {
+    return cast<ConditionOp>(loop.getBefore().front().getTerminator());
+  }
+
+  /// The batch mask, created once at function entry when first needed.
+  Value batchMask() {
+    if (!entryMask) {
+      OpBuilder b = OpBuilder::atBlockBegin(&func.getBody().front());
+      entryMask = b.create<BatchMaskOp>(func.getLoc(),
+                                        VaryingType::get(b.getI1Type()));
+    }
+    return entryMask;
+  }
+
+  Value andMask(OpBuilder &b, Location loc, Value mask, Value cond) {
+    return mask ? b.create<AndOp>(loc, mask, cond).getResult() : cond;
+  }
+
+  static LogicalResult checkSlots(Operation *op, TypeRange from, TypeRange to) {
+    for (auto [f, t] : llvm::zip(from, to))
+      if (f != t)
+        return op->emitOpError("value of type ")
+               << f << " flows into " << t
+               << "; run osl-varying-propagation first";
+    return success();
+  }
+
+  LogicalResult flattenVaryingIf(IfOp op, Value mask) {
+    OpBuilder b(op);
+    Location loc = op.getLoc();
+    Value cond = op.getCondition();
+    Value notCond = b.create<NotOp>(loc, cond);
+    Value thenMask = andMask(b, loc, mask, cond);
+    Value elseMask = andMask(b, loc, mask, notCond);
+    Block &thenBlock = op.getThenRegion().front();
+    Block &elseBlock = op.getElseRegion().front();
+    if (failed(processBlock(thenBlock, thenMask)) ||
+        failed(processBlock(elseBlock, elseMask)))
+      return failure();
+    auto thenYield = cast<YieldOp>(thenBlock.getTerminator());
+    auto elseYield = cast<YieldOp>(elseBlock.getTerminator());
+    if (failed(checkSlots(op, thenYield.getValues().getTypes(), op.getResultTypes())) ||
+        failed(checkSlots(op, elseYield.getValues().getTypes(), op.getResultTypes())))
+      return failure();
+    SmallVector<Value> thenValues(thenYield.getValues());
+    SmallVector<Value> elseValues(elseYield.getValues());
+    Block *parent = op->getBlock();
+    parent->getOperations().splice(op->getIterator(), thenBlock.getOperations(),
+                                   thenBlock.begin(), thenYield->getIterator());
+    parent->getOperations().splice(op->getIterator(), elseBlock.getOperations(),
+                                   elseBlock.begin(), elseYield->getIterator());
+    b.setInsertionPoint(op);
+    SmallVector<Value> merged;
+    for (auto [t, e] : llvm::zip(thenValues, elseValues))
+      merged.push_back(t == e ? t : b.create<SelectOp>(loc, cond, t, e).getResult());
+    op.replaceAllUsesWith(merged);
+    op.erase();
+    return success();
+  }
+
+  LogicalResult convertUniformIf(IfOp op, Value mask) {
+    OpBuilder b(op);
+    auto newIf = b.create<scf::IfOp>(op.getLoc(), op.getResultTypes(),
+                                     op.getCondition(), false, false);
+    newIf.getThenRegion().takeBody(op.getThenRegion());
+    newIf.getElseRegion().takeBody(op.getElseRegion());
+    for (Region *region : {&newIf.getThenRegion(), &newIf.getElseRegion()}) {
+      Block &block = region->front();
+      if (failed(processBlock(block, mask)))
+        return failure();
+      auto yield = cast<YieldOp>(block.getTerminator());
+      if (failed(checkSlots(op, yield.getValues().getTypes(), op.getResultTypes())))
+        return failure();
+      OpBuilder yb(yield);
+      yb.create<scf::YieldOp>(yield.getLoc(), yield.getValues());
+      yield.erase();
+    }
+    op.replaceAllUsesWith(newIf.getResults());
+    op.erase();
+    return success();
+  }
+
+  LogicalResult convertUniformLoop(WhileOp op, Value mask) {
+    OpBuilder b(op);
+    auto loop = b.create<scf::WhileOp>(op.getLoc(), op.getResultTypes(),
+                                       op.getInits());
+    loop.getBefore().takeBody(op.getBefore());
+    loop.getAfter().takeBody(op.getAfter());
+    if (failed(processBlock(loop.getBefore().front(), mask)) ||
+        failed(processBlock(loop.getAfter().front(), mask)))
+      return failure();
+    auto cond = cast<ConditionOp>(loop.getBefore().front().getTerminator());
+    auto yield = cast<YieldOp>(loop.getAfter().front().getTerminator());
+    if (failed(checkSlots(op, op.getInits().getTypes(),
+                          loop.getBefore().getArgumentTypes())) ||
+        failed(checkSlots(op, cond.getArgs().getTypes(), op.getResultTypes())) ||
+        failed(checkSlots(op, yield.getValues().getTypes(),
+                          loop.getBefore().getArgumentTypes())))
+      return failure();
+    OpBuilder cb(cond);
+    cb.create<scf::ConditionOp>(cond.getLoc(), cond.getCondition(), cond.getArgs());
+    cond.erase();
+    OpBuilder yb(yield);
+    yb.create<scf::YieldOp>(yield.getLoc(), yield.getValues());
+    yield.erase();
+    op.replaceAllUsesWith(loop.getResults());
+    op.erase();
+    return success();
+  }
+
+  /// The loop carries its active mask as one more value: the condition
+  /// clears lanes whose condition failed, the loop goes on while any lane
+  /// is set, and the body's results only replace the values of set lanes.
+  LogicalResult maskVaryingLoop(WhileOp op, Value mask) {
+    OpBuilder b(op);
+    Location loc = op.getLoc();
+    Type maskType = VaryingType::get(b.getI1Type());
+    Value entry = mask ? mask : batchMask();
+    SmallVector<Value> inits(op.getInits());
+    inits.push_back(entry);
+    SmallVector<Type> types(op.getResultTypes());
+    types.push_back(maskType);
+    auto loop = b.create<scf::WhileOp>(loc, types, inits);
+    loop.getBefore().takeBody(op.getBefore());
+    loop.getAfter().takeBody(op.getAfter());
+    Block &before = loop.getBefore().front();
+    Block &after = loop.getAfter().front();
+    Value beforeMask = before.addArgument(maskType, loc);
+    Value afterMask = after.addArgument(maskType, loc);
+    if (failed(processBlock(before, beforeMask)) ||
+        failed(processBlock(after, afterMask)))
+      return failure();
+
+    auto cond = cast<ConditionOp>(before.getTerminator());
+    // Lanes that left are frozen by re-yielding what the condition forwarded,
+    // which is only their carried value if it is forwarded unchanged.
+    if (!llvm::equal(cond.getArgs(), before.getArguments().drop_back()))
+      return op.emitOpError("a loop with a varying condition must forward its "
+                            "carried values unchanged");
+    if (failed(checkSlots(op, cond.getArgs().getTypes(), op.getResultTypes())) ||
+        failed(checkSlots(op, op.getInits().getTypes(),
+                          TypeRange(before.getArgumentTypes()).drop_back())))
+      return failure();
+    OpBuilder cb(cond);
+    Value stillActive = cb.create<AndOp>(cond.getLoc(), beforeMask, cond.getCondition());
+    Value anyActive = cb.create<AnyOp>(cond.getLoc(), cb.getI1Type(), stillActive);
+    SmallVector<Value> forwarded(cond.getArgs());
+    forwarded.push_back(stillActive);
+    cb.create<scf::ConditionOp>(cond.getLoc(), anyActive, forwarded);
+    cond.erase();
+
+    auto yield = cast<YieldOp>(after.getTerminator());
+    if (failed(checkSlots(op, yield.getValues().getTypes(),
+                          TypeRange(before.getArgumentTypes()).drop_back())))
+      return failure();
+    OpBuilder yb(yield);
+    SmallVector<Value> next;
+    for (auto [value, previous] :
+         llvm::zip(yield.getValues(), after.getArguments().drop_back()))
+      next.push_back(value == previous
+                         ? value
+                         : yb.create<SelectOp>(yield.getLoc(), afterMask, value,
+                                               previous)
+                               .getResult());
+    next.push_back(afterMask);
+    yb.create<scf::YieldOp>(yield.getLoc(), next);
+    yield.erase();
+
+    op.replaceAllUsesWith(loop.getResults().drop_back());
+    op.erase();
+    return success();
+  }
+
+  func::FuncOp func;
+  Value entryMask;
+};
+
+struct InsertMaskStackPass
+    : public mlir::osl::impl::InsertMaskStackBase<InsertMaskStackPass> {
+  void runOnOperation() override {
+    if (failed(MaskStackBuilder(getOperation()).run()))
+      signalPassFailure();
+  }
+};
+
+} // namespace

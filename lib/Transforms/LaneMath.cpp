@@ -1,0 +1,385 @@
+//===- LaneMath.cpp - OSL semantics on lane values ------------------------===//
+#include "OslTransforms/LaneMath.h"
+
+#include "mlir/Dialect/Arith/IR/Arith.h"
+#include "mlir/Dialect/Math/IR/Math.h"
+#include "mlir/Dialect/Vector/IR/VectorOps.h"
+#include "mlir/IR/BuiltinAttributes.h"
+#include "mlir/IR/TypeUtilities.h"
+#include "llvm/ADT/StringSwitch.h"
+
+#include <cfloat>
+#include <cmath>
+
+using namespace mlir;
+using namespace mlir::osl;
+
+Type lane::withElement(Type laneType, Type element) {
+  if (auto vec = dyn_cast<VectorType>(laneType))
+    return vec.clone(element);
+  return element;
+}
+
+Value lane::constant(OpBuilder &b, Location loc, Type like, double value) {
+  Type element = getElementTypeOrSelf(like);
+  TypedAttr scalar;
+  if (isa<FloatType>(element))
+    scalar = b.getFloatAttr(element, value);
+  else
+    scalar = b.getIntegerAttr(element, int64_t(value));
+  if (auto vec = dyn_cast<VectorType>(like))
+    return b.create<arith::ConstantOp>(loc, DenseElementsAttr::get(vec, scalar));
+  return b.create<arith::ConstantOp>(loc, scalar);
+}
+
+Value lane::constantLike(OpBuilder &b, Location loc, Value like, double value) {
+  return constant(b, loc, like.getType(), value);
+}
+
+Value lane::broadcast(OpBuilder &b, Location loc, Value scalar, int64_t width) {
+  if (width == 0 || isa<VectorType>(scalar.getType()))
+    return scalar;
+  return b.create<vector::BroadcastOp>(
+      loc, VectorType::get({width}, scalar.getType()), scalar);
+}
+
+static bool isFloat(Value v) {
+  return isa<FloatType>(getElementTypeOrSelf(v.getType()));
+}
+static bool isBool(Value v) {
+  return getElementTypeOrSelf(v.getType()).isInteger(1);
+}
+static Value cst(OpBuilder &b, Location loc, Value like, double v) {
+  return lane::constantLike(b, loc, like, v);
+}
+static Value sel(OpBuilder &b, Location loc, Value c, Value t, Value f) {
+  return b.create<arith::SelectOp>(loc, c, t, f);
+}
+static Value fcmp(OpBuilder &b, Location loc, arith::CmpFPredicate p, Value x,
+                  Value y) {
+  return b.create<arith::CmpFOp>(loc, p, x, y);
+}
+static Value icmp(OpBuilder &b, Location loc, arith::CmpIPredicate p, Value x,
+                  Value y) {
+  return b.create<arith::CmpIOp>(loc, p, x, y);
+}
+
+//===----------------------------------------------------------------------===//
+// Arithmetic
+//===----------------------------------------------------------------------===//
+
+Value lane::add(OpBuilder &b, Location loc, ValueRange x) {
+  if (isFloat(x[0]))
+    return b.create<arith::AddFOp>(loc, x[0], x[1]);
+  return b.create<arith::AddIOp>(loc, x[0], x[1]);
+}
+
+Value lane::sub(OpBuilder &b, Location loc, ValueRange x) {
+  if (isFloat(x[0]))
+    return b.create<arith::SubFOp>(loc, x[0], x[1]);
+  return b.create<arith::SubIOp>(loc, x[0], x[1]);
+}
+
+Value lane::mul(OpBuilder &b, Location loc, ValueRange x) {
+  if (isFloat(x[0]))
+    return b.create<arith::MulFOp>(loc, x[0], x[1]);
+  return b.create<arith::MulIOp>(loc, x[0], x[1]);
+}
+
+/// OSL's safe division: x/0 = 0. For ints the divisor is also made safe
+/// first, since every lane executes the division (x86 traps on /0 and on
+/// INT_MIN/-1).
+Value lane::div(OpBuilder &b, Location loc, ValueRange x) {
+  Value num = x[0], den = x[1];
+  if (isFloat(num)) {
+    Value q = b.create<arith::DivFOp>(loc, num, den);
+    Value isZero = fcmp(b, loc, arith::CmpFPredicate::OEQ, den, cst(b, loc, den, 0));
+    return sel(b, loc, isZero, cst(b, loc, num, 0), q);
+  }
+  Value zero = cst(b, loc, den, 0), one = cst(b, loc, den, 1);
+  Value isZero = icmp(b, loc, arith::CmpIPredicate::eq, den, zero);
+  Value overflow = b.create<arith::AndIOp>(
+      loc, icmp(b, loc, arith::CmpIPredicate::eq, num, cst(b, loc, num, INT32_MIN)),
+      icmp(b, loc, arith::CmpIPredicate::eq, den, cst(b, loc, den, -1)));
+  Value unsafe = b.create<arith::OrIOp>(loc, isZero, overflow);
+  Value safeDen = sel(b, loc, unsafe, one, den);
+  Value q = b.create<arith::DivSIOp>(loc, num, safeDen);
+  q = sel(b, loc, overflow, num, q);
+  return sel(b, loc, isZero, zero, q);
+}
+
+/// int x % 0 = 0, truncating like C.
+Value lane::mod(OpBuilder &b, Location loc, ValueRange x) {
+  Value num = x[0], den = x[1];
+  Value zero = cst(b, loc, den, 0);
+  Value isZero = icmp(b, loc, arith::CmpIPredicate::eq, den, zero);
+  Value isMinusOne = icmp(b, loc, arith::CmpIPredicate::eq, den, cst(b, loc, den, -1));
+  Value unsafe = b.create<arith::OrIOp>(loc, isZero, isMinusOne);
+  Value r = b.create<arith::RemSIOp>(loc, num, sel(b, loc, unsafe, cst(b, loc, den, 1), den));
+  return sel(b, loc, unsafe, zero, r);
+}
+
+Value lane::neg(OpBuilder &b, Location loc, ValueRange x) {
+  if (isFloat(x[0]))
+    return b.create<arith::NegFOp>(loc, x[0]);
+  return b.create<arith::SubIOp>(loc, cst(b, loc, x[0], 0), x[0]);
+}
+
+// min/max as compare+select, like OSL's (b < a ? b : a): NaN handling is
+// then the same at every width.
+Value lane::min(OpBuilder &b, Location loc, ValueRange x) {
+  Value less = isFloat(x[0]) ? fcmp(b, loc, arith::CmpFPredicate::OLT, x[1], x[0])
+                             : icmp(b, loc, arith::CmpIPredicate::slt, x[1], x[0]);
+  return sel(b, loc, less, x[1], x[0]);
+}
+
+Value lane::max(OpBuilder &b, Location loc, ValueRange x) {
+  Value less = isFloat(x[0]) ? fcmp(b, loc, arith::CmpFPredicate::OLT, x[0], x[1])
+                             : icmp(b, loc, arith::CmpIPredicate::slt, x[0], x[1]);
+  return sel(b, loc, less, x[1], x[0]);
+}
+
+Value lane::abs(OpBuilder &b, Location loc, ValueRange x) {
+  if (isFloat(x[0]))
+    return b.create<math::AbsFOp>(loc, x[0]);
+  return b.create<math::AbsIOp>(loc, x[0]);
+}
+
+Value lane::logicalAnd(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<arith::AndIOp>(loc, x[0], x[1]);
+}
+Value lane::logicalOr(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<arith::OrIOp>(loc, x[0], x[1]);
+}
+Value lane::logicalNot(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<arith::XOrIOp>(loc, x[0], cst(b, loc, x[0], 1));
+}
+Value lane::bitAnd(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<arith::AndIOp>(loc, x[0], x[1]);
+}
+Value lane::bitOr(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<arith::OrIOp>(loc, x[0], x[1]);
+}
+Value lane::bitXor(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<arith::XOrIOp>(loc, x[0], x[1]);
+}
+Value lane::bitNot(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<arith::XOrIOp>(loc, x[0], cst(b, loc, x[0], -1));
+}
+
+/// Shift counts are masked to 0..31 so no lane hits LLVM's poison.
+static Value shiftCount(OpBuilder &b, Location loc, Value n) {
+  return b.create<arith::AndIOp>(loc, n, cst(b, loc, n, 31));
+}
+Value lane::shl(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<arith::ShLIOp>(loc, x[0], shiftCount(b, loc, x[1]));
+}
+Value lane::shr(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<arith::ShRSIOp>(loc, x[0], shiftCount(b, loc, x[1]));
+}
+
+//===----------------------------------------------------------------------===//
+// Float math. math.* ops become polynomial approximations in
+// osl-lower-to-llvm; the rules for edge inputs are applied here.
+//===----------------------------------------------------------------------===//
+
+Value lane::sin(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::SinOp>(loc, x[0]);
+}
+Value lane::cos(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::CosOp>(loc, x[0]);
+}
+Value lane::tan(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::TanOp>(loc, x[0]);
+}
+
+static Value clampUnit(OpBuilder &b, Location loc, Value x) {
+  return lane::clamp(b, loc, {x, cst(b, loc, x, -1), cst(b, loc, x, 1)});
+}
+/// sqrt(1 - x^2) as sqrt((1-x)(1+x)), accurate near |x| = 1.
+static Value cosOfAsin(OpBuilder &b, Location loc, Value x) {
+  Value one = cst(b, loc, x, 1);
+  Value p = b.create<arith::MulFOp>(loc, b.create<arith::SubFOp>(loc, one, x),
+                                    b.create<arith::AddFOp>(loc, one, x));
+  return b.create<math::SqrtOp>(loc, p);
+}
+Value lane::asin(OpBuilder &b, Location loc, ValueRange x) {
+  Value c = clampUnit(b, loc, x[0]);
+  return b.create<math::Atan2Op>(loc, c, cosOfAsin(b, loc, c));
+}
+Value lane::acos(OpBuilder &b, Location loc, ValueRange x) {
+  Value c = clampUnit(b, loc, x[0]);
+  return b.create<math::Atan2Op>(loc, cosOfAsin(b, loc, c), c);
+}
+Value lane::atan(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::AtanOp>(loc, x[0]);
+}
+Value lane::atan2(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::Atan2Op>(loc, x[0], x[1]);
+}
+Value lane::exp(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::ExpOp>(loc, x[0]);
+}
+Value lane::exp2(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::Exp2Op>(loc, x[0]);
+}
+
+/// OSL: the log of x <= 0 is the log of FLT_MIN, never -inf or NaN.
+static Value logOfPositive(OpBuilder &b, Location loc, Value x, double scale,
+                           bool base2) {
+  Value positive = fcmp(b, loc, arith::CmpFPredicate::OGT, x, cst(b, loc, x, 0));
+  Value safe = sel(b, loc, positive, x, cst(b, loc, x, FLT_MIN));
+  Value l = base2 ? b.create<math::Log2Op>(loc, safe).getResult()
+                  : b.create<math::LogOp>(loc, safe).getResult();
+  if (scale != 1.0)
+    l = b.create<arith::MulFOp>(loc, l, cst(b, loc, x, scale));
+  return l;
+}
+Value lane::log(OpBuilder &b, Location loc, ValueRange x) {
+  return logOfPositive(b, loc, x[0], 1.0, false);
+}
+Value lane::log2(OpBuilder &b, Location loc, ValueRange x) {
+  return logOfPositive(b, loc, x[0], 1.0, true);
+}
+Value lane::log10(OpBuilder &b, Location loc, ValueRange x) {
+  return logOfPositive(b, loc, x[0], 1.0 / M_LN10, false);
+}
+
+Value lane::sqrt(OpBuilder &b, Location loc, ValueRange x) {
+  Value negative = fcmp(b, loc, arith::CmpFPredicate::OLT, x[0], cst(b, loc, x[0], 0));
+  return sel(b, loc, negative, cst(b, loc, x[0], 0),
+             b.create<math::SqrtOp>(loc, x[0]));
+}
+Value lane::inverseSqrt(OpBuilder &b, Location loc, ValueRange x) {
+  Value positive = fcmp(b, loc, arith::CmpFPredicate::OGT, x[0], cst(b, loc, x[0], 0));
+  Value r = b.create<arith::DivFOp>(loc, cst(b, loc, x[0], 1),
+                                    b.create<math::SqrtOp>(loc, x[0]));
+  return sel(b, loc, positive, r, cst(b, loc, x[0], 0));
+}
+
+Value lane::floor(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::FloorOp>(loc, x[0]);
+}
+Value lane::ceil(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::CeilOp>(loc, x[0]);
+}
+Value lane::trunc(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::TruncOp>(loc, x[0]);
+}
+/// Halves round away from zero. Built from trunc, which is one instruction
+/// on every width (llvm.round on vectors can become per-lane libm calls).
+Value lane::round(OpBuilder &b, Location loc, ValueRange x) {
+  Value t = b.create<math::TruncOp>(loc, x[0]);
+  Value frac = b.create<math::AbsFOp>(loc, b.create<arith::SubFOp>(loc, x[0], t));
+  Value up = fcmp(b, loc, arith::CmpFPredicate::OGE, frac, cst(b, loc, x[0], 0.5));
+  Value away = b.create<math::CopySignOp>(loc, cst(b, loc, x[0], 1), x[0]);
+  return sel(b, loc, up, b.create<arith::AddFOp>(loc, t, away), t);
+}
+Value lane::sign(OpBuilder &b, Location loc, ValueRange x) {
+  Value zero = cst(b, loc, x[0], 0);
+  Value pos = fcmp(b, loc, arith::CmpFPredicate::OGT, x[0], zero);
+  Value negv = fcmp(b, loc, arith::CmpFPredicate::OLT, x[0], zero);
+  return sel(b, loc, pos, cst(b, loc, x[0], 1),
+             sel(b, loc, negv, cst(b, loc, x[0], -1), zero));
+}
+
+/// OSL's safe pow: pow(x, 0) = 1; pow(0, y) = 0 for y != 0; a negative
+/// base needs an integer exponent (odd ones keep the sign), else 0.
+Value lane::pow(OpBuilder &b, Location loc, ValueRange x) {
+  Value base = x[0], e = x[1];
+  Value zero = cst(b, loc, base, 0), one = cst(b, loc, base, 1);
+  Value mag = b.create<math::PowFOp>(loc, b.create<math::AbsFOp>(loc, base), e);
+  Value isInt = fcmp(b, loc, arith::CmpFPredicate::OEQ,
+                     b.create<math::FloorOp>(loc, e), e);
+  Value half = b.create<arith::MulFOp>(loc, e, cst(b, loc, e, 0.5));
+  Value isOdd = b.create<arith::AndIOp>(
+      loc, isInt,
+      fcmp(b, loc, arith::CmpFPredicate::UNE, b.create<math::FloorOp>(loc, half), half));
+  Value negBase = fcmp(b, loc, arith::CmpFPredicate::OLT, base, zero);
+  Value r = sel(b, loc, b.create<arith::AndIOp>(loc, negBase, isOdd),
+                b.create<arith::NegFOp>(loc, mag), mag);
+  Value notInt = b.create<arith::XOrIOp>(loc, isInt, cst(b, loc, isInt, 1));
+  r = sel(b, loc, b.create<arith::AndIOp>(loc, negBase, notInt), zero, r);
+  r = sel(b, loc, fcmp(b, loc, arith::CmpFPredicate::OEQ, base, zero), zero, r);
+  return sel(b, loc, fcmp(b, loc, arith::CmpFPredicate::OEQ, e, zero), one, r);
+}
+
+/// C fmod, with fmod(x, 0) = 0.
+Value lane::fmod(OpBuilder &b, Location loc, ValueRange x) {
+  Value zero = cst(b, loc, x[1], 0);
+  Value isZero = fcmp(b, loc, arith::CmpFPredicate::OEQ, x[1], zero);
+  Value safeDen = sel(b, loc, isZero, cst(b, loc, x[1], 1), x[1]);
+  return sel(b, loc, isZero, zero, b.create<arith::RemFOp>(loc, x[0], safeDen));
+}
+
+Value lane::step(OpBuilder &b, Location loc, ValueRange x) {
+  Value below = fcmp(b, loc, arith::CmpFPredicate::OLT, x[1], x[0]);
+  return sel(b, loc, below, cst(b, loc, x[1], 0), cst(b, loc, x[1], 1));
+}
+
+/// a*(1-t) + b*t, OSL's operation order.
+Value lane::mix(OpBuilder &b, Location loc, ValueRange x) {
+  Value oneMinusT = b.create<arith::SubFOp>(loc, cst(b, loc, x[2], 1), x[2]);
+  return b.create<arith::AddFOp>(loc, b.create<arith::MulFOp>(loc, x[0], oneMinusT),
+                                 b.create<arith::MulFOp>(loc, x[1], x[2]));
+}
+
+Value lane::clamp(OpBuilder &b, Location loc, ValueRange x) {
+  return min(b, loc, {max(b, loc, {x[0], x[1]}), x[2]});
+}
+
+Value lane::smoothstep(OpBuilder &b, Location loc, ValueRange x) {
+  Value e0 = x[0], e1 = x[1], v = x[2];
+  Value t = b.create<arith::DivFOp>(loc, b.create<arith::SubFOp>(loc, v, e0),
+                                    b.create<arith::SubFOp>(loc, e1, e0));
+  Value three = cst(b, loc, v, 3), two = cst(b, loc, v, 2);
+  Value poly = b.create<arith::MulFOp>(
+      loc, b.create<arith::MulFOp>(loc, t, t),
+      b.create<arith::SubFOp>(loc, three, b.create<arith::MulFOp>(loc, two, t)));
+  Value below = fcmp(b, loc, arith::CmpFPredicate::OLT, v, e0);
+  Value above = fcmp(b, loc, arith::CmpFPredicate::OGE, v, e1);
+  return sel(b, loc, below, cst(b, loc, v, 0),
+             sel(b, loc, above, cst(b, loc, v, 1), poly));
+}
+
+Value lane::select(OpBuilder &b, Location loc, ValueRange x) {
+  return sel(b, loc, x[0], x[1], x[2]);
+}
+
+Value lane::compare(OpBuilder &b, Location loc, StringRef p, Value lhs, Value rhs) {
+  if (isFloat(lhs)) {
+    auto pred = llvm::StringSwitch<arith::CmpFPredicate>(p)
+                    .Case("eq", arith::CmpFPredicate::OEQ)
+                    .Case("ne", arith::CmpFPredicate::UNE)
+                    .Case("lt", arith::CmpFPredicate::OLT)
+                    .Case("le", arith::CmpFPredicate::OLE)
+                    .Case("gt", arith::CmpFPredicate::OGT)
+                    .Default(arith::CmpFPredicate::OGE);
+    return fcmp(b, loc, pred, lhs, rhs);
+  }
+  auto pred = llvm::StringSwitch<arith::CmpIPredicate>(p)
+                  .Case("eq", arith::CmpIPredicate::eq)
+                  .Case("ne", arith::CmpIPredicate::ne)
+                  .Case("lt", arith::CmpIPredicate::slt)
+                  .Case("le", arith::CmpIPredicate::sle)
+                  .Case("gt", arith::CmpIPredicate::sgt)
+                  .Default(arith::CmpIPredicate::sge);
+  return icmp(b, loc, pred, lhs, rhs);
+}
+
+Value lane::convert(OpBuilder &b, Location loc, Value x, Type to) {
+  Type from = getElementTypeOrSelf(x.getType());
+  Type toLane = withElement(x.getType(), to);
+  if (from == to)
+    return x;
+  if (to.isInteger(1))
+    return isFloat(x) ? fcmp(b, loc, arith::CmpFPredicate::UNE, x, cst(b, loc, x, 0))
+                      : icmp(b, loc, arith::CmpIPredicate::ne, x, cst(b, loc, x, 0));
+  if (isBool(x))
+    return to.isF32() ? b.create<arith::UIToFPOp>(loc, toLane, x).getResult()
+                      : b.create<arith::ExtUIOp>(loc, toLane, x).getResult();
+  if (to.isF32())
+    return b.create<arith::SIToFPOp>(loc, toLane, x);
+  // int(x) truncates toward zero.
+  return b.create<arith::FPToSIOp>(loc, toLane, x);
+}

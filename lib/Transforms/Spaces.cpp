@@ -1,0 +1,115 @@
+//===- Spaces.cpp - Named coordinate spaces -------------------------------===//
+//
+// testshade's fixed spaces (../shared/conformance/README.md): "common" =
+// "world" = "camera"; shader->common rotates 45 degrees about z then
+// translates (1,0,0); object->common rotates 90 degrees about z then
+// translates (0,1,0); myspace->common scales by (1,2,1). Matrices are
+// composed in double and rounded to float once, when emitted.
+//
+//===----------------------------------------------------------------------===//
+#include "OslTransforms/LibraryBuilders.h"
+
+#include "mlir/Dialect/Arith/IR/Arith.h"
+#include "OslTransforms/LaneMath.h"
+
+#include <cmath>
+
+using namespace mlir;
+using namespace mlir::osl;
+
+namespace {
+
+Matrix44 identity() {
+  return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+}
+
+std::optional<Matrix44> toCommon(StringRef space) {
+  if (space == "common" || space == "world" || space == "camera")
+    return identity();
+  double c = std::sqrt(0.5);
+  if (space == "shader")
+    return Matrix44{c, c, 0, 0, -c, c, 0, 0, 0, 0, 1, 0, 1, 0, 0, 1};
+  if (space == "object")
+    return Matrix44{0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 1};
+  if (space == "myspace")
+    return Matrix44{1, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  return std::nullopt;
+}
+
+Matrix44 multiply(const Matrix44 &a, const Matrix44 &b) {
+  Matrix44 r{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k)
+        r[i * 4 + j] += a[i * 4 + k] * b[k * 4 + j];
+  return r;
+}
+
+/// Gauss-Jordan with partial pivoting; the spaces above are all invertible.
+Matrix44 inverse(Matrix44 m) {
+  Matrix44 inv = identity();
+  for (int col = 0; col < 4; ++col) {
+    int pivot = col;
+    for (int r = col + 1; r < 4; ++r)
+      if (std::fabs(m[r * 4 + col]) > std::fabs(m[pivot * 4 + col]))
+        pivot = r;
+    for (int k = 0; k < 4; ++k) {
+      std::swap(m[col * 4 + k], m[pivot * 4 + k]);
+      std::swap(inv[col * 4 + k], inv[pivot * 4 + k]);
+    }
+    double d = m[col * 4 + col];
+    for (int k = 0; k < 4; ++k) {
+      m[col * 4 + k] /= d;
+      inv[col * 4 + k] /= d;
+    }
+    for (int r = 0; r < 4; ++r) {
+      if (r == col)
+        continue;
+      double f = m[r * 4 + col];
+      for (int k = 0; k < 4; ++k) {
+        m[r * 4 + k] -= f * m[col * 4 + k];
+        inv[r * 4 + k] -= f * inv[col * 4 + k];
+      }
+    }
+  }
+  return inv;
+}
+
+} // namespace
+
+std::optional<Matrix44> mlir::osl::namedSpaceTransform(StringRef from,
+                                                        StringRef to) {
+  auto fromCommon = toCommon(from);
+  auto toSpace = toCommon(to);
+  if (!fromCommon || !toSpace)
+    return std::nullopt;
+  return multiply(*fromCommon, inverse(*toSpace));
+}
+
+std::array<Value, 3> mlir::osl::buildTransform(OpBuilder &b, Location loc,
+                                               const Matrix44 &matrix,
+                                               StringRef kind,
+                                               std::array<Value, 3> p) {
+  Matrix44 m = matrix;
+  if (kind == "normal") {
+    Matrix44 inv = inverse(matrix);
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        m[i * 4 + j] = inv[j * 4 + i];
+  }
+  bool translate = kind == "point";
+  std::array<Value, 3> out;
+  for (int j = 0; j < 3; ++j) {
+    Value sum;
+    for (int i = 0; i < 3; ++i) {
+      Value term = b.create<arith::MulFOp>(
+          loc, p[i], lane::constantLike(b, loc, p[i], float(m[i * 4 + j])));
+      sum = sum ? b.create<arith::AddFOp>(loc, sum, term).getResult() : term;
+    }
+    if (translate)
+      sum = b.create<arith::AddFOp>(
+          loc, sum, lane::constantLike(b, loc, p[0], float(m[12 + j])));
+    out[j] = sum;
+  }
+  return out;
+}

@@ -1,0 +1,139 @@
+//===- RunOptions.cpp - osl-run's command line ----------------------------===//
+//
+// testshade's flags, so conformance commands run unchanged: -g X Y, -o NAME
+// FILE, --param NAME VALUE (also --param:type=T NAME VALUE), --center,
+// --vary_udxdy/--vary_vdxdy/--vary_pdxdy, -t N, --iters N.
+//
+//===----------------------------------------------------------------------===//
+#include "RunOptions.h"
+
+#include <cstdlib>
+#include <cstring>
+
+using namespace osl;
+
+const char *const osl::kUsage =
+    "usage: osl-run SHADER.osl [options]\n"
+    "Compiles an OSL shader and shades a grid of points with it, like\n"
+    "testshade, writing each requested output as an image.\n"
+    "\n"
+    "  -g X Y                 grid size (default 512 512)\n"
+    "  -o NAME FILE           write output NAME to FILE (exr, tif, png...;\n"
+    "                         'null' discards); default: first output to\n"
+    "                         <shader>.png\n"
+    "  --param NAME VALUE     set a parameter (numbers, 'a,b,c' for triples)\n"
+    "  --param:type=T NAME V  the same, with testshade's type annotation\n"
+    "  --width N              lanes per batch: 1, 4, 8 or 16 (default: widest\n"
+    "                         the CPU supports)\n"
+    "  --center               shade pixel centres: u = (x+0.5)/X\n"
+    "  --vary_udxdy, --vary_vdxdy, --vary_pdxdy\n"
+    "                         testshade's varying derivatives\n"
+    "  -t N                   threads (default: all cores)\n"
+    "  --iters N              shade the grid N times, write once\n"
+    "  --stats                time of each compile stage and of shading\n"
+    "  --emit=mlir|lowered|llvm|asm\n"
+    "                         print the front end's osl dialect, the lowered\n"
+    "                         LLVM dialect, optimized LLVM IR or assembly,\n"
+    "                         and stop\n";
+
+namespace {
+
+bool parseInt(const char *text, int &out) {
+  char *end = nullptr;
+  long v = std::strtol(text, &end, 10);
+  if (!*text || *end || v < -(1L << 30) || v > (1L << 30))
+    return false;
+  out = int(v);
+  return true;
+}
+
+} // namespace
+
+bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
+                          std::string &error) {
+  auto need = [&](int i, int n, const char *flag) {
+    if (i + n < argc)
+      return true;
+    error = std::string(flag) + " needs " + std::to_string(n) + " argument" +
+            (n > 1 ? "s" : "");
+    return false;
+  };
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    if (a == "-g") {
+      if (!need(i, 2, "-g"))
+        return false;
+      if (!parseInt(argv[i + 1], o.grid.xres) || !parseInt(argv[i + 2], o.grid.yres) ||
+          o.grid.xres < 1 || o.grid.yres < 1) {
+        error = "-g needs two positive integers";
+        return false;
+      }
+      o.gridGiven = true;
+      i += 2;
+    } else if (a == "-o") {
+      if (!need(i, 2, "-o"))
+        return false;
+      o.outputs.push_back({argv[i + 1], argv[i + 2]});
+      i += 2;
+    } else if (a == "--param" || a.rfind("--param:", 0) == 0) {
+      if (!need(i, 2, "--param"))
+        return false;
+      o.compile.params.push_back({argv[i + 1], argv[i + 2]});
+      i += 2;
+    } else if (a == "--width" || a.rfind("--width=", 0) == 0) {
+      std::string v = a == "--width" ? (need(i, 1, "--width") ? argv[++i] : "")
+                                     : a.substr(8);
+      if (!parseInt(v.c_str(), o.compile.width) ||
+          (o.compile.width != 1 && o.compile.width != 4 && o.compile.width != 8 &&
+           o.compile.width != 16)) {
+        error = "--width must be 1, 4, 8 or 16";
+        return false;
+      }
+    } else if (a == "-t") {
+      if (!need(i, 1, "-t") || !parseInt(argv[++i], o.grid.threads) ||
+          o.grid.threads < 0) {
+        error = "-t needs a thread count (0 = all cores)";
+        return false;
+      }
+    } else if (a == "--iters") {
+      if (!need(i, 1, "--iters") || !parseInt(argv[++i], o.iters) || o.iters < 1) {
+        error = "--iters needs a positive count";
+        return false;
+      }
+    } else if (a == "--center") {
+      o.grid.center = true;
+    } else if (a == "--vary_udxdy") {
+      o.grid.varyUdxdy = true;
+    } else if (a == "--vary_vdxdy") {
+      o.grid.varyVdxdy = true;
+    } else if (a == "--vary_pdxdy") {
+      o.grid.varyPdxdy = true;
+    } else if (a == "--stats") {
+      o.stats = true;
+    } else if (a.rfind("--emit=", 0) == 0) {
+      o.emit = a.substr(7);
+      if (o.emit != "mlir" && o.emit != "lowered" && o.emit != "llvm" && o.emit != "asm") {
+        error = "--emit must be mlir, lowered, llvm or asm";
+        return false;
+      }
+    } else if (a == "-h" || a == "--help") {
+      error = "";
+      return false;
+    } else if (!a.empty() && a[0] == '-') {
+      error = "unknown option '" + a + "'";
+      return false;
+    } else if (o.shaderPath.empty()) {
+      o.shaderPath = a;
+    } else {
+      error = "more than one shader given ('" + o.shaderPath + "' and '" + a + "')";
+      return false;
+    }
+  }
+  if (o.shaderPath.empty()) {
+    error = "no shader given";
+    return false;
+  }
+  if (!o.gridGiven)
+    o.grid.xres = o.grid.yres = 512;
+  return true;
+}

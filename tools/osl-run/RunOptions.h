@@ -1,0 +1,33 @@
+//===- RunOptions.h - osl-run's command line --------------------*- C++ -*-===//
+#ifndef OSLRUN_RUNOPTIONS_H
+#define OSLRUN_RUNOPTIONS_H
+
+#include "OslCompiler/ShaderCompiler.h"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace osl {
+
+struct RunOptions {
+  std::string shaderPath;
+  CompileOptions compile;
+  GridOptions grid;
+  bool gridGiven = false;
+  /// (output name, file); "null" discards.
+  std::vector<std::pair<std::string, std::string>> outputs;
+  bool stats = false;
+  int iters = 1;
+  std::string emit; // "", "mlir", "lowered", "llvm", "asm"
+};
+
+/// testshade-style arguments. On error returns false with a message.
+bool parseRunOptions(int argc, char **argv, RunOptions &options,
+                     std::string &error);
+
+extern const char *const kUsage;
+
+} // namespace osl
+
+#endif // OSLRUN_RUNOPTIONS_H

@@ -1,0 +1,144 @@
+//===- osl-run.cpp - Compile an OSL shader and shade a grid ---------------===//
+//
+// Like OSL's testshade: each point of an X x Y grid gets testshade's
+// globals, batches of W points run through the JIT-compiled kernel, and
+// outputs are written as images through OpenImageIO.
+//
+//===----------------------------------------------------------------------===//
+#include "RunOptions.h"
+
+#include "OslRuntime/ImageOutput.h"
+#include "OslRuntime/ThreadPool.h"
+
+#include "llvm/IR/Module.h"
+#include "llvm/Support/InitLLVM.h"
+#include "llvm/Support/MemoryBuffer.h"
+#include "llvm/Support/raw_ostream.h"
+
+using namespace osl;
+
+namespace {
+
+int fail(const std::string &message) {
+  llvm::errs() << "osl-run: error: " << message << "\n";
+  return 1;
+}
+
+/// Maps each requested output to its kernel row block.
+bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
+                    std::vector<std::pair<size_t, std::string>> &files,
+                    std::string &error) {
+  auto requested = options.outputs;
+  if (requested.empty()) {
+    if (shader.outputs.empty()) {
+      error = "shader '" + shader.name + "' has no output parameters";
+      return false;
+    }
+    requested.push_back({shader.outputs.front().name, shader.name + ".png"});
+  }
+  for (auto &[name, file] : requested) {
+    auto it = std::find_if(shader.outputs.begin(), shader.outputs.end(),
+                           [&](const OutputSpec &o) { return o.name == name; });
+    if (it == shader.outputs.end()) {
+      error = "shader '" + shader.name + "' has no output '" + name + "'; outputs:";
+      for (const OutputSpec &o : shader.outputs)
+        error += " " + o.name;
+      return false;
+    }
+    files.push_back({size_t(it - shader.outputs.begin()), file});
+  }
+  return true;
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+  llvm::InitLLVM init(argc, argv);
+  if (argc == 1) {
+    llvm::outs() << kUsage;
+    return 0;
+  }
+  RunOptions options;
+  std::string error;
+  if (!parseRunOptions(argc, argv, options, error)) {
+    if (error.empty()) {
+      llvm::outs() << kUsage;
+      return 0;
+    }
+    llvm::errs() << "osl-run: error: " << error << "\n" << kUsage;
+    return 2;
+  }
+  auto buffer = llvm::MemoryBuffer::getFile(options.shaderPath, /*IsText=*/true);
+  if (!buffer)
+    return fail("cannot read '" + options.shaderPath + "': " +
+                buffer.getError().message());
+
+  Stats stats;
+  Stats *statsPtr = options.stats ? &stats : nullptr;
+  ShaderCompiler compiler(options.compile, llvm::errs(), statsPtr);
+  if (!compiler.parse((*buffer)->getBuffer(), options.shaderPath))
+    return 1;
+  if (options.emit == "mlir") {
+    compiler.module().print(llvm::outs());
+    return 0;
+  }
+  if (!compiler.lower())
+    return 1;
+  if (options.emit == "lowered") {
+    compiler.module().print(llvm::outs());
+    return 0;
+  }
+  if (!compiler.translate())
+    return 1;
+  if (options.emit == "llvm") {
+    compiler.llvmModule()->print(llvm::outs(), nullptr);
+    return 0;
+  }
+  if (options.emit == "asm") {
+    auto asmText = Jit::emitAssembly(*compiler.llvmModule(), statsPtr);
+    if (!asmText)
+      return fail(llvm::toString(asmText.takeError()));
+    llvm::outs() << *asmText;
+    return 0;
+  }
+  std::unique_ptr<CompiledShader> shader = compiler.load();
+  if (!shader)
+    return 1;
+
+  std::vector<std::pair<size_t, std::string>> files;
+  if (!resolveOutputs(options, *shader, files, error))
+    return fail(error);
+
+  options.grid.progress = true;
+  ThreadPool pool(options.grid.threads);
+  ShadeResult result;
+  double shading = 0;
+  for (int i = 0; i < options.iters; ++i) {
+    result = shadeGrid(shader->kernel, shader->width, shader->outputs,
+                       options.grid, pool);
+    shading += result.seconds;
+  }
+  stats.add("shading", shading);
+
+  {
+    ScopedTimer timer(statsPtr, "write images");
+    for (auto &[index, file] : files) {
+      if (file == "null")
+        continue;
+      if (!writeImage(file, options.grid.xres, options.grid.yres,
+                      shader->outputs[index].channels, result.images[index].data(),
+                      error))
+        return fail("cannot write '" + file + "': " + error);
+    }
+  }
+  if (options.stats) {
+    llvm::errs() << "shader " << shader->name << ", width " << shader->width
+                 << ", grid " << options.grid.xres << "x" << options.grid.yres
+                 << ", " << pool.size() << " thread(s), " << options.iters
+                 << " iteration(s)\n";
+    stats.print(llvm::errs());
+    double points = double(options.grid.xres) * options.grid.yres * options.iters;
+    llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
+  }
+  return 0;
+}
