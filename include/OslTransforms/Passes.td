@@ -62,7 +62,9 @@ def LowerToLLVM : Pass<"osl-lower-to-llvm", "::mlir::ModuleOp"> {
     Math functions become polynomial approximations that stay in vector
     registers (no per-lane libm calls), then everything becomes LLVM.
   }];
-  let dependentDialects = ["::mlir::LLVM::LLVMDialect", "::mlir::cf::ControlFlowDialect"];
+  let dependentDialects = ["::mlir::LLVM::LLVMDialect", "::mlir::cf::ControlFlowDialect",
+                           "::mlir::arith::ArithDialect", "::mlir::math::MathDialect",
+                           "::mlir::vector::VectorDialect"];
 }
 
 #endif // OSL_TRANSFORMS_PASSES_TD

@@ -1,0 +1,152 @@
+// RUN: osl-opt %s -split-input-file -verify-diagnostics
+
+func.func @add_mixes_float_and_int(%a: f32, %b: i32) {
+  // expected-error @+1 {{operands must share one type accepted by this op}}
+  %0 = osl.add %a, %b : f32, i32 -> f32
+  return
+}
+
+// -----
+
+func.func @sin_of_int(%a: i32) {
+  // expected-error @+1 {{operands must share one type accepted by this op}}
+  %0 = osl.sin %a : i32 -> i32
+  return
+}
+
+// -----
+
+func.func @result_type_differs(%a: f32) {
+  // expected-error @+1 {{result type 'vector<3xf32>' must match operand type 'f32'}}
+  %0 = osl.neg %a : f32 -> vector<3xf32>
+  return
+}
+
+// -----
+
+func.func @unknown_global() {
+  // expected-error @+1 {{unknown shader global 'Q'}}
+  %0 = osl.global "Q" : !osl.varying<f32>
+  return
+}
+
+// -----
+
+func.func @uniform_global() {
+  // expected-error @+1 {{shader globals are varying}}
+  %0 = osl.global "u" : f32
+  return
+}
+
+// -----
+
+func.func @global_wrong_shape() {
+  // expected-error @+1 {{global 'P' has type vector<3xf32>}}
+  %0 = osl.global "P" : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// expected-error @+1 {{varying element must be f32, i32, i1 or vector<3xf32>, got 'f64'}}
+func.func @varying_of_f64(%a: !osl.varying<f64>) {
+  return
+}
+
+// -----
+
+func.func @compare_unknown_predicate(%a: f32) {
+  // expected-error @+1 {{unknown predicate}}
+  %0 = osl.cmp "near", %a, %a : f32, f32 -> i1
+  return
+}
+
+// -----
+
+func.func @select_condition_not_bool(%a: f32) {
+  // expected-error @+1 {{operand #0 must be i1 or !osl.varying<i1>}}
+  %0 = osl.select %a, %a, %a : f32, f32, f32 -> f32
+  return
+}
+
+// -----
+
+func.func @broadcast_of_varying(%a: !osl.varying<f32>) {
+  // expected-error @+1 {{turns a uniform T into !osl.varying<T>}}
+  %0 = osl.broadcast %a : !osl.varying<f32> -> !osl.varying<f32>
+  return
+}
+
+// -----
+
+func.func @convert_triple_to_int(%a: vector<3xf32>) {
+  // expected-error @+1 {{cannot convert 'vector<3xf32>' to 'i32'}}
+  %0 = osl.convert %a : vector<3xf32> -> i32
+  return
+}
+
+// -----
+
+func.func @noise_unknown_name(%a: f32) {
+  // expected-error @+1 {{unknown noise type 'pink'}}
+  %0 = osl.noise "pink"(%a) : (f32) -> f32
+  return
+}
+
+// -----
+
+func.func @noise_bad_domain(%a: f32, %p: vector<3xf32>) {
+  // expected-error @+1 {{domain must be (float), (float, float), (triple) or (triple, float)}}
+  %0 = osl.noise "perlin"(%a, %p) : (f32, vector<3xf32>) -> f32
+  return
+}
+
+// -----
+
+func.func @transform_bad_kind(%p: vector<3xf32>) {
+  // expected-error @+1 {{kind must be point, vector or normal}}
+  %0 = osl.transform "common" to "object" "color" %p : vector<3xf32> -> vector<3xf32>
+  return
+}
+
+// -----
+
+func.func @spline_too_few_knots(%x: f32, %k: f32) {
+  // expected-error @+1 {{basis 'catmull-rom' needs at least 4 knots}}
+  %0 = osl.spline "catmull-rom" %x [%k, %k, %k] : f32, f32, f32, f32 -> f32
+  return
+}
+
+// -----
+
+func.func @spline_unknown_basis(%x: f32, %k: f32) {
+  // expected-error @+1 {{unknown spline basis 'cosine'}}
+  %0 = osl.spline "cosine" %x [%k, %k, %k, %k] : f32, f32, f32, f32, f32 -> f32
+  return
+}
+
+// -----
+
+func.func @if_yields_wrong_type(%c: i1, %a: f32, %b: i32) {
+  // expected-error @+1 {{yield: type 'i32' does not match 'f32'}}
+  %0 = osl.if %c : i1 -> f32 {
+    osl.yield %a : f32
+  } else {
+    osl.yield %b : i32
+  }
+  return
+}
+
+// -----
+
+func.func @while_back_edge_count(%a: f32, %c: i1) {
+  // expected-error @+1 {{loop back edge: 0 values for 1 slots}}
+  %0 = osl.while (%a : f32) -> f32 cond {
+  ^bb0(%x: f32):
+    osl.condition %c : i1, %x : f32
+  } do {
+  ^bb0(%x: f32):
+    osl.yield
+  }
+  return
+}

@@ -1,0 +1,130 @@
+// RUN: osl-opt %s -split-input-file --osl-convert-to-vector=width=8 | FileCheck %s
+// RUN: osl-opt %s -split-input-file --osl-convert-to-vector=width=16 | FileCheck %s --check-prefix=W16
+
+// The shader becomes the batch kernel; a varying triple global is three
+// rows of W floats, loaded from the globals block.
+// CHECK-LABEL: func.func @osl_batch(%{{.+}}: !llvm.ptr, %{{.+}}: !llvm.ptr, %{{.+}}: i32) attributes {osl.shader_name = "globals_and_outputs"}
+// CHECK: llvm.getelementptr %{{.+}}[0] : (!llvm.ptr) -> !llvm.ptr, f32
+// CHECK: llvm.load %{{.+}} : !llvm.ptr -> vector<8xf32>
+// CHECK: llvm.getelementptr %{{.+}}[8]
+// CHECK: llvm.getelementptr %{{.+}}[16]
+// Outputs are masked stores: lanes past nactive are never written.
+// CHECK: %[[LANES:.+]] = arith.constant dense<[0, 1, 2, 3, 4, 5, 6, 7]> : vector<8xi32>
+// CHECK: %[[N:.+]] = vector.broadcast %{{.+}} : i32 to vector<8xi32>
+// CHECK: %[[MASK:.+]] = arith.cmpi slt, %[[LANES]], %[[N]] : vector<8xi32>
+// CHECK: llvm.intr.masked.store %{{.+}}, %{{.+}}, %[[MASK]]
+// W16: llvm.load %{{.+}} : !llvm.ptr -> vector<16xf32>
+func.func @globals_and_outputs() {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  osl.output "Pout" = %P : !osl.varying<vector<3xf32>>
+  return
+}
+
+// -----
+
+// Uniform values stay scalar; a uniform operand of a varying op is
+// broadcast once it meets varying data.
+// CHECK-LABEL: osl.shader_name = "uniform_stays_scalar"
+// CHECK: %[[S:.+]] = arith.mulf %{{.+}}, %{{.+}} : f32
+// CHECK: %[[B:.+]] = vector.broadcast %[[S]] : f32 to vector<8xf32>
+// CHECK: arith.addf %{{.+}}, %[[B]] : vector<8xf32>
+func.func @uniform_stays_scalar() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %two = arith.constant 2.0 : f32
+  %s = osl.mul %two, %two : f32, f32 -> f32
+  %r = osl.add %u, %s : !osl.varying<f32>, f32 -> !osl.varying<f32>
+  osl.output "x" = %r : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// OSL's safe division: x/0 = 0, by a select on the divisor.
+// CHECK-LABEL: osl.shader_name = "safe_division"
+// CHECK: %[[Q:.+]] = arith.divf %{{.+}}, %{{.+}} : vector<8xf32>
+// CHECK: %[[Z:.+]] = arith.cmpf oeq, %{{.+}}, %{{.+}} : vector<8xf32>
+// CHECK: arith.select %[[Z]], %{{.+}}, %[[Q]] : vector<8xi1>, vector<8xf32>
+func.func @safe_division() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %v = osl.global "v" : !osl.varying<f32>
+  %q = osl.div %u, %v : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
+  osl.output "q" = %q : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// Triples are lowered one component (one register) at a time.
+// CHECK-LABEL: osl.shader_name = "triple_componentwise"
+// CHECK-COUNT-3: math.sin %{{.+}} : vector<8xf32>
+func.func @triple_componentwise() {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %s = osl.sin %P : !osl.varying<vector<3xf32>> -> !osl.varying<vector<3xf32>>
+  osl.output "s" = %s : !osl.varying<vector<3xf32>>
+  return
+}
+
+// -----
+
+// Noise becomes inline integer hashing and float math: no calls.
+// CHECK-LABEL: osl.shader_name = "noise_is_inlined"
+// CHECK-NOT: call
+// CHECK: arith.xori %{{.+}}, %{{.+}} : vector<8xi32>
+func.func @noise_is_inlined() {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %n = osl.noise "perlin"(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  osl.output "n" = %n : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// Int outputs are stored as float values, like the conformance images.
+// CHECK-LABEL: osl.shader_name = "int_output_as_float"
+// CHECK: arith.fptosi %{{.+}} : vector<8xf32> to vector<8xi32>
+// CHECK: arith.sitofp %{{.+}} : vector<8xi32> to vector<8xf32>
+// CHECK: llvm.intr.masked.store
+func.func @int_output_as_float() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %i = osl.convert %u : !osl.varying<f32> -> !osl.varying<i32>
+  osl.output "i" = %i : !osl.varying<i32>
+  return
+}
+
+// -----
+
+// Masked loops: scf.while carries vector types, osl.any becomes an OR
+// reduction over the lanes.
+// CHECK-LABEL: osl.shader_name = "masked_loop"
+// CHECK: scf.while (%{{.+}} = %{{.+}}, %{{.+}} = %{{.+}}) : (vector<8xf32>, vector<8xi1>) -> (vector<8xf32>, vector<8xi1>)
+// CHECK: vector.reduction <or>, %{{.+}} : vector<8xi1> into i1
+func.func @masked_loop() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %m = osl.batch_mask : !osl.varying<i1>
+  %one = arith.constant 1.0 : f32
+  %r:2 = scf.while (%x = %u, %mask = %m) : (!osl.varying<f32>, !osl.varying<i1>) -> (!osl.varying<f32>, !osl.varying<i1>) {
+    %c = osl.cmp "lt", %x, %one : !osl.varying<f32>, f32 -> !osl.varying<i1>
+    %still = osl.and %mask, %c : !osl.varying<i1>, !osl.varying<i1> -> !osl.varying<i1>
+    %any = osl.any %still : !osl.varying<i1>
+    scf.condition(%any) %x, %still : !osl.varying<f32>, !osl.varying<i1>
+  } do {
+  ^bb0(%x: !osl.varying<f32>, %mask: !osl.varying<i1>):
+    %x2 = osl.add %x, %x : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
+    %keep = osl.select %mask, %x2, %x : !osl.varying<i1>, !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
+    scf.yield %keep, %mask : !osl.varying<f32>, !osl.varying<i1>
+  }
+  osl.output "x" = %r#0 : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// Transforms between named spaces multiply by constant matrices.
+// CHECK-LABEL: osl.shader_name = "transform_to_object"
+// CHECK-COUNT-9: arith.mulf
+func.func @transform_to_object() {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %t = osl.transform "common" to "object" "point" %P : !osl.varying<vector<3xf32>> -> !osl.varying<vector<3xf32>>
+  osl.output "t" = %t : !osl.varying<vector<3xf32>>
+  return
+}
