@@ -36,7 +36,11 @@ enum class ExprKind {
 
 struct Expr {
   ExprKind kind;
+  /// The operator (binary, ternary, assignment, index), the callee name,
+  /// or the token of a leaf.
   SrcLoc loc;
+  /// Where the whole expression starts (for "cannot convert" messages).
+  SrcLoc begin;
   std::string name;
   long long intValue = 0;
   double floatValue = 0;
@@ -44,8 +48,11 @@ struct Expr {
   bool isCtor = false;        // Call: `color(...)`, `float(...)`...
   OslType castType;           // Cast target or constructor type
   std::vector<ExprPtr> args;
+  /// Height of this subtree (1 for leaves); the parser bounds it so that
+  /// recursive walks cannot exhaust the stack.
+  unsigned height = 1;
 
-  Expr(ExprKind kind, SrcLoc loc) : kind(kind), loc(loc) {}
+  Expr(ExprKind kind, SrcLoc loc) : kind(kind), loc(loc), begin(loc) {}
 };
 
 struct Declarator {

@@ -21,6 +21,7 @@
 
 #include <deque>
 #include <optional>
+#include <map>
 #include <set>
 
 namespace osl::frontend {
@@ -113,6 +114,8 @@ public:
   RValue zeroValue(OslType t, SrcLoc l);
   static std::optional<int64_t> getConstInt(mlir::Value v);
   static std::optional<bool> getConstBool(mlir::Value v);
+  /// An int, float or bool constant as a double.
+  static std::optional<double> getConstScalar(mlir::Value v);
 
   /// osl.convert to another base type (uniformity kept), folding constants.
   mlir::Value convert(mlir::Value v, mlir::Type toBase, SrcLoc l);
@@ -135,11 +138,23 @@ public:
   std::optional<RValue> emitBinaryOp(llvm::StringRef op, RValue lhs, RValue rhs,
                                      SrcLoc l);
 
+  /// Assignable places: a variable, an array element, a component.
+  std::optional<LValue> emitLValue(const Expr &e);
+  RValue loadLValue(const LValue &lv, SrcLoc l);
+  bool storeLValue(const LValue &lv, RValue v, SrcLoc l);
+
+  /// The value of a shader global (emitted once, at the top of the shader).
+  mlir::Value getGlobal(llvm::StringRef name, mlir::Type base, SrcLoc l);
+
 private:
   // --- program structure -----------------------------------------------------
   bool emitShader(const ShaderDecl &shader, mlir::func::FuncOp func);
   bool emitParam(const Param &p, Scope *scope);
   std::optional<RValue> overrideValue(const Param &p, const std::string &text);
+  /// A declaration's initializer (an expression or `{...}`) as `type`;
+  /// sets the length of unsized arrays.
+  std::optional<RValue> emitInitializer(const Expr &init, OslType &type,
+                                        llvm::StringRef name, SrcLoc l);
   void collectFunctions(const Stmt &s);
 
   // --- scopes and variables --------------------------------------------------
@@ -152,26 +167,43 @@ private:
   std::vector<FunctionRef> lookupFunctions(llvm::StringRef name);
 
   // --- statements ------------------------------------------------------------
-  bool emitStmt(const Stmt &s);
-  bool emitBlockBody(const std::vector<StmtPtr> &stmts);
+  /// `tail`: the statement ends the function (or shader) on its path, so
+  /// a `return` there is supported.
+  bool emitStmt(const Stmt &s, bool tail);
+  bool emitStmtList(const std::vector<StmtPtr> &stmts, size_t from, bool tail);
+  bool emitScoped(const Stmt &s, bool tail);
+  bool emitScoped(const std::vector<StmtPtr> &stmts, bool tail);
   bool emitDecl(const Stmt &s);
-  bool emitIf(const Stmt &s);
+  bool emitIf(const Stmt &s, bool tail);
   bool emitLoop(const Stmt &s);
+  bool emitWhile(const Expr *cond, const Stmt &body, const Expr *step,
+                 const llvm::StringSet<> &names, SrcLoc l);
 
   /// Names assigned anywhere in a statement or expression (including
   /// through output arguments and the bodies of called user functions).
   void scanAssigned(const Stmt &s, llvm::StringSet<> &names);
   void scanAssigned(const Expr &e, llvm::StringSet<> &names);
   bool hasSideEffects(const Expr &e);
+  const llvm::StringSet<> &functionAssigned(const FunctionDecl *fn);
   /// The outer variables a region must carry, sorted by creation.
   std::vector<Var *> carriedVars(const llvm::StringSet<> &names);
   std::vector<mlir::Value> flatten(const std::vector<Var *> &vars, SrcLoc l);
   void unflatten(const std::vector<Var *> &vars, mlir::ValueRange values);
+  std::vector<std::pair<Var *, std::string>>
+  stringSnapshot(const llvm::StringSet<> &names);
+  bool checkStrings(const std::vector<std::pair<Var *, std::string>> &snap, SrcLoc l,
+                    llvm::StringRef what);
+  /// An osl.if on `cond` carrying the variables in `assigned`; with
+  /// `wantValue`, the arms' values (unified) are an extra result.
+  std::optional<RValue> emitIfRegion(mlir::Value cond, SrcLoc l,
+                                     const llvm::StringSet<> &assigned,
+                                     llvm::function_ref<std::optional<RValue>()> thenArm,
+                                     llvm::function_ref<std::optional<RValue>()> elseArm,
+                                     bool wantValue);
 
   // --- expressions -----------------------------------------------------------
   std::optional<RValue> emitIdent(const Expr &e);
-  std::optional<RValue> emitUnary(const Expr &e);
-  std::optional<RValue> emitBinary(const Expr &e);
+  std::optional<RValue> emitUnary(const Expr &e, const OslType *expected);
   std::optional<RValue> emitLogical(const Expr &e);
   std::optional<RValue> emitTernary(const Expr &e, const OslType *expected);
   std::optional<RValue> emitAssign(const Expr &e);
@@ -180,21 +212,18 @@ private:
   std::optional<RValue> emitCall(const Expr &e, const OslType *expected);
   std::optional<RValue> emitUserCall(const Expr &e,
                                      const std::vector<FunctionRef> &cands,
-                                     const OslType *expected, bool &noMatch);
-  /// Runs `emitArm` in both arms of an osl.if on `cond` and returns the
-  /// values each arm produces (plus the carried variables).
-  std::optional<RValue> emitIfExpr(mlir::Value cond, SrcLoc l,
-                                   const llvm::StringSet<> &assigned,
-                                   llvm::function_ref<std::optional<RValue>()> thenArm,
-                                   llvm::function_ref<std::optional<RValue>()> elseArm);
+                                     const OslType *expected);
+  std::optional<RValue> inlineCall(const FunctionRef &f, const Expr &call,
+                                   std::vector<RValue> &args,
+                                   std::vector<std::optional<LValue>> &lvalues);
   /// Common type of two branches (ternary) or nullopt.
   std::optional<OslType> unify(OslType a, OslType b);
 
-  std::optional<LValue> emitLValue(const Expr &e);
-  RValue loadLValue(const LValue &lv, SrcLoc l);
-  bool storeLValue(const LValue &lv, RValue v, SrcLoc l);
+  /// The access an Index or Member expression makes into `baseType`.
+  std::optional<Access> makeAccess(OslType baseType, const Expr &e, OslType &elemType);
   RValue updatePath(const RValue &cur, const std::vector<Access> &path, size_t k,
                     const RValue &newValue, SrcLoc l);
+  RValue elementAt(const RValue &cur, const Access &a, int j, SrcLoc l);
   /// Reads element `a` of an array (elems) or triple, index clamped.
   RValue readAccess(const RValue &cur, const Access &a, SrcLoc l);
   /// i1: does the (clamped) index select element k of n?
@@ -204,6 +233,14 @@ private:
   Diagnostics &diags;
   llvm::ArrayRef<ParamOverride> overrides;
   mlir::OpBuilder b;
+  struct OpCounter : mlir::OpBuilder::Listener {
+    size_t count = 0;
+    void notifyOperationInserted(mlir::Operation *, mlir::OpBuilder::InsertPoint) override {
+      ++count;
+    }
+  } opCounter;
+  /// False (after an error) once the shader has grown past kMaxOps.
+  bool checkSize(SrcLoc l);
   mlir::Block *entryBlock = nullptr;
   mlir::Operation *lastGlobal = nullptr; // globals are emitted at the top
 
@@ -218,10 +255,13 @@ private:
 
   struct InlineFrame {
     const FunctionDecl *fn;
-    std::set<const Stmt *> tailReturns;
     Var *returnVar = nullptr;
   };
   std::vector<InlineFrame> inlineStack;
+  /// What each user function's body assigns (see scanAssigned).
+  std::map<const FunctionDecl *, llvm::StringSet<>> functionAssignedCache;
+
+  llvm::StringMap<mlir::Value> globalValues;
   unsigned exprDepth = 0;
 };
 
@@ -235,6 +275,17 @@ bool isBuiltinName(llvm::StringRef name);
 
 /// The name of the hidden variable holding a function's return value.
 inline constexpr const char *kReturnVarName = "$return";
+
+/// The variable an lvalue-shaped expression designates, or "".
+inline llvm::StringRef rootName(const Expr &e) {
+  const Expr *cur = &e;
+  while (cur->kind == ExprKind::Index || cur->kind == ExprKind::Member)
+    cur = cur->args[0].get();
+  return cur->kind == ExprKind::Ident ? llvm::StringRef(cur->name) : "";
+}
+
+/// The stdosl.h constants (M_PI, M_E...), or nullopt.
+std::optional<double> lookupFloatConstant(llvm::StringRef name);
 
 } // namespace osl::frontend
 

@@ -3,6 +3,7 @@
 
 #include "llvm/ADT/StringSwitch.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 
@@ -42,7 +43,6 @@ bool isReserved(llvm::StringRef s) {
              .Cases("if", "else", "for", "while", "do", "break", "continue", true)
              .Cases("return", "struct", "output", "uniform", "varying", true)
              .Cases("and", "or", "not", "illuminate", "illuminance", "gather", true)
-             .Cases("shader", "surface", "displacement", "volume", "light", true)
              .Default(false);
 }
 
@@ -58,7 +58,8 @@ public:
         error(t.loc, "structs are not supported yet");
         return false;
       }
-      if (t.is(TokKind::Ident) && isShaderTypeKeyword(t.text)) {
+      if (t.is(TokKind::Ident) && isShaderTypeKeyword(t.text) &&
+          peek(1).is(TokKind::Ident)) {
         if (program.shader) {
           error(t.loc, "only one shader per file is supported (first one is '" +
                            program.shader->name + "')");
@@ -128,6 +129,21 @@ private:
     else
       errorExpected("'" + p + "' " + context);
     return false;
+  }
+
+  /// Sets the height of a new node from its children; false (after an
+  /// error) if the expression is too deep, e.g. a chain of thousands of
+  /// binary operators.
+  bool finish(Expr &e) {
+    unsigned h = 0;
+    for (const ExprPtr &a : e.args)
+      h = std::max(h, a->height);
+    e.height = h + 1;
+    if (e.height > kMaxNesting * 2) {
+      error(e.loc, "expression is too complex (nested too deeply)");
+      return false;
+    }
+    return true;
   }
 
   /// RAII nesting counter.
@@ -585,11 +601,11 @@ private:
       list->args.push_back(std::move(e));
       if (acceptPunct(",")) {
         if (acceptPunct("}"))
-          return list;
+          return finish(*list) ? std::move(list) : nullptr;
         continue;
       }
       if (acceptPunct("}"))
-        return list;
+        return finish(*list) ? std::move(list) : nullptr;
       errorExpected("',' or '}' in initializer list");
       return nullptr;
     }
@@ -632,6 +648,7 @@ private:
       return nullptr;
     }
     auto e = std::make_unique<Expr>(ExprKind::Assign, op.loc);
+    e->begin = lhs->begin;
     e->name = op.text;
     advance();
     ExprPtr rhs = parseAssignment();
@@ -639,6 +656,8 @@ private:
       return nullptr;
     e->args.push_back(std::move(lhs));
     e->args.push_back(std::move(rhs));
+    if (!finish(*e))
+      return nullptr;
     return e;
   }
 
@@ -650,6 +669,7 @@ private:
     if (!nest.ok)
       return nullptr;
     auto e = std::make_unique<Expr>(ExprKind::Ternary, cur().loc);
+    e->begin = cond->begin;
     advance();
     ExprPtr a = parseAssignment();
     if (!a)
@@ -662,6 +682,8 @@ private:
     e->args.push_back(std::move(cond));
     e->args.push_back(std::move(a));
     e->args.push_back(std::move(b));
+    if (!finish(*e))
+      return nullptr;
     return e;
   }
 
@@ -705,9 +727,12 @@ private:
       if (!rhs)
         return nullptr;
       auto e = std::make_unique<Expr>(ExprKind::Binary, loc);
+      e->begin = lhs->begin;
       e->name = op;
       e->args.push_back(std::move(lhs));
       e->args.push_back(std::move(rhs));
+      if (!finish(*e))
+        return nullptr;
       lhs = std::move(e);
     }
   }
@@ -728,6 +753,8 @@ private:
       auto e = std::make_unique<Expr>(ExprKind::Unary, loc);
       e->name = op;
       e->args.push_back(std::move(operand));
+      if (!finish(*e))
+        return nullptr;
       return e;
     }
     if (t.isPunct("++") || t.isPunct("--")) {
@@ -745,6 +772,8 @@ private:
       e->name = op;
       e->prefix = true;
       e->args.push_back(std::move(operand));
+      if (!finish(*e))
+        return nullptr;
       return e;
     }
     // A cast: '(' type ')' unary.
@@ -760,6 +789,8 @@ private:
       auto e = std::make_unique<Expr>(ExprKind::Cast, loc);
       e->castType = OslType(base);
       e->args.push_back(std::move(operand));
+      if (!finish(*e))
+        return nullptr;
       return e;
     }
     return parsePostfix();
@@ -771,7 +802,7 @@ private:
       return nullptr;
     while (true) {
       const Token &t = cur();
-      if (t.isPunct("[")) {
+      if (t.isPunct("[") && !peek(1).isPunct("[")) { // `[[` starts metadata
         SrcLoc loc = t.loc;
         advance();
         ExprPtr index = parseExpression();
@@ -780,8 +811,11 @@ private:
         if (!expectPunct("]", "after array index"))
           return nullptr;
         auto ix = std::make_unique<Expr>(ExprKind::Index, loc);
+        ix->begin = e->begin;
         ix->args.push_back(std::move(e));
         ix->args.push_back(std::move(index));
+        if (!finish(*ix))
+          return nullptr;
         e = std::move(ix);
       } else if (t.isPunct(".")) {
         SrcLoc loc = t.loc;
@@ -791,9 +825,12 @@ private:
           return nullptr;
         }
         auto m = std::make_unique<Expr>(ExprKind::Member, loc);
+        m->begin = e->begin;
         m->name = cur().text;
         advance();
         m->args.push_back(std::move(e));
+        if (!finish(*m))
+          return nullptr;
         e = std::move(m);
       } else if (t.isPunct("++") || t.isPunct("--")) {
         if (e->kind != ExprKind::Ident && e->kind != ExprKind::Index &&
@@ -802,10 +839,13 @@ private:
           return nullptr;
         }
         auto inc = std::make_unique<Expr>(ExprKind::IncDec, t.loc);
+        inc->begin = e->begin;
         inc->name = t.text;
         inc->prefix = false;
         advance();
         inc->args.push_back(std::move(e));
+        if (!finish(*inc))
+          return nullptr;
         e = std::move(inc);
       } else if (t.isPunct("(")) {
         error(t.loc, "only named functions can be called");
@@ -828,7 +868,7 @@ private:
       if (acceptPunct(","))
         continue;
       if (acceptPunct(")"))
-        return true;
+        return finish(call);
       errorExpected("',' or ')' in argument list of '" + call.name + "'");
       return false;
     }

@@ -14,7 +14,7 @@ bool parseProgram(const std::vector<Token> &tokens, Diagnostics &diags,
 
 /// Nesting deeper than this (statements or expressions) is an error, so
 /// hostile input cannot exhaust the stack.
-constexpr unsigned kMaxNesting = 200;
+constexpr unsigned kMaxNesting = 256;
 
 } // namespace osl::frontend
 

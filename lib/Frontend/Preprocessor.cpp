@@ -248,7 +248,7 @@ private:
     }
     for (size_t i = 0; i < in.size(); ++i) {
       const Token &tok = in[i];
-      if (out.size() > kMaxOutputTokens) {
+      if (++produced > kMaxOutputTokens) {
         diags.error(tok.loc, "macro expansion is too large");
         return false;
       }
@@ -313,6 +313,11 @@ private:
             continue;
           }
           auto &arg = expandedArgs[p - m.params.begin()];
+          produced += arg.size();
+          if (produced > kMaxOutputTokens) {
+            diags.error(tok.loc, "macro expansion is too large");
+            return false;
+          }
           result.insert(result.end(), arg.begin(), arg.end());
         }
         i = k; // the closing ')'
@@ -485,6 +490,7 @@ private:
   Diagnostics &diags;
   llvm::StringMap<Macro> macros;
   std::vector<Cond> conds;
+  size_t produced = 0; // tokens made by macro expansion, against runaway macros
   // #if evaluation state.
   std::vector<Token> *cur = nullptr;
   size_t pos = 0;

@@ -1,0 +1,789 @@
+//===- Builtins.cpp - OSL library functions as osl ops ----------------------===//
+//
+// Most functions are described by an overload table: signatures in a
+// compact code (f float, i int, s string, p/v/n/c point/vector/normal/
+// color, T any triple, the same kind throughout one call) and an emitter.
+// Overloads are ranked by the cost of the implicit conversions they need.
+// Functions with string options, variable argument lists or a result type
+// chosen by context (noise, transform, spline, type constructors) are
+// handled by hand.
+//
+//===----------------------------------------------------------------------===//
+#include "IRGen.h"
+
+#include "mlir/Dialect/Arith/IR/Arith.h"
+#include "llvm/ADT/StringSwitch.h"
+
+#include <cmath>
+
+using namespace osl::frontend;
+using namespace mlir;
+using namespace mlir::osl;
+
+namespace {
+
+using Vals = llvm::ArrayRef<Value>;
+using EmitFn = Value (*)(IRGen &, SrcLoc, Vals, OslType);
+
+struct Sig {
+  const char *ret;
+  const char *args;
+};
+
+struct Builtin {
+  const char *name;
+  std::vector<Sig> sigs;
+  EmitFn emit;
+};
+
+/// Scalars promoted to the result's triple type, so same-typed ops apply
+/// to e.g. pow(color, float).
+Value promote(IRGen &g, Value v, OslType result, SrcLoc l) {
+  if (!result.isTriple())
+    return v;
+  return g.convert(v, irType(g.builder(), result), l);
+}
+
+template <typename OpT>
+Value unary(IRGen &g, SrcLoc l, Vals a, OslType r) {
+  return g.builder().create<OpT>(g.loc(l), promote(g, a[0], r, l));
+}
+template <typename OpT>
+Value binary(IRGen &g, SrcLoc l, Vals a, OslType r) {
+  return g.builder().create<OpT>(g.loc(l), promote(g, a[0], r, l), promote(g, a[1], r, l));
+}
+template <typename OpT>
+Value ternary(IRGen &g, SrcLoc l, Vals a, OslType r) {
+  return g.builder().create<OpT>(g.loc(l), promote(g, a[0], r, l), promote(g, a[1], r, l),
+                                 promote(g, a[2], r, l));
+}
+/// Ops whose operands are triples and whose result is not (dot, length).
+template <typename OpT>
+Value geometric1(IRGen &g, SrcLoc l, Vals a, OslType) {
+  return g.builder().create<OpT>(g.loc(l), a[0]);
+}
+template <typename OpT>
+Value geometric2(IRGen &g, SrcLoc l, Vals a, OslType) {
+  return g.builder().create<OpT>(g.loc(l), a[0], a[1]);
+}
+
+Value emitLog(IRGen &g, SrcLoc l, Vals a, OslType r) {
+  OpBuilder &b = g.builder();
+  Value x = promote(g, a[0], r, l);
+  Value lx = b.create<LogOp>(g.loc(l), x);
+  if (a.size() == 1)
+    return lx;
+  Value lb = b.create<LogOp>(g.loc(l), promote(g, a[1], r, l));
+  return b.create<DivOp>(g.loc(l), lx, lb);
+}
+
+/// mod(a, b) = a - b * floor(a / b) (floats); a - b * (a / b) for ints.
+Value emitMod(IRGen &g, SrcLoc l, Vals a, OslType r) {
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  Value x = promote(g, a[0], r, l), y = promote(g, a[1], r, l);
+  Value q = b.create<DivOp>(ml, x, y);
+  if (!r.isInt())
+    q = b.create<FloorOp>(ml, q);
+  return b.create<SubOp>(ml, x, b.create<MulOp>(ml, y, q));
+}
+
+Value scaleBy(IRGen &g, SrcLoc l, Value x, OslType r, double factor) {
+  Value k = promote(g, g.constFloat(float(factor), l), r, l);
+  return g.builder().create<MulOp>(g.loc(l), x, k);
+}
+Value emitRadians(IRGen &g, SrcLoc l, Vals a, OslType r) {
+  return scaleBy(g, l, a[0], r, 3.14159265358979323846 / 180.0);
+}
+Value emitDegrees(IRGen &g, SrcLoc l, Vals a, OslType r) {
+  return scaleBy(g, l, a[0], r, 180.0 / 3.14159265358979323846);
+}
+
+Value emitHypot(IRGen &g, SrcLoc l, Vals a, OslType) {
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  Value sum = b.create<MulOp>(ml, a[0], a[0]);
+  for (Value v : a.drop_front())
+    sum = b.create<AddOp>(ml, sum, b.create<MulOp>(ml, v, v));
+  return b.create<SqrtOp>(ml, sum);
+}
+
+/// select(a, b, cond): cond ? b : a, per component for a triple condition.
+Value emitSelect(IRGen &g, SrcLoc l, Vals a, OslType r) {
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  Value x = promote(g, a[0], r, l), y = promote(g, a[1], r, l), c = a[2];
+  Type ct = getUniformType(c.getType());
+  auto nonZero = [&](Value v) -> Value {
+    Type t = getUniformType(v.getType());
+    Value zero = t.isInteger(32) ? g.constInt(0, l) : g.constFloat(0, l);
+    return b.create<CmpOp>(ml, "ne", v, zero);
+  };
+  if (!isTriple(ct))
+    return b.create<SelectOp>(ml, nonZero(c), y, x);
+  Value result = x;
+  bool varying = isVarying(x.getType()) || isVarying(y.getType()) || isVarying(c.getType());
+  for (int j = 0; j < 3; ++j) {
+    auto extract = [&](Value v) -> Value {
+      return b.create<ExtractOp>(ml, withUniformity(b.getF32Type(), isVarying(v.getType())),
+                                 v, b.getI64IntegerAttr(j));
+    };
+    Value s = b.create<SelectOp>(ml, nonZero(extract(c)), extract(y), extract(x));
+    result = b.create<InsertOp>(ml, withUniformity(irType(b, r), varying), s, result,
+                                b.getI64IntegerAttr(j));
+  }
+  return result;
+}
+
+Value emitSurfaceArea(IRGen &g, SrcLoc l, Vals, OslType) {
+  return g.getGlobal("surfacearea", g.builder().getF32Type(), l);
+}
+Value emitBackfacing(IRGen &g, SrcLoc l, Vals, OslType) {
+  Value f = g.getGlobal("backfacing", g.builder().getF32Type(), l);
+  return g.convert(f, g.builder().getI32Type(), l);
+}
+
+Value dotOf(IRGen &g, SrcLoc l, Value a, Value b) {
+  return g.builder().create<DotOp>(g.loc(l), a, b);
+}
+Value splat(IRGen &g, SrcLoc l, Value f) {
+  return g.convert(f, VectorType::get({3}, g.builder().getF32Type()), l);
+}
+
+/// distance(a, b), or from q to the segment [a, b]: the point at
+/// t = clamp(dot(q - a, b - a) / dot(b - a, b - a), 0, 1) (0 if a == b).
+Value emitDistance(IRGen &g, SrcLoc l, Vals a, OslType) {
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  if (a.size() == 2)
+    return b.create<DistanceOp>(ml, a[0], a[1]);
+  Value d = b.create<SubOp>(ml, a[1], a[0]);
+  Value t = b.create<DivOp>(ml, dotOf(g, l, b.create<SubOp>(ml, a[2], a[0]), d),
+                            dotOf(g, l, d, d));
+  t = b.create<ClampOp>(ml, t, g.constFloat(0, l), g.constFloat(1, l));
+  Value closest = b.create<AddOp>(ml, a[0], b.create<MulOp>(ml, splat(g, l, t), d));
+  return b.create<DistanceOp>(ml, a[2], closest);
+}
+
+/// reflect(I, N) = I - 2 dot(N, I) N.
+Value emitReflect(IRGen &g, SrcLoc l, Vals a, OslType) {
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  Value k = b.create<MulOp>(ml, g.constFloat(2, l), dotOf(g, l, a[1], a[0]));
+  return b.create<SubOp>(ml, a[0], b.create<MulOp>(ml, splat(g, l, k), a[1]));
+}
+
+/// faceforward(N, I [, Nref = Ng]) = dot(I, Nref) > 0 ? -N : N.
+Value emitFaceforward(IRGen &g, SrcLoc l, Vals a, OslType) {
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  Value nref = a.size() == 3 ? a[2]
+                             : g.getGlobal("Ng", VectorType::get({3}, b.getF32Type()), l);
+  Value c = b.create<CmpOp>(ml, "gt", dotOf(g, l, a[1], nref), g.constFloat(0, l));
+  return b.create<SelectOp>(ml, c, b.create<NegOp>(ml, a[0]), a[0]);
+}
+
+/// refract(I, N, eta): with c = dot(I, N), k = 1 - eta^2 (1 - c^2):
+/// 0 if k < 0 (total internal reflection), else eta I - (eta c + sqrt k) N.
+Value emitRefract(IRGen &g, SrcLoc l, Vals a, OslType) {
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  Value eta = a[2];
+  Value c = dotOf(g, l, a[0], a[1]);
+  Value oneMinusC2 = b.create<SubOp>(ml, g.constFloat(1, l), b.create<MulOp>(ml, c, c));
+  Value k = b.create<SubOp>(ml, g.constFloat(1, l),
+                            b.create<MulOp>(ml, b.create<MulOp>(ml, eta, eta), oneMinusC2));
+  Value s = b.create<AddOp>(ml, b.create<MulOp>(ml, eta, c), b.create<SqrtOp>(ml, k));
+  Value r = b.create<SubOp>(ml, b.create<MulOp>(ml, splat(g, l, eta), a[0]),
+                            b.create<MulOp>(ml, splat(g, l, s), a[1]));
+  Value tir = b.create<CmpOp>(ml, "lt", k, g.constFloat(0, l));
+  return b.create<SelectOp>(ml, tir, g.constTriple(0, 0, 0, l), r);
+}
+
+/// rotate(p, angle, axis) and rotate(p, angle, a, b) (axis b - a through
+/// a): a right-handed rotation (Rodrigues' formula) about the normalized
+/// axis.
+Value emitRotate(IRGen &g, SrcLoc l, Vals a, OslType) {
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  Value origin = a.size() == 4 ? a[2] : Value();
+  Value axis = a.size() == 4 ? b.create<SubOp>(ml, a[3], a[2]).getResult() : a[2];
+  Value k = b.create<NormalizeOp>(ml, axis);
+  Value v = origin ? b.create<SubOp>(ml, a[0], origin).getResult() : a[0];
+  Value cs = b.create<CosOp>(ml, a[1]);
+  Value sn = b.create<SinOp>(ml, a[1]);
+  Value oneMinusCos = b.create<SubOp>(ml, g.constFloat(1, l), cs);
+  Value r = b.create<MulOp>(ml, v, splat(g, l, cs));
+  r = b.create<AddOp>(ml, r, b.create<MulOp>(ml, b.create<CrossOp>(ml, k, v), splat(g, l, sn)));
+  Value kd = b.create<MulOp>(ml, dotOf(g, l, k, v), oneMinusCos);
+  r = b.create<AddOp>(ml, r, b.create<MulOp>(ml, k, splat(g, l, kd)));
+  return origin ? b.create<AddOp>(ml, r, origin).getResult() : r;
+}
+
+const std::vector<Builtin> &builtinTable() {
+  static const std::vector<Builtin> table = {
+      {"abs", {{"f", "f"}, {"i", "i"}, {"T", "T"}}, unary<AbsOp>},
+      {"fabs", {{"f", "f"}, {"i", "i"}, {"T", "T"}}, unary<AbsOp>},
+      {"floor", {{"f", "f"}, {"T", "T"}}, unary<FloorOp>},
+      {"ceil", {{"f", "f"}, {"T", "T"}}, unary<CeilOp>},
+      {"round", {{"f", "f"}, {"T", "T"}}, unary<RoundOp>},
+      {"trunc", {{"f", "f"}, {"T", "T"}}, unary<TruncOp>},
+      {"sign", {{"f", "f"}, {"T", "T"}}, unary<SignOp>},
+      {"sin", {{"f", "f"}, {"T", "T"}}, unary<SinOp>},
+      {"cos", {{"f", "f"}, {"T", "T"}}, unary<CosOp>},
+      {"tan", {{"f", "f"}, {"T", "T"}}, unary<TanOp>},
+      {"asin", {{"f", "f"}, {"T", "T"}}, unary<AsinOp>},
+      {"acos", {{"f", "f"}, {"T", "T"}}, unary<AcosOp>},
+      {"atan", {{"f", "f"}, {"T", "T"}}, unary<AtanOp>},
+      {"atan2", {{"f", "ff"}, {"T", "TT"}}, binary<Atan2Op>},
+      {"exp", {{"f", "f"}, {"T", "T"}}, unary<ExpOp>},
+      {"exp2", {{"f", "f"}, {"T", "T"}}, unary<Exp2Op>},
+      {"log", {{"f", "f"}, {"T", "T"}, {"f", "ff"}, {"T", "Tf"}}, emitLog},
+      {"log2", {{"f", "f"}, {"T", "T"}}, unary<Log2Op>},
+      {"log10", {{"f", "f"}, {"T", "T"}}, unary<Log10Op>},
+      {"sqrt", {{"f", "f"}, {"T", "T"}}, unary<SqrtOp>},
+      {"inversesqrt", {{"f", "f"}, {"T", "T"}}, unary<InverseSqrtOp>},
+      {"pow", {{"f", "ff"}, {"T", "TT"}, {"T", "Tf"}}, binary<PowOp>},
+      {"fmod", {{"f", "ff"}, {"T", "TT"}, {"T", "Tf"}}, binary<FmodOp>},
+      {"mod", {{"i", "ii"}, {"f", "ff"}, {"T", "TT"}, {"T", "Tf"}}, emitMod},
+      {"min", {{"i", "ii"}, {"f", "ff"}, {"T", "TT"}}, binary<MinOp>},
+      {"max", {{"i", "ii"}, {"f", "ff"}, {"T", "TT"}}, binary<MaxOp>},
+      {"clamp", {{"i", "iii"}, {"f", "fff"}, {"T", "TTT"}}, ternary<ClampOp>},
+      {"mix", {{"f", "fff"}, {"T", "TTT"}, {"T", "TTf"}}, ternary<MixOp>},
+      {"smoothstep", {{"f", "fff"}, {"T", "TTT"}}, ternary<SmoothStepOp>},
+      {"step", {{"f", "ff"}, {"T", "TT"}}, binary<StepOp>},
+      {"dot", {{"f", "TT"}}, geometric2<DotOp>},
+      {"cross", {{"v", "TT"}}, geometric2<CrossOp>},
+      {"length", {{"f", "T"}}, geometric1<LengthOp>},
+      {"normalize", {{"T", "T"}}, geometric1<NormalizeOp>},
+      {"distance", {{"f", "TT"}, {"f", "TTT"}}, emitDistance},
+      {"reflect", {{"v", "TT"}}, emitReflect},
+      {"faceforward", {{"v", "TTT"}, {"v", "TT"}}, emitFaceforward},
+      {"refract", {{"v", "TTf"}}, emitRefract},
+      {"rotate", {{"p", "TfT"}, {"p", "TfTT"}}, emitRotate},
+      {"radians", {{"f", "f"}, {"T", "T"}}, emitRadians},
+      {"degrees", {{"f", "f"}, {"T", "T"}}, emitDegrees},
+      {"hypot", {{"f", "ff"}, {"f", "fff"}}, emitHypot},
+      {"select", {{"i", "iii"}, {"f", "fff"}, {"T", "TTT"}, {"T", "TTf"}}, emitSelect},
+      {"surfacearea", {{"f", ""}}, emitSurfaceArea},
+      {"backfacing", {{"i", ""}}, emitBackfacing},
+  };
+  return table;
+}
+
+/// OSL library functions the front end knows about but cannot compile yet.
+const char *const kUnsupported[] = {
+    "sinh", "cosh", "tanh", "erf", "erfc", "expm1", "cbrt", "logb", "isnan", "isinf",
+    "isfinite", "linearstep", "smooth_linearstep", "texture", "texture3d",
+    "environment", "gettextureinfo", "Dx", "Dy", "Dz", "area", "filterwidth",
+    "calculatenormal", "aastep", "printf", "fprintf", "error", "warning", "format",
+    "concat", "strlen", "startswith", "endswith", "substr", "getchar", "stoi", "stof",
+    "hash", "regex_search", "regex_match", "pnoise", "psnoise", "getattribute",
+    "setmessage", "getmessage", "trace", "raytype", "blackbody", "wavelength_color",
+    "luminance", "transformc", "transformu", "determinant", "transpose",
+    "splineinverse", "fresnel",
+    "pointcloud_search", "pointcloud_get", "pointcloud_write", "dict_find",
+    "dict_next", "dict_value", "isconnected", "isconstant", "random", "emission",
+    "diffuse", "background", "matrix", "exit", "arraylength", "spline", "noise",
+    "snoise", "cellnoise", "hashnoise", "transform", "ptransform", "vtransform",
+    "ntransform", "displace", "bump", "fmin", "fmax", "nsnoise", "getmatrix",
+    "gabor", "pgabor", "sincos",
+};
+
+OslType typeFromCode(char c, BaseType tKind) {
+  switch (c) {
+  case 'f': return OslType(BaseType::Float);
+  case 'i': return OslType(BaseType::Int);
+  case 's': return OslType(BaseType::String);
+  case 'p': return OslType(BaseType::Point);
+  case 'v': return OslType(BaseType::Vector);
+  case 'n': return OslType(BaseType::Normal);
+  case 'c': return OslType(BaseType::Color);
+  default: return OslType(tKind);
+  }
+}
+
+std::string sigText(const char *name, const Sig &s) {
+  auto codeName = [](char c) -> std::string {
+    return c == 'T' ? "triple" : typeFromCode(c, BaseType::Void).str();
+  };
+  std::string t = codeName(s.ret[0]) + " " + name + "(";
+  for (const char *p = s.args; *p; ++p)
+    t += (p == s.args ? "" : ", ") + codeName(*p);
+  return t + ")";
+}
+
+std::string argTypesText(const std::vector<RValue> &args) {
+  std::string t;
+  for (size_t k = 0; k < args.size(); ++k)
+    t += (k ? ", " : "") + args[k].type.str();
+  return t;
+}
+
+/// Evaluates every argument of a call (no expected types).
+std::optional<std::vector<RValue>> emitArgs(IRGen &g, const Expr &call) {
+  std::vector<RValue> args;
+  for (const ExprPtr &a : call.args) {
+    auto v = g.emitExpr(*a);
+    if (!v)
+      return std::nullopt;
+    args.push_back(*v);
+  }
+  return args;
+}
+
+std::optional<RValue> emitTableCall(IRGen &g, const Builtin &fn, const Expr &call) {
+  auto args = emitArgs(g, call);
+  if (!args)
+    return std::nullopt;
+  const Sig *best = nullptr;
+  int bestCost = 0;
+  BaseType bestKind = BaseType::Void;
+  for (const Sig &s : fn.sigs) {
+    size_t n = std::strlen(s.args);
+    if (n != args->size())
+      continue;
+    BaseType tKind = BaseType::Void;
+    for (size_t k = 0; k < n; ++k)
+      if (s.args[k] == 'T' && (*args)[k].type.isTriple()) {
+        tKind = (*args)[k].type.base;
+        break;
+      }
+    if (tKind == BaseType::Void && std::strchr(s.args, 'T'))
+      continue;
+    int cost = 0;
+    bool ok = true;
+    for (size_t k = 0; k < n && ok; ++k) {
+      int c = IRGen::conversionCost((*args)[k].type, typeFromCode(s.args[k], tKind));
+      ok = c >= 0;
+      cost += c;
+    }
+    if (ok && (!best || cost < bestCost)) {
+      best = &s;
+      bestCost = cost;
+      bestKind = tKind;
+    }
+  }
+  if (!best) {
+    std::string cands;
+    for (const Sig &s : fn.sigs)
+      cands += (cands.empty() ? "" : "; ") + sigText(fn.name, s);
+    g.error(call.loc, "wrong arguments to '" + call.name + "(" + argTypesText(*args) +
+                          ")'; candidates: " + cands);
+    return std::nullopt;
+  }
+  std::vector<Value> values;
+  for (size_t k = 0; k < args->size(); ++k) {
+    auto c = g.coerce((*args)[k], typeFromCode(best->args[k], bestKind),
+                      call.args[k]->begin, "");
+    if (!c)
+      return std::nullopt;
+    values.push_back(c->value);
+  }
+  OslType result = typeFromCode(best->ret[0], bestKind);
+  return RValue::num(result, fn.emit(g, call.loc, values, result));
+}
+
+/// A compile-time string argument.
+bool stringArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
+               llvm::StringRef what, std::string &out) {
+  if (!v.type.isString())
+    return g.error(e.loc, "'" + fn + "' expects " + what + " (a string) here, got '" +
+                              v.type.str() + "'");
+  out = v.str;
+  return true;
+}
+
+std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expected) {
+  llvm::StringRef name = call.name;
+  auto args = emitArgs(g, call);
+  if (!args)
+    return std::nullopt;
+  std::string kind = llvm::StringSwitch<std::string>(name)
+                         .Case("noise", "uperlin")
+                         .Case("snoise", "perlin")
+                         .Case("cellnoise", "cell")
+                         .Default("hash");
+  size_t first = 0;
+  if (!args->empty() && (*args)[0].type.isString()) {
+    if (name != "noise") {
+      g.error(call.args[0]->loc, "'" + name + "' takes no noise type name; use noise(\"" +
+                                     (*args)[0].str + "\", ...)");
+      return std::nullopt;
+    }
+    kind = (*args)[0].str;
+    first = 1;
+    if (!isKnownNoiseName(kind)) {
+      g.error(call.args[0]->loc, "unknown noise type '" + kind + "'");
+      return std::nullopt;
+    }
+  }
+  size_t n = args->size() - first;
+  // Trailing (string, value) pairs are noise options (Gabor parameters).
+  for (size_t k = first; k < args->size(); ++k)
+    if ((*args)[k].type.isString()) {
+      g.error(call.args[k]->loc, "noise options (\"" + (*args)[k].str +
+                                     "\") are not supported yet");
+      return std::nullopt;
+    }
+  auto wrong = [&]() -> std::optional<RValue> {
+    std::string prefix = name == "noise" ? "[string name, ]" : "";
+    g.error(call.loc, "wrong arguments to '" + name + "(" + argTypesText(*args) +
+                          ")'; candidates: " + name + "(" + prefix + "float); " + name +
+                          "(" + prefix + "float, float); " + name + "(" + prefix +
+                          "point); " + name + "(" + prefix + "point, float)");
+    return std::nullopt;
+  };
+  if (n < 1 || n > 2)
+    return wrong();
+  std::vector<Value> coords;
+  for (size_t k = first; k < args->size(); ++k) {
+    const RValue &a = (*args)[k];
+    bool firstCoord = k == first;
+    if (a.type.isTriple() && firstCoord) {
+      coords.push_back(a.value);
+      continue;
+    }
+    if (!a.type.isScalar())
+      return wrong();
+    coords.push_back(g.convert(a.value, g.builder().getF32Type(), call.args[k]->loc));
+  }
+  bool triple = expected && expected->isTriple();
+  OslType resultType = triple ? OslType(expected->base) : OslType(BaseType::Float);
+  bool varying = llvm::any_of(coords, [](Value v) { return isVarying(v.getType()); });
+  Type t = withUniformity(irType(g.builder(), resultType), varying);
+  Value v = g.builder().create<NoiseOp>(g.loc(call.loc), t, kind, coords);
+  return RValue::num(resultType, v);
+}
+
+std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
+  auto args = emitArgs(g, call);
+  if (!args)
+    return std::nullopt;
+  size_t n = args->size();
+  auto wrong = [&]() -> std::optional<RValue> {
+    g.error(call.loc, "wrong arguments to 'transform(" + argTypesText(*args) +
+                          ")'; candidates: triple transform(string to, triple); "
+                          "triple transform(string from, string to, triple) "
+                          "(triple: point, vector or normal)");
+    return std::nullopt;
+  };
+  if (n != 2 && n != 3)
+    return wrong();
+  for (size_t k = 0; k + 1 < n; ++k)
+    if (!(*args)[k].type.isString()) {
+      if ((*args)[k].type.base == BaseType::Matrix)
+        g.error(call.loc, "transform by a matrix is not supported yet");
+      else
+        return wrong();
+      return std::nullopt;
+    }
+  const RValue &p = args->back();
+  if (!p.type.isTriple())
+    return wrong();
+  if (p.type.base == BaseType::Color) {
+    g.error(call.args.back()->loc,
+            "transform() applies to points, vectors and normals, not 'color'");
+    return std::nullopt;
+  }
+  std::string from = n == 3 ? (*args)[0].str : "common";
+  std::string to = n == 3 ? (*args)[1].str : (*args)[0].str;
+  if (from.empty() || to.empty()) {
+    g.error(call.loc, "transform() needs non-empty space names");
+    return std::nullopt;
+  }
+  if (from == to)
+    return p;
+  std::string kind = baseTypeName(p.type.base).str();
+  Value v = g.builder().create<TransformOp>(g.loc(call.loc), p.value.getType(), from, to,
+                                            kind, p.value);
+  return RValue::num(p.type, v);
+}
+
+std::optional<RValue> emitSpline(IRGen &g, const Expr &call) {
+  auto args = emitArgs(g, call);
+  if (!args)
+    return std::nullopt;
+  auto wrong = [&]() -> std::optional<RValue> {
+    g.error(call.loc, "wrong arguments to 'spline(" + argTypesText(*args) +
+                          ")'; candidates: spline(string basis, float x, T knots...); "
+                          "spline(string basis, float x, T knots[]); spline(string "
+                          "basis, float x, int nknots, T knots[]) (T: float or triple)");
+    return std::nullopt;
+  };
+  if (args->size() < 3)
+    return wrong();
+  std::string basis;
+  if (!stringArg(g, (*args)[0], *call.args[0], "spline", "the basis name", basis))
+    return std::nullopt;
+  size_t minKnots = llvm::StringSwitch<size_t>(basis)
+                        .Cases("catmull-rom", "bezier", "bspline", "hermite", 4)
+                        .Case("linear", 2)
+                        .Case("constant", 1)
+                        .Default(0);
+  if (minKnots == 0) {
+    g.error(call.args[0]->loc, "unknown spline basis '" + basis +
+                                   "' (expected catmull-rom, bezier, bspline, hermite, "
+                                   "linear or constant)");
+    return std::nullopt;
+  }
+  const RValue &x = (*args)[1];
+  if (!x.type.isScalar())
+    return wrong();
+  Value xv = g.convert(x.value, g.builder().getF32Type(), call.args[1]->loc);
+  // The knots: one array, (count, array), or a list of values.
+  std::vector<RValue> knots;
+  SrcLoc knotLoc = call.args[2]->loc;
+  if (args->size() <= 4 && args->back().type.isArray()) {
+    const RValue &arr = args->back();
+    size_t count = arr.elems.size();
+    if (args->size() == 4) {
+      const RValue &c = (*args)[2];
+      auto k = c.type.isInt() ? IRGen::getConstInt(c.value) : std::nullopt;
+      if (!k) {
+        g.error(call.args[2]->loc,
+                "the knot count of 'spline' must be a constant int for now");
+        return std::nullopt;
+      }
+      if (*k < 0 || size_t(*k) > count) {
+        g.error(call.args[2]->loc, "knot count " + llvm::Twine(*k) +
+                                       " is out of range for '" + arr.type.str() + "'");
+        return std::nullopt;
+      }
+      count = size_t(*k);
+    } else if (args->size() != 3) {
+      return wrong();
+    }
+    for (size_t k = 0; k < count; ++k)
+      knots.push_back(RValue::num(arr.type.element(), arr.elems[k]));
+    knotLoc = call.args.back()->loc;
+  } else {
+    for (size_t k = 2; k < args->size(); ++k) {
+      if (!(*args)[k].type.isNumeric())
+        return wrong();
+      knots.push_back((*args)[k]);
+    }
+  }
+  if (knots.size() < minKnots) {
+    g.error(knotLoc, "spline basis '" + basis + "' needs at least " +
+                         llvm::Twine(minKnots) + " knots, got " +
+                         llvm::Twine(knots.size()));
+    return std::nullopt;
+  }
+  OslType knotType(BaseType::Float);
+  for (const RValue &k : knots)
+    if (k.type.isTriple()) {
+      knotType = k.type;
+      break;
+    }
+  std::vector<Value> kv;
+  bool varying = isVarying(xv.getType());
+  for (const RValue &k : knots) {
+    auto c = g.coerce(k, knotType, knotLoc, "in spline knots");
+    if (!c)
+      return std::nullopt;
+    kv.push_back(c->value);
+    varying |= isVarying(c->value.getType());
+  }
+  Type t = withUniformity(irType(g.builder(), knotType), varying);
+  Value v = g.builder().create<SplineOp>(g.loc(call.loc), t, basis, xv, kv);
+  return RValue::num(knotType, v);
+}
+
+std::optional<RValue> emitConstructor(IRGen &g, const Expr &call) {
+  OslType t = call.castType;
+  size_t n = call.args.size();
+  std::string name = t.str();
+  if (t.base == BaseType::Matrix) {
+    g.error(call.loc, "matrices are not supported yet");
+    return std::nullopt;
+  }
+  if (t.isInt() || t.isFloat() || t.isString()) {
+    if (n != 1) {
+      g.error(call.loc, "'" + name + "(...)' takes one argument, got " + llvm::Twine(n));
+      return std::nullopt;
+    }
+    auto v = g.emitExpr(*call.args[0], &t);
+    if (!v)
+      return std::nullopt;
+    return g.cast(*v, t, call.loc);
+  }
+  // Triples: [space,] (value | x, y, z).
+  std::vector<RValue> args;
+  OslType floatType(BaseType::Float);
+  for (size_t k = 0; k < n; ++k) {
+    const OslType *expected = n == 1 || (n == 2 && k == 1) ? &t : &floatType;
+    auto v = g.emitExpr(*call.args[k], expected);
+    if (!v)
+      return std::nullopt;
+    args.push_back(*v);
+  }
+  auto wrong = [&]() -> std::optional<RValue> {
+    g.error(call.loc, "wrong arguments to '" + name + "(" + argTypesText(args) +
+                          ")'; candidates: " + name + "(float); " + name + "(" + name +
+                          "); " + name + "(float, float, float); " + name +
+                          "(string space, ...)");
+    return std::nullopt;
+  };
+  std::string space;
+  size_t first = 0;
+  if (!args.empty() && args[0].type.isString()) {
+    space = args[0].str;
+    first = 1;
+  }
+  Value value;
+  size_t m = n - first;
+  if (m == 1) {
+    auto c = g.coerce(args[first], t, call.args[first]->begin, "in '" + name + "(...)'");
+    if (!c)
+      return std::nullopt;
+    value = c->value;
+  } else if (m == 3) {
+    std::vector<Value> xyz;
+    for (size_t k = first; k < n; ++k) {
+      if (!args[k].type.isScalar())
+        return wrong();
+      xyz.push_back(g.convert(args[k].value, g.builder().getF32Type(), call.args[k]->loc));
+    }
+    std::optional<double> cx, cy, cz;
+    auto constOf = [](Value v) -> std::optional<double> {
+      if (auto c = v.getDefiningOp<arith::ConstantOp>())
+        if (auto fa = dyn_cast<FloatAttr>(c.getValue()))
+          return fa.getValueAsDouble();
+      return std::nullopt;
+    };
+    cx = constOf(xyz[0]);
+    cy = constOf(xyz[1]);
+    cz = constOf(xyz[2]);
+    if (cx && cy && cz)
+      value = g.constTriple(float(*cx), float(*cy), float(*cz), call.loc);
+    else
+      value = g.builder().create<ConstructOp>(g.loc(call.loc), xyz[0], xyz[1], xyz[2]);
+  } else {
+    return wrong();
+  }
+  if (first == 1) {
+    if (t.base == BaseType::Color) {
+      if (space != "rgb" && space != "RGB") {
+        g.error(call.args[0]->loc, "color space '" + space + "' is not supported yet");
+        return std::nullopt;
+      }
+    } else if (space != "common") {
+      if (space.empty()) {
+        g.error(call.args[0]->loc, "empty space name");
+        return std::nullopt;
+      }
+      value = g.builder().create<TransformOp>(g.loc(call.loc), value.getType(), space,
+                                              "common", baseTypeName(t.base), value);
+    }
+  }
+  return RValue::num(t, value);
+}
+
+/// sincos(x, output s, output c).
+std::optional<RValue> emitSincos(IRGen &g, const Expr &call) {
+  if (call.args.size() != 3) {
+    g.error(call.loc, "wrong arguments to 'sincos'; candidates: void sincos(float, output "
+                      "float, output float); void sincos(triple, output triple, output "
+                      "triple)");
+    return std::nullopt;
+  }
+  auto x = g.emitExpr(*call.args[0]);
+  if (!x)
+    return std::nullopt;
+  if (x->type.isInt() || x->type.isBool())
+    x = RValue::num(OslType(BaseType::Float),
+                    g.convert(x->value, g.builder().getF32Type(), call.args[0]->loc));
+  if (!x->type.isFloat() && !x->type.isTriple()) {
+    g.error(call.args[0]->loc, "'sincos' needs a float or a triple, got '" +
+                                   x->type.str() + "'");
+    return std::nullopt;
+  }
+  Value s = g.builder().create<SinOp>(g.loc(call.loc), x->value);
+  Value c = g.builder().create<CosOp>(g.loc(call.loc), x->value);
+  for (int k = 1; k <= 2; ++k) {
+    auto lv = g.emitLValue(*call.args[k]);
+    if (!lv)
+      return std::nullopt;
+    auto v = g.coerce(RValue::num(x->type, k == 1 ? s : c), lv->type, call.args[k]->loc,
+                      "in output argument " + llvm::Twine(k + 1) + " of 'sincos'");
+    if (!v)
+      return std::nullopt;
+    g.storeLValue(*lv, *v, call.loc);
+  }
+  return RValue::voidValue();
+}
+
+} // namespace
+
+namespace osl::frontend {
+
+std::optional<double> lookupFloatConstant(llvm::StringRef name) {
+  static const std::pair<const char *, double> constants[] = {
+      {"M_PI", 3.14159265358979323846},   {"M_PI_2", 1.57079632679489661923},
+      {"M_PI_4", 0.78539816339744830962}, {"M_2_PI", 0.63661977236758134308},
+      {"M_2PI", 6.28318530717958647692},  {"M_4PI", 12.56637061435917295384},
+      {"M_2_SQRTPI", 1.12837916709551257390}, {"M_E", 2.71828182845904523536},
+      {"M_LN2", 0.69314718055994530942},  {"M_LN10", 2.30258509299404568402},
+      {"M_LOG2E", 1.44269504088896340736}, {"M_LOG10E", 0.43429448190325182765},
+      {"M_SQRT2", 1.41421356237309504880}, {"M_SQRT1_2", 0.70710678118654752440},
+  };
+  for (auto &[n, v] : constants)
+    if (name == n)
+      return v;
+  return std::nullopt;
+}
+
+bool isBuiltinName(llvm::StringRef name) {
+  for (const Builtin &b : builtinTable())
+    if (name == b.name)
+      return true;
+  for (const char *u : kUnsupported)
+    if (name == u)
+      return true;
+  return false;
+}
+
+std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
+                                      const OslType *expected, bool &known) {
+  known = true;
+  if (call.isCtor)
+    return emitConstructor(g, call);
+  llvm::StringRef name = call.name;
+  if (name == "noise" || name == "snoise" || name == "cellnoise" || name == "hashnoise")
+    return emitNoise(g, call, expected);
+  if (name == "transform")
+    return emitTransform(g, call);
+  if (name == "spline")
+    return emitSpline(g, call);
+  if (name == "exit") {
+    g.error(call.loc, "'exit' is not supported yet");
+    return std::nullopt;
+  }
+  if (name == "sincos")
+    return emitSincos(g, call);
+  if (name == "arraylength") {
+    auto args = emitArgs(g, call);
+    if (!args)
+      return std::nullopt;
+    if (args->size() != 1 || !(*args)[0].type.isArray()) {
+      g.error(call.loc, "wrong arguments to 'arraylength(" + argTypesText(*args) +
+                            ")'; candidates: int arraylength(T[])");
+      return std::nullopt;
+    }
+    return RValue::num(OslType(BaseType::Int),
+                       g.constInt((*args)[0].type.arrayLen, call.loc));
+  }
+  for (const Builtin &b : builtinTable())
+    if (name == b.name)
+      return emitTableCall(g, b, call);
+  for (const char *u : kUnsupported)
+    if (name == u) {
+      g.error(call.loc, "function '" + name + "' is not supported yet");
+      return std::nullopt;
+    }
+  known = false;
+  return std::nullopt;
+}
+
+} // namespace osl::frontend

@@ -1,0 +1,46 @@
+//===- Frontend.cpp - OSL source to the osl dialect ---------------------------===//
+#include "OslFrontend/Frontend.h"
+
+#include "IRGen.h"
+#include "Parser.h"
+#include "Preprocessor.h"
+
+#include "mlir/Dialect/Arith/IR/Arith.h"
+#include "mlir/Dialect/Func/IR/FuncOps.h"
+#include "mlir/IR/Diagnostics.h"
+#include "mlir/IR/Verifier.h"
+
+using namespace osl::frontend;
+
+mlir::OwningOpRef<mlir::ModuleOp>
+osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
+                    mlir::MLIRContext &context, llvm::ArrayRef<ParamOverride> overrides,
+                    llvm::raw_ostream &errs) {
+  context.loadDialect<mlir::osl::OslDialect, mlir::func::FuncDialect,
+                      mlir::arith::ArithDialect>();
+  Diagnostics diags(filename, errs);
+  std::vector<Token> raw, tokens;
+  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens))
+    return nullptr;
+  Program program;
+  if (!parseProgram(tokens, diags, program))
+    return nullptr;
+  IRGen gen(context, diags, overrides);
+  mlir::OwningOpRef<mlir::ModuleOp> module = gen.emitProgram(program);
+  if (!module || diags.hadError())
+    return nullptr;
+  // The emitter should only produce valid IR; report it if not.
+  std::string verifyMessages;
+  {
+    llvm::raw_string_ostream os(verifyMessages);
+    mlir::ScopedDiagnosticHandler handler(&context, [&](mlir::Diagnostic &d) {
+      os << d.getLocation() << ": " << d << "\n";
+      return mlir::success();
+    });
+    if (mlir::failed(mlir::verify(*module))) {
+      diags.error("internal error: the generated IR does not verify:\n" + verifyMessages);
+      return nullptr;
+    }
+  }
+  return module;
+}
