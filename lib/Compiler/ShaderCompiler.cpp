@@ -62,7 +62,14 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
   mlirModule->walk([&](mlir::func::FuncOp f) { shaderName = f.getSymName().str(); });
   mlirModule->walk([&](mlir::osl::OutputOp out) {
     mlir::Type t = mlir::osl::getUniformType(out.getValue().getType());
-    outputSpecs.push_back({out.getName().str(), mlir::osl::isTriple(t) ? 3 : 1});
+    int channels = mlir::osl::isTriple(t) ? 3 : 1;
+    // An array output is one osl.output per element, in consecutive rows:
+    // one image with the elements' channels side by side.
+    if (out->hasAttr("osl.index") && !outputSpecs.empty() &&
+        outputSpecs.back().name == out.getName())
+      outputSpecs.back().channels += channels;
+    else
+      outputSpecs.push_back({out.getName().str(), channels});
   });
   return true;
 }

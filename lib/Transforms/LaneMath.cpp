@@ -214,8 +214,13 @@ Value lane::acos(OpBuilder &b, Location loc, ValueRange x) {
 Value lane::atan(OpBuilder &b, Location loc, ValueRange x) {
   return b.create<math::AtanOp>(loc, x[0]);
 }
+/// atan2(0, 0) is 0 in OSL, not the approximation's NaN.
 Value lane::atan2(OpBuilder &b, Location loc, ValueRange x) {
-  return b.create<math::Atan2Op>(loc, x[0], x[1]);
+  Value zero = cst(b, loc, x[0], 0);
+  Value bothZero = b.create<arith::AndIOp>(
+      loc, fcmp(b, loc, arith::CmpFPredicate::OEQ, x[0], zero),
+      fcmp(b, loc, arith::CmpFPredicate::OEQ, x[1], zero));
+  return sel(b, loc, bothZero, zero, b.create<math::Atan2Op>(loc, x[0], x[1]));
 }
 Value lane::exp(OpBuilder &b, Location loc, ValueRange x) {
   return b.create<math::ExpOp>(loc, x[0]);
@@ -324,8 +329,9 @@ Value lane::mix(OpBuilder &b, Location loc, ValueRange x) {
                                  b.create<arith::MulFOp>(loc, x[1], x[2]));
 }
 
+/// OSL's order, max(min(x, hi), lo): with inverted bounds lo wins.
 Value lane::clamp(OpBuilder &b, Location loc, ValueRange x) {
-  return min(b, loc, {max(b, loc, {x[0], x[1]}), x[2]});
+  return max(b, loc, {min(b, loc, {x[0], x[2]}), x[1]});
 }
 
 Value lane::smoothstep(OpBuilder &b, Location loc, ValueRange x) {

@@ -69,6 +69,10 @@ struct NoiseCase {
   std::string result;
 };
 
+void PrintTo(const NoiseCase &c, std::ostream *os) {
+  *os << c.type << " " << c.dims << "D " << c.result;
+}
+
 class NoiseValues : public testing::TestWithParam<std::tuple<NoiseCase, int>> {};
 
 TEST_P(NoiseValues, MatchOsl) {
