@@ -101,7 +101,8 @@ int main(int argc, char **argv) {
       ++failures;
       continue;
     }
-    std::string name = std::filesystem::path(path).stem().string();
+    std::filesystem::path p(path);
+    std::string name = p.parent_path().filename().string() + "/" + p.stem().string();
     double scalarNs = 0;
     for (int width : {1, 4, 8, 16}) {
       Measurement m;

@@ -83,7 +83,11 @@ bool ShaderCompiler::lower() {
   // shader's file:line:col locations.
   mlir::ScopedDiagnosticHandler handler(&context, [&](mlir::Diagnostic &d) {
     if (d.getSeverity() == mlir::DiagnosticSeverity::Error) {
-      d.getLocation().print(errs);
+      if (auto loc = mlir::dyn_cast<mlir::FileLineColLoc>(d.getLocation()))
+        errs << loc.getFilename().getValue() << ":" << loc.getLine() << ":"
+             << loc.getColumn();
+      else
+        d.getLocation().print(errs);
       errs << ": error: " << d.str() << "\n";
     }
     return mlir::success();

@@ -1,0 +1,20 @@
+// osl-run's command line: usage, bad flags and missing files are clear
+// errors with a non-zero exit, never a crash.
+// RUN: osl-run | FileCheck %s --check-prefix=USAGE
+// RUN: not osl-run %shaders/marble.osl --width 3 2>&1 | FileCheck %s --check-prefix=WIDTH
+// RUN: not osl-run %shaders/marble.osl --frobnicate 2>&1 | FileCheck %s --check-prefix=FLAG
+// RUN: not osl-run %t.does-not-exist.osl 2>&1 | FileCheck %s --check-prefix=MISSING
+// RUN: not osl-run %shaders/marble.osl -g 8 8 -o nosuch %t.png 2>&1 | FileCheck %s --check-prefix=OUTPUT
+// RUN: not osl-run %shaders/marble.osl -g 8 8 --param nosuch 1 2>&1 | FileCheck %s --check-prefix=PARAM
+// RUN: osl-run %shaders/marble.osl -g 8 8 -o Cout %t.exr --stats 2>&1 | FileCheck %s --check-prefix=STATS
+// USAGE: usage: osl-run SHADER.osl [options]
+// WIDTH: osl-run: error: --width must be 1, 4, 8 or 16
+// FLAG: osl-run: error: unknown option '--frobnicate'
+// MISSING: osl-run: error: cannot read '{{.*}}does-not-exist.osl'
+// OUTPUT: error: shader 'marble' has no output 'nosuch'; outputs: Cout
+// PARAM: error: {{.*}}nosuch
+// STATS: front end
+// STATS: mlir passes
+// STATS: llvm O3
+// STATS: shading
+// STATS: ns per point
