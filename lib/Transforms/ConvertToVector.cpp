@@ -74,6 +74,15 @@ struct Lanes {
     return comps;
   }
 
+  /// unpack() for each operand of an op.
+  SmallVector<SmallVector<Value>> unpackAll(ValueRange converted,
+                                            ValueRange original, bool varying) {
+    SmallVector<SmallVector<Value>> all;
+    for (auto [c, o] : llvm::zip(converted, original))
+      all.push_back(unpack(c, o.getType(), varying));
+    return all;
+  }
+
   Value pack(ArrayRef<Value> comps, Type convertedType) {
     if (comps.size() == 1)
       return comps.front();
@@ -139,10 +148,8 @@ struct ComponentwiseLowering : public OslPattern<OpTy> {
     bool varying = isVarying(resultType);
     Lanes lanes{rewriter, loc, this->width};
     size_t ncomp = isTriple(getUniformType(resultType)) ? 3 : 1;
-    SmallVector<SmallVector<Value>> operands;
-    for (auto [converted, original] :
-         llvm::zip(adaptor.getOperands(), op->getOperands()))
-      operands.push_back(lanes.unpack(converted, original.getType(), varying));
+    SmallVector<SmallVector<Value>> operands =
+        lanes.unpackAll(adaptor.getOperands(), op->getOperands(), varying);
     SmallVector<Value> comps;
     for (size_t c = 0; c < ncomp; ++c) {
       SmallVector<Value> args;
@@ -284,8 +291,8 @@ struct ConstructLowering : public OslPattern<ConstructOp> {
     Lanes lanes{rewriter, op.getLoc(), width};
     bool varying = isVarying(op.getType());
     SmallVector<Value> comps;
-    for (auto [c, o] : llvm::zip(adaptor.getOperands(), op->getOperands()))
-      comps.push_back(lanes.unpack(c, o.getType(), varying)[0]);
+    for (auto &c : lanes.unpackAll(adaptor.getOperands(), op->getOperands(), varying))
+      comps.push_back(c[0]);
     rewriter.replaceOp(op, lanes.pack(comps, convert(op.getType())));
     return success();
   }
@@ -334,9 +341,8 @@ struct GeometryLowering : public OslPattern<OpTy> {
     Type resultType = op->getResult(0).getType();
     bool varying = isVarying(resultType);
     Lanes lanes{rewriter, loc, this->width};
-    SmallVector<SmallVector<Value>> v;
-    for (auto [c, o] : llvm::zip(adaptor.getOperands(), op->getOperands()))
-      v.push_back(lanes.unpack(c, o.getType(), varying));
+    SmallVector<SmallVector<Value>> v =
+        lanes.unpackAll(adaptor.getOperands(), op->getOperands(), varying);
     auto &b = rewriter;
     SmallVector<Value> out;
     if constexpr (std::is_same_v<OpTy, DotOp>) {
@@ -376,8 +382,8 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
     bool varying = isVarying(op.getType());
     Lanes lanes{rewriter, loc, width};
     SmallVector<Value> coords;
-    for (auto [c, o] : llvm::zip(adaptor.getCoords(), op.getCoords()))
-      llvm::append_range(coords, lanes.unpack(c, o.getType(), varying));
+    for (auto &c : lanes.unpackAll(adaptor.getCoords(), op.getCoords(), varying))
+      llvm::append_range(coords, c);
     if (isTriple(getUniformType(op.getType()))) {
       std::array<Value, 3> r = buildNoiseTriple(rewriter, loc, *kind, coords);
       rewriter.replaceOp(op, lanes.pack(r, convert(op.getType())));
@@ -414,9 +420,8 @@ struct SplineLowering : public OslPattern<SplineOp> {
     bool varying = isVarying(op.getType());
     Lanes lanes{rewriter, loc, width};
     Value x = lanes.unpack(adaptor.getX(), op.getX().getType(), varying)[0];
-    SmallVector<SmallVector<Value>> knots;
-    for (auto [c, o] : llvm::zip(adaptor.getKnots(), op.getKnots()))
-      knots.push_back(lanes.unpack(c, o.getType(), false));
+    SmallVector<SmallVector<Value>> knots =
+        lanes.unpackAll(adaptor.getKnots(), op.getKnots(), false);
     FailureOr<SmallVector<Value>> r = buildSpline(rewriter, loc, op.getBasis(), x, knots);
     if (failed(r))
       return op.emitError("spline basis '") << op.getBasis() << "' is not supported yet";
