@@ -201,6 +201,14 @@ def Osl_Log2Op : Osl_UnaryOp<"log2", "Float", "base-2 log">;
 def Osl_Log10Op : Osl_UnaryOp<"log10", "Float", "base-10 log">;
 def Osl_SqrtOp : Osl_UnaryOp<"sqrt", "Float", "square root; sqrt(x<0) = 0">;
 def Osl_InverseSqrtOp : Osl_UnaryOp<"inversesqrt", "Float", "1/sqrt(x); 0 for x<=0">;
+def Osl_SinhOp : Osl_UnaryOp<"sinh", "Float", "hyperbolic sine">;
+def Osl_CoshOp : Osl_UnaryOp<"cosh", "Float", "hyperbolic cosine">;
+def Osl_TanhOp : Osl_UnaryOp<"tanh", "Float", "hyperbolic tangent">;
+def Osl_Expm1Op : Osl_UnaryOp<"expm1", "Float", "e^x - 1, accurate near 0">;
+def Osl_CbrtOp : Osl_UnaryOp<"cbrt", "Float", "cube root, odd in x">;
+def Osl_ErfOp : Osl_UnaryOp<"erf", "Float", "error function">;
+def Osl_ErfcOp : Osl_UnaryOp<"erfc", "Float", "1 - erf(x)">;
+def Osl_LogbOp : Osl_UnaryOp<"logb", "Float", "exponent of x as a float; logb(0) = -126">;
 def Osl_FloorOp : Osl_UnaryOp<"floor", "Float", "round down">;
 def Osl_CeilOp : Osl_UnaryOp<"ceil", "Float", "round up">;
 def Osl_RoundOp : Osl_UnaryOp<"round", "Float", "round half away from zero">;
@@ -213,6 +221,7 @@ def Osl_StepOp : Osl_BinaryOp<"step", "Float", "step(edge, x): 0 if x < edge els
 def Osl_MixOp : Osl_TernaryOp<"mix", "Float", "mix(a, b, t) = a*(1-t) + b*t">;
 def Osl_ClampOp : Osl_TernaryOp<"clamp", "Numeric", "clamp(x, lo, hi)">;
 def Osl_SmoothStepOp : Osl_TernaryOp<"smoothstep", "Float", "smoothstep(e0, e1, x)">;
+def Osl_LinearStepOp : Osl_TernaryOp<"linearstep", "Float", "linearstep(e0, e1, x): clamped (x-e0)/(e1-e0)">;
 
 // Geometry on triples.
 def Osl_DotOp : Osl_BinaryOp<"dot", "TripleToFloat", "dot product">;

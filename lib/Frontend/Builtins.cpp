@@ -238,6 +238,15 @@ const std::vector<Builtin> &builtinTable() {
       {"atan2", {{"f", "ff"}, {"T", "TT"}}, binary<Atan2Op>},
       {"exp", {{"f", "f"}, {"T", "T"}}, unary<ExpOp>},
       {"exp2", {{"f", "f"}, {"T", "T"}}, unary<Exp2Op>},
+      {"sinh", {{"f", "f"}, {"T", "T"}}, unary<SinhOp>},
+      {"cosh", {{"f", "f"}, {"T", "T"}}, unary<CoshOp>},
+      {"tanh", {{"f", "f"}, {"T", "T"}}, unary<TanhOp>},
+      {"expm1", {{"f", "f"}, {"T", "T"}}, unary<Expm1Op>},
+      {"cbrt", {{"f", "f"}, {"T", "T"}}, unary<CbrtOp>},
+      {"erf", {{"f", "f"}, {"T", "T"}}, unary<ErfOp>},
+      {"erfc", {{"f", "f"}, {"T", "T"}}, unary<ErfcOp>},
+      {"logb", {{"f", "f"}, {"T", "T"}}, unary<LogbOp>},
+      {"linearstep", {{"f", "fff"}, {"T", "TTT"}}, ternary<LinearStepOp>},
       {"log", {{"f", "f"}, {"T", "T"}, {"f", "ff"}, {"T", "Tf"}}, emitLog},
       {"log2", {{"f", "f"}, {"T", "T"}}, unary<Log2Op>},
       {"log10", {{"f", "f"}, {"T", "T"}}, unary<Log10Op>},
@@ -273,8 +282,7 @@ const std::vector<Builtin> &builtinTable() {
 
 /// OSL library functions the front end knows about but cannot compile yet.
 const char *const kUnsupported[] = {
-    "sinh", "cosh", "tanh", "erf", "erfc", "expm1", "cbrt", "logb", "isnan", "isinf",
-    "isfinite", "linearstep", "smooth_linearstep", "texture", "texture3d",
+    "isnan", "isinf", "isfinite", "smooth_linearstep", "texture", "texture3d",
     "environment", "gettextureinfo", "Dx", "Dy", "Dz", "area", "filterwidth",
     "calculatenormal", "aastep", "printf", "fprintf", "error", "warning", "format",
     "concat", "strlen", "startswith", "endswith", "substr", "getchar", "stoi", "stof",

@@ -443,7 +443,9 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
   LANE(AsinOp, asin); LANE(AcosOp, acos); LANE(AtanOp, atan);
   LANE(Atan2Op, atan2); LANE(ExpOp, exp); LANE(Exp2Op, exp2); LANE(LogOp, log);
   LANE(Log2Op, log2); LANE(Log10Op, log10); LANE(SqrtOp, sqrt);
-  LANE(InverseSqrtOp, inverseSqrt); LANE(FloorOp, floor); LANE(CeilOp, ceil);
+  LANE(InverseSqrtOp, inverseSqrt); LANE(SinhOp, sinh); LANE(CoshOp, cosh);
+  LANE(TanhOp, tanh); LANE(Expm1Op, expm1); LANE(CbrtOp, cbrt); LANE(ErfOp, erf);
+  LANE(ErfcOp, erfc); LANE(LogbOp, logb); LANE(LinearStepOp, linearstep); LANE(FloorOp, floor); LANE(CeilOp, ceil);
   LANE(RoundOp, round); LANE(TruncOp, trunc); LANE(SignOp, sign);
   LANE(PowOp, pow); LANE(FmodOp, fmod); LANE(StepOp, step); LANE(MixOp, mix);
   LANE(ClampOp, clamp); LANE(SmoothStepOp, smoothstep); LANE(SelectOp, select);

@@ -250,6 +250,79 @@ Value lane::log10(OpBuilder &b, Location loc, ValueRange x) {
   return logOfPositive(b, loc, x[0], 1.0 / M_LN10, false);
 }
 
+/// (e^x -+ e^-x) / 2 from one exp; near 0 sinh is x plus a cubic term,
+/// which avoids the cancellation of the difference.
+Value lane::sinh(OpBuilder &b, Location loc, ValueRange x) {
+  Value e = b.create<math::ExpOp>(loc, x[0]);
+  Value inv = b.create<arith::DivFOp>(loc, cst(b, loc, x[0], 1), e);
+  Value wide = b.create<arith::MulFOp>(loc, b.create<arith::SubFOp>(loc, e, inv),
+                                       cst(b, loc, x[0], 0.5));
+  Value x2 = b.create<arith::MulFOp>(loc, x[0], x[0]);
+  // x + x^3/6 + x^5/120: below |x| = 2^-4 the next term is under 1 ULP.
+  Value poly = b.create<arith::AddFOp>(
+      loc, cst(b, loc, x[0], 1.0 / 6),
+      b.create<arith::MulFOp>(loc, x2, cst(b, loc, x[0], 1.0 / 120)));
+  Value small = b.create<arith::AddFOp>(
+      loc, x[0], b.create<arith::MulFOp>(loc, b.create<arith::MulFOp>(loc, x[0], x2), poly));
+  Value isSmall = fcmp(b, loc, arith::CmpFPredicate::OLT,
+                       b.create<math::AbsFOp>(loc, x[0]), cst(b, loc, x[0], 0.0625));
+  return sel(b, loc, isSmall, small, wide);
+}
+Value lane::cosh(OpBuilder &b, Location loc, ValueRange x) {
+  Value e = b.create<math::ExpOp>(loc, x[0]);
+  Value inv = b.create<arith::DivFOp>(loc, cst(b, loc, x[0], 1), e);
+  return b.create<arith::MulFOp>(loc, b.create<arith::AddFOp>(loc, e, inv),
+                                 cst(b, loc, x[0], 0.5));
+}
+Value lane::tanh(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::TanhOp>(loc, x[0]);
+}
+Value lane::expm1(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::ExpM1Op>(loc, x[0]);
+}
+/// sign(x) * |x|^(1/3) through exp2/log2; 0 stays 0.
+Value lane::cbrt(OpBuilder &b, Location loc, ValueRange x) {
+  Value mag = b.create<math::AbsFOp>(loc, x[0]);
+  Value isZero = fcmp(b, loc, arith::CmpFPredicate::OEQ, mag, cst(b, loc, mag, 0));
+  Value safe = sel(b, loc, isZero, cst(b, loc, mag, 1), mag);
+  Value l = b.create<arith::MulFOp>(loc, b.create<math::Log2Op>(loc, safe),
+                                    cst(b, loc, mag, 1.0 / 3));
+  Value r = b.create<math::Exp2Op>(loc, l);
+  // One Newton step, r -= (r^3 - |x|) / (3 r^2), repairs the exp2/log2 error.
+  Value r2 = b.create<arith::MulFOp>(loc, r, r);
+  Value num = b.create<arith::SubFOp>(loc, b.create<arith::MulFOp>(loc, r2, r), safe);
+  Value den = b.create<arith::MulFOp>(loc, r2, cst(b, loc, r, 3));
+  r = b.create<arith::SubFOp>(loc, r, b.create<arith::DivFOp>(loc, num, den));
+  r = sel(b, loc, isZero, cst(b, loc, r, 0), r);
+  return b.create<math::CopySignOp>(loc, r, x[0]);
+}
+Value lane::erf(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::ErfOp>(loc, x[0]);
+}
+Value lane::erfc(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<arith::SubFOp>(loc, cst(b, loc, x[0], 1),
+                                 b.create<math::ErfOp>(loc, x[0]));
+}
+/// The binary exponent of max(|x|, FLT_MIN), read from the bits, so
+/// logb(0) = -126 as in OSL and exact powers of two are exact.
+Value lane::logb(OpBuilder &b, Location loc, ValueRange x) {
+  Value mag = b.create<math::AbsFOp>(loc, x[0]);
+  mag = max(b, loc, {mag, cst(b, loc, mag, FLT_MIN)});
+  Type intLane = withElement(mag.getType(), b.getI32Type());
+  Value bits = b.create<arith::BitcastOp>(loc, intLane, mag);
+  Value exponent = b.create<arith::ShRUIOp>(loc, bits, constant(b, loc, intLane, 23));
+  exponent = b.create<arith::SubIOp>(loc, exponent, constant(b, loc, intLane, 127));
+  return b.create<arith::SIToFPOp>(loc, mag.getType(), exponent);
+}
+/// clamp((x - e0) / (e1 - e0), 0, 1), with a step when e0 == e1.
+Value lane::linearstep(OpBuilder &b, Location loc, ValueRange x) {
+  Value t = div(b, loc, {b.create<arith::SubFOp>(loc, x[2], x[0]),
+                         b.create<arith::SubFOp>(loc, x[1], x[0])});
+  Value ramp = clamp(b, loc, {t, cst(b, loc, t, 0), cst(b, loc, t, 1)});
+  Value degenerate = fcmp(b, loc, arith::CmpFPredicate::OEQ, x[0], x[1]);
+  return sel(b, loc, degenerate, step(b, loc, {x[0], x[2]}), ramp);
+}
+
 Value lane::sqrt(OpBuilder &b, Location loc, ValueRange x) {
   Value negative = fcmp(b, loc, arith::CmpFPredicate::OLT, x[0], cst(b, loc, x[0], 0));
   return sel(b, loc, negative, cst(b, loc, x[0], 0),

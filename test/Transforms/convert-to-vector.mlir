@@ -128,3 +128,18 @@ func.func @transform_to_object() {
   osl.output "t" = %t : !osl.varying<vector<3xf32>>
   return
 }
+
+// -----
+
+// logb reads the exponent bits of max(|x|, FLT_MIN): exact at powers of
+// two, and -126 for 0 as in OSL.
+// CHECK-LABEL: osl.shader_name = "logb_from_bits"
+// CHECK: arith.bitcast %{{.+}} : vector<8xf32> to vector<8xi32>
+// CHECK: arith.shrui
+// CHECK: arith.sitofp
+func.func @logb_from_bits() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %l = osl.logb %u : !osl.varying<f32> -> !osl.varying<f32>
+  osl.output "l" = %l : !osl.varying<f32>
+  return
+}
