@@ -99,6 +99,27 @@ Value emitDegrees(IRGen &g, SrcLoc l, Vals a, OslType r) {
   return scaleBy(g, l, a[0], r, 180.0 / 3.14159265358979323846);
 }
 
+/// isnan/isinf/isfinite as IEEE comparisons (x != x only for NaN;
+/// |x| == inf; |x| < inf is false for NaN), giving OSL's int.
+Value classifyResult(IRGen &g, SrcLoc l, Value flag) {
+  Type i32 = g.builder().getI32Type();
+  return g.builder().create<ConvertOp>(g.loc(l), withUniformity(i32, isVarying(flag.getType())),
+                                       flag);
+}
+Value emitIsNan(IRGen &g, SrcLoc l, Vals a, OslType) {
+  return classifyResult(g, l, g.builder().create<CmpOp>(g.loc(l), "ne", a[0], a[0]));
+}
+Value emitIsInf(IRGen &g, SrcLoc l, Vals a, OslType) {
+  Value mag = g.builder().create<AbsOp>(g.loc(l), a[0]);
+  return classifyResult(g, l, g.builder().create<CmpOp>(g.loc(l), "eq", mag,
+                                                        g.constFloat(INFINITY, l)));
+}
+Value emitIsFinite(IRGen &g, SrcLoc l, Vals a, OslType) {
+  Value mag = g.builder().create<AbsOp>(g.loc(l), a[0]);
+  return classifyResult(g, l, g.builder().create<CmpOp>(g.loc(l), "lt", mag,
+                                                        g.constFloat(INFINITY, l)));
+}
+
 Value emitHypot(IRGen &g, SrcLoc l, Vals a, OslType) {
   OpBuilder &b = g.builder();
   Location ml = g.loc(l);
@@ -247,6 +268,9 @@ const std::vector<Builtin> &builtinTable() {
       {"erfc", {{"f", "f"}, {"T", "T"}}, unary<ErfcOp>},
       {"logb", {{"f", "f"}, {"T", "T"}}, unary<LogbOp>},
       {"linearstep", {{"f", "fff"}, {"T", "TTT"}}, ternary<LinearStepOp>},
+      {"isnan", {{"i", "f"}}, emitIsNan},
+      {"isinf", {{"i", "f"}}, emitIsInf},
+      {"isfinite", {{"i", "f"}}, emitIsFinite},
       {"log", {{"f", "f"}, {"T", "T"}, {"f", "ff"}, {"T", "Tf"}}, emitLog},
       {"log2", {{"f", "f"}, {"T", "T"}}, unary<Log2Op>},
       {"log10", {{"f", "f"}, {"T", "T"}}, unary<Log10Op>},
@@ -282,7 +306,7 @@ const std::vector<Builtin> &builtinTable() {
 
 /// OSL library functions the front end knows about but cannot compile yet.
 const char *const kUnsupported[] = {
-    "isnan", "isinf", "isfinite", "smooth_linearstep", "texture", "texture3d",
+    "smooth_linearstep", "texture", "texture3d",
     "environment", "gettextureinfo", "Dx", "Dy", "Dz", "area", "filterwidth",
     "calculatenormal", "aastep", "printf", "fprintf", "error", "warning", "format",
     "concat", "strlen", "startswith", "endswith", "substr", "getchar", "stoi", "stof",
