@@ -305,9 +305,11 @@ def Osl_NoiseOp : Osl_Op<"noise", [Pure]> {
   let summary = "noise(name, p [, t]) with a float or triple result";
   let description = [{
     `kind` is OSL's noise type name ("perlin", "uperlin", "cell", "hash"...).
-    Domains: (f32), (f32, f32), (triple), (triple, f32).
+    Domains: (f32), (f32, f32), (triple), (triple, f32). With `periodic`
+    (OSL's pnoise) the coordinates are followed by one period of the same
+    type per coordinate.
   }];
-  let arguments = (ins StrAttr:$kind, Variadic<Osl_Value>:$coords);
+  let arguments = (ins StrAttr:$kind, Variadic<Osl_Value>:$coords, UnitAttr:$periodic);
   let results = (outs Osl_Value:$result);
   let assemblyFormat = "$kind `(` $coords `)` attr-dict `:` functional-type($coords, $result)";
   let hasVerifier = 1;

@@ -237,6 +237,14 @@ LogicalResult NoiseOp::verify() {
   SmallVector<Type> bases;
   for (Value v : getCoords())
     bases.push_back(getUniformType(v.getType()));
+  if (getPeriodic()) {
+    size_t half = bases.size() / 2;
+    if (bases.size() % 2 ||
+        !llvm::equal(ArrayRef<Type>(bases).take_front(half),
+                     ArrayRef<Type>(bases).drop_front(half)))
+      return emitOpError("periodic noise takes one period per coordinate, of its type");
+    bases.resize(half);
+  }
   bool domainOk = (bases.size() == 1 && isFloatLike(bases[0])) ||
                   (bases.size() == 2 && isFloatLike(bases[0]) && bases[1].isF32());
   if (!domainOk)

@@ -310,7 +310,7 @@ const char *const kUnsupported[] = {
     "environment", "gettextureinfo", "Dx", "Dy", "Dz", "area", "filterwidth",
     "calculatenormal", "aastep", "printf", "fprintf", "error", "warning", "format",
     "concat", "strlen", "startswith", "endswith", "substr", "getchar", "stoi", "stof",
-    "hash", "regex_search", "regex_match", "pnoise", "psnoise", "getattribute",
+    "hash", "regex_search", "regex_match", "getattribute",
     "setmessage", "getmessage", "trace", "raytype", "blackbody", "wavelength_color",
     "luminance", "transformc", "transformu", "determinant", "transpose",
     "splineinverse", "fresnel",
@@ -432,13 +432,14 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
   if (!args)
     return std::nullopt;
   std::string kind = llvm::StringSwitch<std::string>(name)
-                         .Case("noise", "uperlin")
-                         .Case("snoise", "perlin")
+                         .Cases("noise", "pnoise", "uperlin")
+                         .Cases("snoise", "psnoise", "perlin")
                          .Case("cellnoise", "cell")
                          .Default("hash");
+  bool periodic = name == "pnoise" || name == "psnoise";
   size_t first = 0;
   if (!args->empty() && (*args)[0].type.isString()) {
-    if (name != "noise") {
+    if (name != "noise" && name != "pnoise") {
       g.error(call.args[0]->loc, "'" + name + "' takes no noise type name; use noise(\"" +
                                      (*args)[0].str + "\", ...)");
       return std::nullopt;
@@ -466,12 +467,14 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
                           "point); " + name + "(" + prefix + "point, float)");
     return std::nullopt;
   };
-  if (n < 1 || n > 2)
+  // pnoise: each coordinate is followed, after all of them, by its period.
+  size_t ncoords = periodic ? n / 2 : n;
+  if (ncoords < 1 || ncoords > 2 || (periodic && n % 2))
     return wrong();
   std::vector<Value> coords;
   for (size_t k = first; k < args->size(); ++k) {
     const RValue &a = (*args)[k];
-    bool firstCoord = k == first;
+    bool firstCoord = k == first || (periodic && k == first + ncoords);
     if (a.type.isTriple() && firstCoord) {
       coords.push_back(a.value);
       continue;
@@ -484,7 +487,7 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
   OslType resultType = triple ? OslType(expected->base) : OslType(BaseType::Float);
   bool varying = llvm::any_of(coords, [](Value v) { return isVarying(v.getType()); });
   Type t = withUniformity(irType(g.builder(), resultType), varying);
-  Value v = g.builder().create<NoiseOp>(g.loc(call.loc), t, kind, coords);
+  Value v = g.builder().create<NoiseOp>(g.loc(call.loc), t, kind, coords, periodic);
   return RValue::num(resultType, v);
 }
 
@@ -782,7 +785,8 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
   if (call.isCtor)
     return emitConstructor(g, call);
   llvm::StringRef name = call.name;
-  if (name == "noise" || name == "snoise" || name == "cellnoise" || name == "hashnoise")
+  if (name == "noise" || name == "snoise" || name == "cellnoise" || name == "hashnoise" ||
+      name == "pnoise" || name == "psnoise")
     return emitNoise(g, call, expected);
   if (name == "transform")
     return emitTransform(g, call);

@@ -384,6 +384,24 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
     SmallVector<Value> coords;
     for (auto &c : lanes.unpackAll(adaptor.getCoords(), op.getCoords(), varying))
       llvm::append_range(coords, c);
+    if (op.getPeriodic()) {
+      ArrayRef<Value> all(coords);
+      ArrayRef<Value> points = all.take_front(all.size() / 2);
+      ArrayRef<Value> periods = all.drop_front(all.size() / 2);
+      if (isTriple(getUniformType(op.getType()))) {
+        std::array<Value, 3> r =
+            buildPeriodicNoiseTriple(rewriter, loc, *kind, points, periods);
+        if (!r[0])
+          return op.emitError("periodic '") << op.getKind() << "' noise is not defined";
+        rewriter.replaceOp(op, lanes.pack(r, convert(op.getType())));
+      } else {
+        Value r = buildPeriodicNoiseFloat(rewriter, loc, *kind, points, periods);
+        if (!r)
+          return op.emitError("periodic '") << op.getKind() << "' noise is not defined";
+        rewriter.replaceOp(op, r);
+      }
+      return success();
+    }
     if (isTriple(getUniformType(op.getType()))) {
       std::array<Value, 3> r = buildNoiseTriple(rewriter, loc, *kind, coords);
       rewriter.replaceOp(op, lanes.pack(r, convert(op.getType())));

@@ -150,3 +150,11 @@ func.func @while_back_edge_count(%a: f32, %c: i1) {
   }
   return
 }
+
+// -----
+
+func.func @periodic_noise_without_periods(%p: vector<3xf32>, %t: f32) {
+  // expected-error @+1 {{periodic noise takes one period per coordinate, of its type}}
+  %0 = osl.noise "perlin"(%p, %t) {periodic} : (vector<3xf32>, f32) -> f32
+  return
+}

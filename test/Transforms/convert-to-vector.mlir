@@ -143,3 +143,17 @@ func.func @logb_from_bits() {
   osl.output "l" = %l : !osl.varying<f32>
   return
 }
+
+// -----
+
+// Periodic noise (pnoise): the coordinates, then one period each.
+// CHECK-LABEL: osl.shader_name = "periodic_noise"
+// CHECK-NOT: osl.noise
+// CHECK: arith.xori %{{.+}}, %{{.+}} : vector<8xi32>
+func.func @periodic_noise() {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %per = arith.constant dense<[4.0, 3.0, 5.0]> : vector<3xf32>
+  %n = osl.noise "perlin"(%P, %per) {periodic} : (!osl.varying<vector<3xf32>>, vector<3xf32>) -> !osl.varying<f32>
+  osl.output "n" = %n : !osl.varying<f32>
+  return
+}

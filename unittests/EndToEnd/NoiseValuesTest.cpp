@@ -80,8 +80,14 @@ TEST_P(NoiseValues, MatchOsl) {
   std::vector<NoiseRow> rows = loadRows(c.type, c.dims, c.result);
   ASSERT_EQ(rows.size(), 100u);
   std::string resultType = c.result == "color" ? "color" : "float";
-  std::string source = "shader probe(output " + resultType + " r = 0) { r = noise(\"" +
-                       c.type + "\", " + domain(c.dims) + "); }";
+  // pnoise_perlin rows use periods 4, 3, 5, 2 (the corpus README).
+  static const char *const periods[] = {"", "4.0", "4.0, 3.0", "point(4, 3, 5)",
+                                        "point(4, 3, 5), 2.0"};
+  bool periodic = c.type == "pnoise_perlin";
+  std::string call = periodic ? std::string("pnoise(\"perlin\", ") + domain(c.dims) +
+                                    ", " + periods[c.dims] + ")"
+                              : "noise(\"" + c.type + "\", " + domain(c.dims) + ")";
+  std::string source = "shader probe(output " + resultType + " r = 0) { r = " + call + "; }";
   std::string errors;
   llvm::raw_string_ostream errs(errors);
   CompileOptions options;
@@ -116,7 +122,8 @@ TEST_P(NoiseValues, MatchOsl) {
 
 std::vector<NoiseCase> cases() {
   std::vector<NoiseCase> all;
-  for (const char *type : {"perlin", "uperlin", "cell", "hash", "simplex", "usimplex"}) {
+  for (const char *type :
+       {"perlin", "uperlin", "cell", "hash", "simplex", "usimplex", "pnoise_perlin"}) {
     for (int dims = 1; dims <= 4; ++dims)
       all.push_back({type, dims, "float"});
     all.push_back({type, 3, "color"});
