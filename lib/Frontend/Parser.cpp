@@ -184,6 +184,22 @@ private:
     return true;
   }
 
+  /// A parameter's name and optional array suffix, after its type.
+  bool parseParamName(Param &p) {
+    if (!cur().is(TokKind::Ident) || isReserved(cur().text)) {
+      errorExpected("a parameter name");
+      return false;
+    }
+    p.name = cur().text;
+    p.loc = cur().loc;
+    advance();
+    int len;
+    if (!parseArraySuffix(len, true))
+      return false;
+    p.type.arrayLen = len;
+    return true;
+  }
+
   /// `[N]` or `[]` after a declared name; `allowUnsized` for function
   /// parameters (and initialized arrays, whose length comes from the list).
   bool parseArraySuffix(int &arrayLen, bool allowUnsized) {
@@ -278,17 +294,8 @@ private:
         }
         if (!parseType(p.type))
           return nullptr;
-        if (!cur().is(TokKind::Ident) || isReserved(cur().text)) {
-          errorExpected("a parameter name");
+        if (!parseParamName(p))
           return nullptr;
-        }
-        p.name = cur().text;
-        p.loc = cur().loc;
-        advance();
-        int len;
-        if (!parseArraySuffix(len, true))
-          return nullptr;
-        p.type.arrayLen = len;
         if (!cur().isPunct("=")) {
           error(cur().loc, "shader parameter '" + p.name + "' needs a default value");
           return nullptr;
@@ -342,17 +349,8 @@ private:
         }
         if (!parseType(p.type))
           return nullptr;
-        if (!cur().is(TokKind::Ident) || isReserved(cur().text)) {
-          errorExpected("a parameter name");
+        if (!parseParamName(p))
           return nullptr;
-        }
-        p.name = cur().text;
-        p.loc = cur().loc;
-        advance();
-        int len;
-        if (!parseArraySuffix(len, true))
-          return nullptr;
-        p.type.arrayLen = len;
         if (cur().isPunct("=")) {
           error(cur().loc, "default values for function parameters are not supported");
           return nullptr;

@@ -252,9 +252,13 @@ Value lane::log10(OpBuilder &b, Location loc, ValueRange x) {
 
 /// (e^x -+ e^-x) / 2 from one exp; near 0 sinh is x plus a cubic term,
 /// which avoids the cancellation of the difference.
+/// e^x and e^-x from one exp, shared by sinh and cosh.
+static std::pair<Value, Value> expPair(OpBuilder &b, Location loc, Value x) {
+  Value e = b.create<math::ExpOp>(loc, x);
+  return {e, b.create<arith::DivFOp>(loc, cst(b, loc, x, 1), e)};
+}
 Value lane::sinh(OpBuilder &b, Location loc, ValueRange x) {
-  Value e = b.create<math::ExpOp>(loc, x[0]);
-  Value inv = b.create<arith::DivFOp>(loc, cst(b, loc, x[0], 1), e);
+  auto [e, inv] = expPair(b, loc, x[0]);
   Value wide = b.create<arith::MulFOp>(loc, b.create<arith::SubFOp>(loc, e, inv),
                                        cst(b, loc, x[0], 0.5));
   Value x2 = b.create<arith::MulFOp>(loc, x[0], x[0]);
@@ -269,8 +273,7 @@ Value lane::sinh(OpBuilder &b, Location loc, ValueRange x) {
   return sel(b, loc, isSmall, small, wide);
 }
 Value lane::cosh(OpBuilder &b, Location loc, ValueRange x) {
-  Value e = b.create<math::ExpOp>(loc, x[0]);
-  Value inv = b.create<arith::DivFOp>(loc, cst(b, loc, x[0], 1), e);
+  auto [e, inv] = expPair(b, loc, x[0]);
   return b.create<arith::MulFOp>(loc, b.create<arith::AddFOp>(loc, e, inv),
                                  cst(b, loc, x[0], 0.5));
 }
