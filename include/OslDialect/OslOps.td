@@ -79,6 +79,7 @@ def Osl_IfOp : Osl_Op<"if", [RecursiveMemoryEffects, NoRegionArguments]> {
     $condition `:` type($condition) (`->` type($results)^)? $thenRegion `else` $elseRegion attr-dict
   }];
   let hasVerifier = 1;
+  let hasCanonicalizer = 1;
 }
 
 def Osl_WhileOp : Osl_Op<"while", [RecursiveMemoryEffects]> {

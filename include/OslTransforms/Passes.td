@@ -37,7 +37,15 @@ def InsertMaskStack : Pass<"osl-insert-mask-stack", "::mlir::func::FuncOp"> {
     the enclosing context, so lanes that are off never keep a loop going
     (the outermost mask is the batch's active lanes). Uniform control flow
     stays ordinary scf.if/scf.while with no masking cost.
+
+    An arm of a varying if that holds a loop or at least `skip-threshold`
+    operations runs under `scf.if (osl.any(mask))`, so a batch in which no
+    lane takes it skips it at run time; smaller arms run unconditionally
+    because the test would cost more than the arm.
   }];
+  let options = [Option<"skipThreshold", "skip-threshold", "int", "16",
+                        "operations in an arm from which it is skipped when its "
+                        "mask is empty">];
   let dependentDialects = ["::mlir::scf::SCFDialect"];
 }
 

@@ -9,8 +9,10 @@
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/GlobalsLayout.h"
 
+#include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/Builders.h"
 #include "mlir/IR/OpImplementation.h"
+#include "mlir/IR/PatternMatch.h"
 #include "llvm/ADT/StringSwitch.h"
 
 using namespace mlir;
@@ -169,6 +171,98 @@ LogicalResult IfOp::verify() {
       return failure();
   }
   return success();
+}
+
+namespace {
+/// Results an if does not need: a value both arms yield unchanged (defined
+/// before the if), and i1 results that are the condition itself
+/// (`true`/`false`) or its negation. The front end makes many of these from
+/// jump flags. Unused results go too. What is left keeps its arms; an if with no results and
+/// empty arms disappears.
+struct SimplifyIfResults : public OpRewritePattern<IfOp> {
+  using OpRewritePattern::OpRewritePattern;
+
+  static std::optional<bool> constantBool(Value v) {
+    if (auto c = v.getDefiningOp<arith::ConstantOp>())
+      if (auto b = dyn_cast<BoolAttr>(c.getValue()))
+        return b.getValue();
+    if (auto c = v.getDefiningOp<arith::ConstantOp>())
+      if (auto i = dyn_cast<IntegerAttr>(c.getValue()); i && i.getType().isInteger(1))
+        return i.getValue().getBoolValue();
+    if (auto b = v.getDefiningOp<BroadcastOp>())
+      return constantBool(b.getValue());
+    return std::nullopt;
+  }
+
+  LogicalResult matchAndRewrite(IfOp op, PatternRewriter &rewriter) const override {
+    auto thenYield = cast<YieldOp>(op.getThenRegion().front().getTerminator());
+    auto elseYield = cast<YieldOp>(op.getElseRegion().front().getTerminator());
+    SmallVector<Value> replacement(op.getNumResults());
+    SmallVector<bool> drop(op.getNumResults(), false);
+    bool changed = false;
+    for (unsigned i = 0; i < op.getNumResults(); ++i) {
+      if (op.getResult(i).use_empty()) {
+        drop[i] = changed = true;
+        continue;
+      }
+      Value t = thenYield.getValues()[i], e = elseYield.getValues()[i];
+      Type resultType = op.getResult(i).getType();
+      if (t == e && !op->isAncestor(t.getParentBlock()->getParentOp())) {
+        replacement[i] = t;
+      } else if (getUniformType(resultType).isInteger(1)) {
+        auto ct = constantBool(t), ce = constantBool(e);
+        if (ct && ce && *ct && !*ce)
+          replacement[i] = op.getCondition();
+        else if (ct && ce && !*ct && *ce) {
+          rewriter.setInsertionPoint(op);
+          replacement[i] = rewriter.create<NotOp>(op.getLoc(), op.getCondition());
+        }
+      }
+      // Uniformity may differ before osl-varying-propagation, which
+      // recomputes it; base types must agree.
+      if (replacement[i] &&
+          getUniformType(replacement[i].getType()) != getUniformType(resultType))
+        replacement[i] = Value();
+      changed |= bool(replacement[i]);
+    }
+    bool emptyArms = op.getNumResults() == 0 &&
+                     op.getThenRegion().front().getOperations().size() == 1 &&
+                     op.getElseRegion().front().getOperations().size() == 1;
+    if (emptyArms) {
+      rewriter.eraseOp(op);
+      return success();
+    }
+    if (!changed)
+      return failure();
+    SmallVector<Type> keptTypes;
+    SmallVector<Value> thenKept, elseKept;
+    for (unsigned i = 0; i < op.getNumResults(); ++i)
+      if (!replacement[i] && !drop[i]) {
+        keptTypes.push_back(op.getResult(i).getType());
+        thenKept.push_back(thenYield.getValues()[i]);
+        elseKept.push_back(elseYield.getValues()[i]);
+      }
+    rewriter.setInsertionPoint(op);
+    auto newIf = rewriter.create<IfOp>(op.getLoc(), keptTypes, op.getCondition());
+    rewriter.inlineRegionBefore(op.getThenRegion(), newIf.getThenRegion(),
+                                newIf.getThenRegion().end());
+    rewriter.inlineRegionBefore(op.getElseRegion(), newIf.getElseRegion(),
+                                newIf.getElseRegion().end());
+    rewriter.setInsertionPoint(thenYield);
+    rewriter.replaceOpWithNewOp<YieldOp>(thenYield, thenKept);
+    rewriter.setInsertionPoint(elseYield);
+    rewriter.replaceOpWithNewOp<YieldOp>(elseYield, elseKept);
+    for (unsigned i = 0, k = 0; i < op.getNumResults(); ++i)
+      if (!replacement[i] && !drop[i])
+        replacement[i] = newIf.getResult(k++);
+    rewriter.replaceOp(op, replacement);
+    return success();
+  }
+};
+} // namespace
+
+void IfOp::getCanonicalizationPatterns(RewritePatternSet &results, MLIRContext *context) {
+  results.add<SimplifyIfResults>(context);
 }
 
 LogicalResult WhileOp::verify() {

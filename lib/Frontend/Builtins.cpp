@@ -793,8 +793,12 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
   if (name == "spline")
     return emitSpline(g, call);
   if (name == "exit") {
-    g.error(call.loc, "'exit' is not supported yet");
-    return std::nullopt;
+    if (!call.args.empty()) {
+      g.error(call.loc, "'exit' takes no arguments");
+      return std::nullopt;
+    }
+    g.emitExit(call.loc);
+    return RValue::voidValue();
   }
   if (name == "sincos")
     return emitSincos(g, call);

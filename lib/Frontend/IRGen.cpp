@@ -368,7 +368,9 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
     if (!emitParam(p, paramScope))
       return false;
 
+  exitFlag = declareFlag(root, kExitFlag, shader.loc);
   current = newScope(paramScope);
+  shaderReturned = declareFlag(current, kReturnedFlag, shader.loc);
   if (!emitStmtList(shader.body->body, 0, /*tail=*/true))
     return false;
 

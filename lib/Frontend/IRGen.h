@@ -6,6 +6,12 @@
 // syntactic scan (scanAssigned). User functions are inlined at each call.
 // Strings are compile-time constants.
 //
+// break, continue, return and exit() set hidden boolean flags ("$break",
+// "$continue", "$returned", "$exit"); the statements after one that may
+// have set a flag run under `if (!flags)`, and loops also test them. A flag
+// set under a uniform condition stays uniform, so only divergent jumps cost
+// masking, and a flag that is never set folds away.
+//
 //===----------------------------------------------------------------------===//
 #ifndef OSLFRONTEND_IRGEN_H
 #define OSLFRONTEND_IRGEN_H
@@ -146,6 +152,9 @@ public:
   /// The value of a shader global (emitted once, at the top of the shader).
   mlir::Value getGlobal(llvm::StringRef name, mlir::Type base, SrcLoc l);
 
+  /// exit(): the shader stops for the lanes that reach it.
+  void emitExit(SrcLoc l);
+
 private:
   // --- program structure -----------------------------------------------------
   bool emitShader(const ShaderDecl &shader, mlir::func::FuncOp func);
@@ -178,6 +187,18 @@ private:
   bool emitLoop(const Stmt &s);
   bool emitWhile(const Expr *cond, const Stmt &body, const Expr *step,
                  const llvm::StringSet<> &names, SrcLoc l);
+  bool emitJump(const Stmt &s, bool tail);
+
+  // --- jumps (break, continue, return, exit) as flags ------------------------
+  Var *declareFlag(Scope *scope, llvm::StringRef name, SrcLoc l);
+  void setFlag(Var *flag, SrcLoc l);
+  /// i1 that is true where a jump has left the current statement list (the
+  /// innermost loop's break/continue when `withContinue`, the function's
+  /// return, exit); null when no flag can be set (nothing to guard).
+  mlir::Value jumpedCondition(SrcLoc l, bool withContinue,
+                              std::vector<Var *> *flagsOut = nullptr);
+  /// The loops of the function being emitted (outer ones are not its own).
+  bool inLoop() const;
 
   /// Names assigned anywhere in a statement or expression (including
   /// through output arguments and the bodies of called user functions).
@@ -256,7 +277,16 @@ private:
   struct InlineFrame {
     const FunctionDecl *fn;
     Var *returnVar = nullptr;
+    Var *returned = nullptr; // "$returned"
+    size_t loopBase = 0;     // loopStack size at the call
   };
+  struct LoopFrame {
+    Var *broke = nullptr;     // "$break"
+    Var *continued = nullptr; // "$continue"
+  };
+  std::vector<LoopFrame> loopStack;
+  Var *shaderReturned = nullptr; // `return` in the shader body
+  Var *exitFlag = nullptr;
   std::vector<InlineFrame> inlineStack;
   /// What each user function's body assigns (see scanAssigned).
   std::map<const FunctionDecl *, llvm::StringSet<>> functionAssignedCache;
@@ -275,6 +305,11 @@ bool isBuiltinName(llvm::StringRef name);
 
 /// The name of the hidden variable holding a function's return value.
 inline constexpr const char *kReturnVarName = "$return";
+/// The hidden jump flags (see the file comment).
+inline constexpr const char *kBreakFlag = "$break";
+inline constexpr const char *kContinueFlag = "$continue";
+inline constexpr const char *kReturnedFlag = "$returned";
+inline constexpr const char *kExitFlag = "$exit";
 
 /// The variable an lvalue-shaped expression designates, or "".
 inline llvm::StringRef rootName(const Expr &e) {

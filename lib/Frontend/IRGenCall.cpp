@@ -180,6 +180,8 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
   }
   InlineFrame frame;
   frame.fn = &fn;
+  frame.returned = declareFlag(fs, kReturnedFlag, fn.loc);
+  frame.loopBase = loopStack.size();
   if (!fn.returnType.isVoid()) {
     if (fn.returnType.base == BaseType::Matrix || fn.returnType.base == BaseType::Closure) {
       error(fn.loc, "functions returning '" + fn.returnType.str() +

@@ -74,7 +74,128 @@ bool IRGen::emitStmtList(const std::vector<StmtPtr> &stmts, size_t from, bool ta
     }
     if (!emitStmt(s, tail && last))
       return false;
+    if (last)
+      break;
+    // The rest of the list runs only where no jump has happened.
+    std::vector<Var *> flags;
+    Value jumped = jumpedCondition(s.loc, /*withContinue=*/true, &flags);
+    if (!jumped)
+      continue;
+    llvm::StringSet<> names;
+    for (size_t k = i + 1; k < stmts.size(); ++k)
+      scanAssigned(*stmts[k], names);
+    for (Var *f : flags)
+      names.insert(f->name);
+    auto rest = [&]() -> std::optional<RValue> {
+      Scope *saved = current;
+      current = newScope(current);
+      // The flags are clear on the lanes that run the rest; one the rest
+      // does not set keeps its value from before (no merge needed).
+      std::vector<std::pair<Var *, RValue>> before;
+      Value clear = constBool(false, s.loc);
+      for (Var *f : flags) {
+        before.push_back({f, f->val});
+        f->val = RValue::num(OslType(BaseType::Bool), clear);
+      }
+      bool ok = emitStmtList(stmts, i + 1, tail);
+      for (auto &[f, old] : before)
+        if (f->val.value == clear)
+          f->val = old;
+      current = saved;
+      if (!ok)
+        return std::nullopt;
+      return RValue::voidValue();
+    };
+    auto nothing = []() -> std::optional<RValue> { return RValue::voidValue(); };
+    Value running = b.create<NotOp>(loc(s.loc), jumped);
+    return emitIfRegion(running, s.loc, names, rest, nothing, false).has_value();
   }
+  return true;
+}
+
+//===----------------------------------------------------------------------===//
+// Jumps
+//===----------------------------------------------------------------------===//
+
+Var *IRGen::declareFlag(Scope *scope, llvm::StringRef name, SrcLoc l) {
+  return declareVar(scope, name.str(), OslType(BaseType::Bool), l,
+                    RValue::num(OslType(BaseType::Bool), constBool(false, l)));
+}
+
+void IRGen::setFlag(Var *flag, SrcLoc l) {
+  flag->val = RValue::num(OslType(BaseType::Bool), constBool(true, l));
+}
+
+bool IRGen::inLoop() const {
+  size_t base = inlineStack.empty() ? 0 : inlineStack.back().loopBase;
+  return loopStack.size() > base;
+}
+
+Value IRGen::jumpedCondition(SrcLoc l, bool withContinue, std::vector<Var *> *flagsOut) {
+  std::vector<Var *> candidates = {exitFlag,
+                                   inlineStack.empty() ? shaderReturned
+                                                       : inlineStack.back().returned};
+  if (inLoop()) {
+    candidates.push_back(loopStack.back().broke);
+    if (withContinue)
+      candidates.push_back(loopStack.back().continued);
+  }
+  Value result;
+  for (Var *f : candidates) {
+    if (!f)
+      continue;
+    Value v = f->val.value;
+    if (auto k = getConstBool(v)) {
+      if (!*k)
+        continue; // never set on this path
+      return constBool(true, l);
+    }
+    if (flagsOut)
+      flagsOut->push_back(f);
+    result = result ? b.create<OrOp>(loc(l), result, v).getResult() : v;
+  }
+  return result;
+}
+
+void IRGen::emitExit(SrcLoc l) { setFlag(exitFlag, l); }
+
+bool IRGen::emitJump(const Stmt &s, bool tail) {
+  if (s.kind == StmtKind::Break || s.kind == StmtKind::Continue) {
+    bool isBreak = s.kind == StmtKind::Break;
+    if (!inLoop())
+      return error(s.loc, llvm::Twine("'") + (isBreak ? "break" : "continue") +
+                              "' is not inside a loop");
+    setFlag(isBreak ? loopStack.back().broke : loopStack.back().continued, s.loc);
+    return true;
+  }
+  // return
+  Var *returned = inlineStack.empty() ? shaderReturned : inlineStack.back().returned;
+  if (inlineStack.empty()) {
+    if (s.expr)
+      return error(s.expr->loc, "a shader cannot return a value");
+  } else {
+    InlineFrame &frame = inlineStack.back();
+    const FunctionDecl &fn = *frame.fn;
+    if (fn.returnType.isVoid()) {
+      if (s.expr)
+        return error(s.expr->loc, "void function '" + fn.name + "' cannot return a value");
+    } else {
+      if (!s.expr)
+        return error(s.loc, "function '" + fn.name + "' must return a value of type '" +
+                                fn.returnType.str() + "'");
+      auto v = emitExpr(*s.expr, &fn.returnType);
+      if (!v)
+        return false;
+      auto c = coerce(*v, fn.returnType, s.expr->begin,
+                      "in return from '" + fn.name + "'");
+      if (!c)
+        return false;
+      frame.returnVar->val = *c;
+    }
+  }
+  // At the end of the function nothing follows to be skipped.
+  if (!tail)
+    setFlag(returned, s.loc);
   return true;
 }
 
@@ -103,38 +224,9 @@ bool IRGen::emitStmt(const Stmt &s, bool tail) {
   case StmtKind::DoWhile:
     return emitLoop(s);
   case StmtKind::Break:
-    return error(s.loc, "'break' is not supported yet");
   case StmtKind::Continue:
-    return error(s.loc, "'continue' is not supported yet");
-  case StmtKind::Return: {
-    if (!tail)
-      return error(s.loc, "'return' is not supported yet here (only where it ends "
-                          "the function or shader)");
-    if (inlineStack.empty()) {
-      if (s.expr)
-        return error(s.expr->loc, "a shader cannot return a value");
-      return true;
-    }
-    InlineFrame &frame = inlineStack.back();
-    const FunctionDecl &fn = *frame.fn;
-    if (fn.returnType.isVoid()) {
-      if (s.expr)
-        return error(s.expr->loc, "void function '" + fn.name + "' cannot return a value");
-      return true;
-    }
-    if (!s.expr)
-      return error(s.loc, "function '" + fn.name + "' must return a value of type '" +
-                              fn.returnType.str() + "'");
-    auto v = emitExpr(*s.expr, &fn.returnType);
-    if (!v)
-      return false;
-    auto c = coerce(*v, fn.returnType, s.expr->begin,
-                    "in return from '" + fn.name + "'");
-    if (!c)
-      return false;
-    frame.returnVar->val = *c;
-    return true;
-  }
+  case StmtKind::Return:
+    return emitJump(s, tail);
   case StmtKind::FuncDef:
     current->funcs[s.func->name].push_back({s.func.get(), current});
     return true;
@@ -314,32 +406,49 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
     thenVals.push_back(ct->value);
     elseVals.push_back(ce->value);
   }
-  b.setInsertionPointToEnd(thenBlock);
-  b.create<YieldOp>(mloc, thenVals);
-  b.setInsertionPointToEnd(elseBlock);
-  b.create<YieldOp>(mloc, elseVals);
-
+  // A value both arms leave alone (the same SSA value, so defined before
+  // the if) is no result: the if yields only what changes.
+  std::vector<Value> merged(thenVals.size());
+  std::vector<Value> thenYield, elseYield;
   std::vector<Type> types;
   for (size_t i = 0; i < thenVals.size(); ++i) {
+    if (thenVals[i] == elseVals[i]) {
+      merged[i] = thenVals[i];
+      continue;
+    }
+    thenYield.push_back(thenVals[i]);
+    elseYield.push_back(elseVals[i]);
     Type base = getUniformType(thenVals[i].getType());
     bool varying = isVarying(thenVals[i].getType()) || isVarying(elseVals[i].getType());
     types.push_back(withUniformity(base, varying));
   }
+  b.setInsertionPointToEnd(thenBlock);
+  b.create<YieldOp>(mloc, thenYield);
+  b.setInsertionPointToEnd(elseBlock);
+  b.create<YieldOp>(mloc, elseYield);
+
   b.setInsertionPoint(tmp);
   auto ifOp = b.create<IfOp>(mloc, types, cond);
   ifOp.getThenRegion().takeBody(tmp.getThenRegion());
   ifOp.getElseRegion().takeBody(tmp.getElseRegion());
   tmp.erase();
   b.setInsertionPointAfter(ifOp);
-  unflatten(carried, ifOp.getResults().take_front(init.size()));
+  for (size_t i = 0, r = 0; i < merged.size(); ++i)
+    if (!merged[i])
+      merged[i] = ifOp.getResult(r++);
+  unflatten(carried, ArrayRef<Value>(merged).take_front(init.size()));
   if (!wantValue)
     return RValue::voidValue();
-  return RValue::num(resultType, ifOp.getResults().back());
+  return RValue::num(resultType, merged.back());
 }
 
 bool IRGen::emitLoop(const Stmt &s) {
   Scope *saved = current;
   current = newScope(current);
+  LoopFrame frame;
+  frame.broke = declareFlag(current, kBreakFlag, s.loc);
+  frame.continued = declareFlag(current, kContinueFlag, s.loc);
+  loopStack.push_back(frame);
   bool ok = true;
   llvm::StringSet<> names;
   if (s.kind == StmtKind::For && s.init) {
@@ -348,16 +457,21 @@ bool IRGen::emitLoop(const Stmt &s) {
       for (const Declarator &d : s.init->decls)
         names.insert(d.name);
   }
-  if (ok && s.kind == StmtKind::DoWhile)
+  if (ok && s.kind == StmtKind::DoWhile) {
     ok = emitScoped(*s.thenStmt, false); // the first iteration, peeled
+    frame.continued->val =
+        RValue::num(OslType(BaseType::Bool), constBool(false, s.loc));
+  }
   if (ok) {
     if (s.expr)
       scanAssigned(*s.expr, names);
     if (s.step)
       scanAssigned(*s.step, names);
     scanAssigned(*s.thenStmt, names);
+    names.erase(kContinueFlag); // clear at the start of every iteration
     ok = emitWhile(s.expr.get(), *s.thenStmt, s.step.get(), names, s.loc);
   }
+  loopStack.pop_back();
   current = saved;
   return ok;
 }
@@ -377,26 +491,73 @@ bool IRGen::emitWhile(const Expr *condExpr, const Stmt &body, const Expr *step,
   auto whileOp = b.create<WhileOp>(mloc, types, init);
   Block *before = b.createBlock(&whileOp.getBefore(), {}, types, locs);
   unflatten(carried, before->getArguments());
+  // Lanes that broke out, returned or exited do not test the condition
+  // (it may have side effects).
+  Value left = jumpedCondition(l, /*withContinue=*/false);
+  Value stay = left ? b.create<NotOp>(mloc, left).getResult() : Value();
   Value cond;
   if (condExpr) {
-    auto c = emitExpr(*condExpr);
+    auto emitCond = [&]() -> std::optional<RValue> {
+      auto c = emitExpr(*condExpr);
+      if (!c)
+        return std::nullopt;
+      auto cb = toBool(*c, condExpr->loc);
+      if (!cb)
+        return std::nullopt;
+      return RValue::num(OslType(BaseType::Bool), *cb);
+    };
+    std::optional<RValue> c;
+    if (stay && hasSideEffects(*condExpr)) {
+      llvm::StringSet<> condNames;
+      scanAssigned(*condExpr, condNames);
+      c = emitIfRegion(
+          stay, l, condNames, emitCond,
+          [&]() -> std::optional<RValue> {
+            return RValue::num(OslType(BaseType::Bool), constBool(false, l));
+          },
+          /*wantValue=*/true);
+    } else {
+      c = emitCond();
+      if (c && stay)
+        c->value = b.create<AndOp>(mloc, stay, c->value);
+    }
     if (!c)
       return false;
-    auto cb = toBool(*c, condExpr->loc);
-    if (!cb)
-      return false;
-    cond = *cb;
+    cond = c->value;
   } else {
-    cond = constBool(true, l);
+    cond = stay ? stay : constBool(true, l);
   }
   b.create<ConditionOp>(mloc, cond, flatten(carried, l));
 
   Block *after = b.createBlock(&whileOp.getAfter(), {}, types, locs);
   unflatten(carried, after->getArguments());
+  loopStack.back().continued->val =
+      RValue::num(OslType(BaseType::Bool), constBool(false, l));
   if (!emitScoped(body, false))
     return false;
-  if (step && !emitExpr(*step))
-    return false;
+  // `continue` ends only this iteration: the step still runs.
+  loopStack.back().continued->val =
+      RValue::num(OslType(BaseType::Bool), constBool(false, l));
+  if (step) {
+    Value stepSkipped = jumpedCondition(l, /*withContinue=*/false);
+    if (stepSkipped) {
+      llvm::StringSet<> stepNames;
+      scanAssigned(*step, stepNames);
+      auto r = emitIfRegion(
+          b.create<NotOp>(mloc, stepSkipped), l, stepNames,
+          [&]() -> std::optional<RValue> {
+            if (!emitExpr(*step))
+              return std::nullopt;
+            return RValue::voidValue();
+          },
+          []() -> std::optional<RValue> { return RValue::voidValue(); },
+          /*wantValue=*/false);
+      if (!r)
+        return false;
+    } else if (!emitExpr(*step)) {
+      return false;
+    }
+  }
   b.create<YieldOp>(mloc, flatten(carried, l));
   if (!checkStrings(strings, l, "a loop"))
     return false;
@@ -414,11 +575,35 @@ void IRGen::scanAssigned(const Stmt &s, llvm::StringSet<> &names) {
   case StmtKind::FuncDef:
     return; // scanned where it is called
   case StmtKind::Return:
+    names.insert(kReturnedFlag);
     if (s.expr) {
       names.insert(kReturnVarName);
       scanAssigned(*s.expr, names);
     }
     return;
+  case StmtKind::Break:
+    names.insert(kBreakFlag);
+    return;
+  case StmtKind::Continue:
+    names.insert(kContinueFlag);
+    return;
+  case StmtKind::For:
+  case StmtKind::While:
+  case StmtKind::DoWhile: {
+    // A loop's own break and continue do not leave it.
+    llvm::StringSet<> inner;
+    for (const Stmt *c : {s.init.get(), s.thenStmt.get()})
+      if (c)
+        scanAssigned(*c, inner);
+    for (const Expr *e : {s.expr.get(), s.step.get()})
+      if (e)
+        scanAssigned(*e, inner);
+    inner.erase(kBreakFlag);
+    inner.erase(kContinueFlag);
+    for (const auto &n : inner)
+      names.insert(n.getKey());
+    return;
+  }
   case StmtKind::Decl:
     for (const Declarator &d : s.decls)
       if (d.init)
@@ -449,6 +634,8 @@ void IRGen::scanAssigned(const Expr &e, llvm::StringSet<> &names) {
       if (!root.empty())
         names.insert(root);
     }
+  if (e.kind == ExprKind::Call && e.name == "exit" && !allFunctions.count(e.name))
+    names.insert(kExitFlag);
   if (e.kind == ExprKind::Call && !e.isCtor) {
     auto it = allFunctions.find(e.name);
     if (it != allFunctions.end()) {
@@ -477,6 +664,9 @@ const llvm::StringSet<> &IRGen::functionAssigned(const FunctionDecl *fn) {
   functionAssignedCache[fn]; // mark in progress
   llvm::StringSet<> names;
   scanAssigned(*fn->body, names);
+  // The function's own return state is not the caller's.
+  for (const char *local : {kReturnVarName, kReturnedFlag, kBreakFlag, kContinueFlag})
+    names.erase(local);
   auto &slot = functionAssignedCache[fn];
   for (const auto &n : names)
     slot.insert(n.getKey());

@@ -9,11 +9,13 @@
 // Arms are pure (outputs are written once, at the end of the shader), so
 // running an arm for lanes that are off is harmless, except for loops,
 // which would iterate for those lanes: they are seeded with the mask.
+// Large arms are skipped when no lane of the batch takes them.
 //
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslTransforms/Passes.h"
 
+#include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/Builders.h"
 #include "mlir/IR/IRMapping.h"
 
@@ -29,7 +31,8 @@ namespace {
 
 class MaskStackBuilder {
 public:
-  explicit MaskStackBuilder(func::FuncOp func) : func(func) {}
+  MaskStackBuilder(func::FuncOp func, int skipThreshold)
+      : func(func), skipThreshold(skipThreshold) {}
 
   LogicalResult run() { return processBlock(func.getBody().front(), Value()); }
 
@@ -97,13 +100,8 @@ private:
     if (failed(checkSlots(op, thenYield.getValues().getTypes(), op.getResultTypes())) ||
         failed(checkSlots(op, elseYield.getValues().getTypes(), op.getResultTypes())))
       return failure();
-    SmallVector<Value> thenValues(thenYield.getValues());
-    SmallVector<Value> elseValues(elseYield.getValues());
-    Block *parent = op->getBlock();
-    parent->getOperations().splice(op->getIterator(), thenBlock.getOperations(),
-                                   thenBlock.begin(), thenYield->getIterator());
-    parent->getOperations().splice(op->getIterator(), elseBlock.getOperations(),
-                                   elseBlock.begin(), elseYield->getIterator());
+    SmallVector<Value> thenValues = inlineArm(op, thenBlock, thenMask, mask);
+    SmallVector<Value> elseValues = inlineArm(op, elseBlock, elseMask, mask);
     b.setInsertionPoint(op);
     SmallVector<Value> merged;
     for (auto [t, e] : llvm::zip(thenValues, elseValues))
@@ -111,6 +109,64 @@ private:
     op.replaceAllUsesWith(merged);
     op.erase();
     return success();
+  }
+
+  /// Moves an arm's operations before `op` and returns the values it
+  /// yields. A large arm goes under `scf.if (any(armMask))`; when it is
+  /// skipped its values are zeros, which only lanes outside the arm's mask
+  /// would see, and the merge never picks them for those lanes.
+  SmallVector<Value> inlineArm(IfOp op, Block &arm, Value armMask, Value mask) {
+    auto yield = cast<YieldOp>(arm.getTerminator());
+    SmallVector<Value> values(yield.getValues());
+    Block *parent = op->getBlock();
+    if (!worthSkipping(arm)) {
+      parent->getOperations().splice(op->getIterator(), arm.getOperations(),
+                                     arm.begin(), yield->getIterator());
+      return values;
+    }
+    OpBuilder b(op);
+    Location loc = op.getLoc();
+    // Only values made inside the arm need to leave the guard.
+    SmallVector<Value> inner;
+    for (Value v : values)
+      if (v.getParentBlock() == &arm && !llvm::is_contained(inner, v))
+        inner.push_back(v);
+    Value live = mask ? armMask : andMask(b, loc, batchMask(), armMask);
+    Value taken = b.create<AnyOp>(loc, b.getI1Type(), live);
+    auto guard = b.create<scf::IfOp>(loc, TypeRange(ValueRange(inner)), taken,
+                                     /*withThen=*/true, /*withElse=*/!inner.empty());
+    Block *thenBlock = guard.thenBlock();
+    thenBlock->getOperations().splice(thenBlock->begin(), arm.getOperations(),
+                                      arm.begin(), yield->getIterator());
+    if (!inner.empty()) {
+      OpBuilder tb = OpBuilder::atBlockEnd(thenBlock);
+      tb.create<scf::YieldOp>(loc, inner);
+      OpBuilder eb = OpBuilder::atBlockBegin(guard.elseBlock());
+      SmallVector<Value> zeros;
+      for (Value v : inner)
+        zeros.push_back(zeroOf(eb, loc, v.getType()));
+      eb.create<scf::YieldOp>(loc, zeros);
+    }
+    for (Value &v : values)
+      if (auto *it = llvm::find(inner, v); it != inner.end())
+        v = guard.getResult(it - inner.begin());
+    return values;
+  }
+
+  bool worthSkipping(Block &arm) {
+    int64_t count = 0;
+    bool hasLoop = false;
+    arm.walk([&](Operation *nested) {
+      ++count;
+      hasLoop |= isa<scf::WhileOp, WhileOp>(nested);
+    });
+    return hasLoop || count > skipThreshold;
+  }
+
+  static Value zeroOf(OpBuilder &b, Location loc, Type type) {
+    Type base = getUniformType(type);
+    Value zero = b.create<arith::ConstantOp>(loc, b.getZeroAttr(base));
+    return isVarying(type) ? b.create<BroadcastOp>(loc, type, zero).getResult() : zero;
   }
 
   LogicalResult convertUniformIf(IfOp op, Value mask) {
@@ -227,13 +283,15 @@ private:
   }
 
   func::FuncOp func;
+  int skipThreshold;
   Value entryMask;
 };
 
 struct InsertMaskStackPass
     : public mlir::osl::impl::InsertMaskStackBase<InsertMaskStackPass> {
+  using InsertMaskStackBase::InsertMaskStackBase;
   void runOnOperation() override {
-    if (failed(MaskStackBuilder(getOperation()).run()))
+    if (failed(MaskStackBuilder(getOperation(), skipThreshold).run()))
       signalPassFailure();
   }
 };
