@@ -159,3 +159,289 @@ func.func @uniform_loop_varying_body(%x: !osl.varying<f32>) {
   osl.output "x" = %r#1 : !osl.varying<f32>
   return
 }
+
+// -----
+
+// Nested varying ifs: each level runs both arms and merges with its own
+// condition, so a lane sees the value of the innermost arm it took.
+// CHECK-LABEL: func.func @nested_varying_if
+// CHECK-NOT: osl.if
+// CHECK: %[[IN:.+]] = osl.select %[[C2:.+]], %[[A:.+]], %[[B:.+]] :
+// CHECK: %[[OUT:.+]] = osl.select %[[C1:.+]], %[[IN]], %{{.+}} :
+// CHECK: osl.output "x" = %[[OUT]]
+func.func @nested_varying_if(%c1: !osl.varying<i1>, %c2: !osl.varying<i1>, %x: !osl.varying<f32>) {
+  %r = osl.if %c1 : !osl.varying<i1> -> !osl.varying<f32> {
+    %one = arith.constant 1.0 : f32
+    %a = osl.add %x, %one : !osl.varying<f32>, f32 -> !osl.varying<f32>
+    %inner = osl.if %c2 : !osl.varying<i1> -> !osl.varying<f32> {
+      %b2 = osl.mul %a, %a : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
+      osl.yield %b2 : !osl.varying<f32>
+    } else {
+      osl.yield %a : !osl.varying<f32>
+    }
+    osl.yield %inner : !osl.varying<f32>
+  } else {
+    osl.yield %x : !osl.varying<f32>
+  }
+  osl.output "x" = %r : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// break and continue under varying conditions in nested loops (the front
+// end's flags). The inner loop is seeded with the outer loop's mask and its
+// condition clears lanes whose break flag is set; continue only guards the
+// rest of the body, and lanes that left keep their values.
+// CHECK-LABEL: func.func @break_continue_nested
+// CHECK: scf.while (%{{.+}} = %{{.+}}, %{{.+}} = %{{.+}}) : (!osl.varying<f32>, i32)
+// CHECK: } do {
+// CHECK: scf.while (%{{.+}} = %{{.+}}, %[[BRK0:.+]] = %{{.+}}, %{{.+}} = %{{.+}}, %[[SEED:.+]] = %{{.+}}) : (!osl.varying<f32>, !osl.varying<i1>, !osl.varying<i32>, !osl.varying<i1>)
+// CHECK:   %[[STAY:.+]] = osl.not %[[BRK:.+]] :
+// CHECK:   %[[COND:.+]] = osl.and %[[STAY]], %{{.+}} :
+// CHECK:   %[[LIVE:.+]] = osl.and %[[MASK:.+]], %[[COND]] :
+// CHECK:   %[[ANY:.+]] = osl.any %[[LIVE]]
+// CHECK:   scf.condition(%[[ANY]])
+// CHECK: } do {
+// CHECK: ^bb0(%{{.+}}: !osl.varying<f32>, %{{.+}}: !osl.varying<i1>, %{{.+}}: !osl.varying<i32>, %[[M:.+]]: !osl.varying<i1>):
+// CHECK:   osl.select %[[M]]
+// CHECK:   scf.yield %{{.+}}, %{{.+}}, %{{.+}}, %[[M]]
+func.func @break_continue_nested() attributes {osl.shader_type = "shader"} {
+  %c1_i32 = arith.constant 1 : i32
+  %cst = arith.constant 1.000000e+00 : f32
+  %cst_0 = arith.constant 5.000000e-01 : f32
+  %true = arith.constant true
+  %cst_1 = arith.constant 2.500000e-01 : f32
+  %false = arith.constant false
+  %c4_i32 = arith.constant 4 : i32
+  %c0_i32 = arith.constant 0 : i32
+  %cst_2 = arith.constant 0.000000e+00 : f32
+  %0 = osl.global "u" : !osl.varying<f32>
+  %1 = osl.global "v" : !osl.varying<f32>
+  %2 = osl.broadcast %cst_2 : f32 -> !osl.varying<f32>
+  %3:2 = osl.while(%2, %c0_i32 : !osl.varying<f32>, i32) -> !osl.varying<f32>, i32 cond {
+  ^bb0(%arg0: !osl.varying<f32>, %arg1: i32):
+    %4 = osl.cmp "lt", %arg1, %c4_i32 : i32, i32 -> i1
+    osl.condition %4 : i1, %arg0, %arg1 : !osl.varying<f32>, i32
+  } do {
+  ^bb0(%arg0: !osl.varying<f32>, %arg1: i32):
+    %4 = osl.broadcast %false : i1 -> !osl.varying<i1>
+    %5 = osl.broadcast %c0_i32 : i32 -> !osl.varying<i32>
+    %6:3 = osl.while(%arg0, %4, %5 : !osl.varying<f32>, !osl.varying<i1>, !osl.varying<i32>) -> !osl.varying<f32>, !osl.varying<i1>, !osl.varying<i32> cond {
+    ^bb0(%arg2: !osl.varying<f32>, %arg3: !osl.varying<i1>, %arg4: !osl.varying<i32>):
+      %8 = osl.not %arg3 : !osl.varying<i1> -> !osl.varying<i1>
+      %9 = osl.cmp "lt", %arg4, %c4_i32 : !osl.varying<i32>, i32 -> !osl.varying<i1>
+      %10 = osl.and %8, %9 : !osl.varying<i1>, !osl.varying<i1> -> !osl.varying<i1>
+      osl.condition %10 : !osl.varying<i1>, %arg2, %arg3, %arg4 : !osl.varying<f32>, !osl.varying<i1>, !osl.varying<i32>
+    } do {
+    ^bb0(%arg2: !osl.varying<f32>, %arg3: !osl.varying<i1>, %arg4: !osl.varying<i32>):
+      %8 = osl.convert %arg4 : !osl.varying<i32> -> !osl.varying<f32>
+      %9 = osl.mul %8, %cst_1 : !osl.varying<f32>, f32 -> !osl.varying<f32>
+      %10 = osl.cmp "gt", %9, %0 : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+      %11 = osl.if %10 : !osl.varying<i1> -> !osl.varying<i1> {
+        %16 = osl.broadcast %true : i1 -> !osl.varying<i1>
+        osl.yield %16 : !osl.varying<i1>
+      } else {
+        osl.yield %arg3 : !osl.varying<i1>
+      }
+      %12 = osl.not %11 : !osl.varying<i1> -> !osl.varying<i1>
+      %13 = osl.if %12 : !osl.varying<i1> -> !osl.varying<f32> {
+        %16 = osl.convert %arg4 : !osl.varying<i32> -> !osl.varying<f32>
+        %17 = osl.mul %16, %cst_0 : !osl.varying<f32>, f32 -> !osl.varying<f32>
+        %18 = osl.cmp "gt", %17, %1 : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+        %19 = osl.not %18 : !osl.varying<i1> -> !osl.varying<i1>
+        %20 = osl.if %19 : !osl.varying<i1> -> !osl.varying<f32> {
+          %21 = osl.add %arg2, %cst : !osl.varying<f32>, f32 -> !osl.varying<f32>
+          osl.yield %21 : !osl.varying<f32>
+        } else {
+          osl.yield %arg2 : !osl.varying<f32>
+        }
+        osl.yield %20 : !osl.varying<f32>
+      } else {
+        osl.yield %arg2 : !osl.varying<f32>
+      }
+      %14 = osl.not %11 : !osl.varying<i1> -> !osl.varying<i1>
+      %15 = osl.if %14 : !osl.varying<i1> -> !osl.varying<i32> {
+        %16 = osl.add %arg4, %c1_i32 : !osl.varying<i32>, i32 -> !osl.varying<i32>
+        osl.yield %16 : !osl.varying<i32>
+      } else {
+        osl.yield %arg4 : !osl.varying<i32>
+      }
+      osl.yield %13, %11, %15 : !osl.varying<f32>, !osl.varying<i1>, !osl.varying<i32>
+    }
+    %7 = osl.add %arg1, %c1_i32 : i32, i32 -> i32
+    osl.yield %6#0, %7 : !osl.varying<f32>, i32
+  }
+  osl.output "f" = %3#0 : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// return inside a loop of an inlined function: the returned flag leaves
+// the loop per lane, and the code after the loop is merged under its
+// negation.
+// CHECK-LABEL: func.func @return_in_loop
+// CHECK: %[[ENTRY:.+]] = osl.batch_mask
+// CHECK: %[[LOOP:.+]]:4 = scf.while ({{.*}}%{{.+}} = %[[ENTRY]])
+// CHECK:   osl.not %arg0
+// CHECK:   osl.any
+// CHECK: } do {
+// CHECK:   %[[HIT:.+]] = osl.cmp "gt"
+// CHECK:   %[[RET:.+]] = osl.select %[[HIT]], %{{.+}}, %arg0
+// CHECK:   %[[STEP:.+]] = osl.not %[[RET]]
+// CHECK:   osl.select %[[STEP]]
+// CHECK: }
+// CHECK: %[[REST:.+]] = osl.not %[[LOOP]]#0
+// CHECK: %[[F:.+]] = osl.select %[[REST]], %{{.+}}, %[[LOOP]]#1
+// CHECK: osl.output "f" = %[[F]]
+func.func @return_in_loop() attributes {osl.shader_type = "shader"} {
+  %cst = arith.constant -1.000000e+00 : f32
+  %c1_i32 = arith.constant 1 : i32
+  %true = arith.constant true
+  %cst_0 = arith.constant 1.250000e-01 : f32
+  %c8_i32 = arith.constant 8 : i32
+  %c0_i32 = arith.constant 0 : i32
+  %false = arith.constant false
+  %cst_1 = arith.constant 0.000000e+00 : f32
+  %0 = osl.global "u" : !osl.varying<f32>
+  %1 = osl.broadcast %false : i1 -> !osl.varying<i1>
+  %2 = osl.broadcast %cst_1 : f32 -> !osl.varying<f32>
+  %3 = osl.broadcast %c0_i32 : i32 -> !osl.varying<i32>
+  %4:3 = osl.while(%1, %2, %3 : !osl.varying<i1>, !osl.varying<f32>, !osl.varying<i32>) -> !osl.varying<i1>, !osl.varying<f32>, !osl.varying<i32> cond {
+  ^bb0(%arg0: !osl.varying<i1>, %arg1: !osl.varying<f32>, %arg2: !osl.varying<i32>):
+    %7 = osl.not %arg0 : !osl.varying<i1> -> !osl.varying<i1>
+    %8 = osl.cmp "lt", %arg2, %c8_i32 : !osl.varying<i32>, i32 -> !osl.varying<i1>
+    %9 = osl.and %7, %8 : !osl.varying<i1>, !osl.varying<i1> -> !osl.varying<i1>
+    osl.condition %9 : !osl.varying<i1>, %arg0, %arg1, %arg2 : !osl.varying<i1>, !osl.varying<f32>, !osl.varying<i32>
+  } do {
+  ^bb0(%arg0: !osl.varying<i1>, %arg1: !osl.varying<f32>, %arg2: !osl.varying<i32>):
+    %7 = osl.convert %arg2 : !osl.varying<i32> -> !osl.varying<f32>
+    %8 = osl.mul %7, %cst_0 : !osl.varying<f32>, f32 -> !osl.varying<f32>
+    %9 = osl.cmp "gt", %8, %0 : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+    %10:2 = osl.if %9 : !osl.varying<i1> -> !osl.varying<i1>, !osl.varying<f32> {
+      %13 = osl.convert %arg2 : !osl.varying<i32> -> !osl.varying<f32>
+      %14 = osl.broadcast %true : i1 -> !osl.varying<i1>
+      osl.yield %14, %13 : !osl.varying<i1>, !osl.varying<f32>
+    } else {
+      osl.yield %arg0, %arg1 : !osl.varying<i1>, !osl.varying<f32>
+    }
+    %11 = osl.not %10#0 : !osl.varying<i1> -> !osl.varying<i1>
+    %12 = osl.if %11 : !osl.varying<i1> -> !osl.varying<i32> {
+      %13 = osl.add %arg2, %c1_i32 : !osl.varying<i32>, i32 -> !osl.varying<i32>
+      osl.yield %13 : !osl.varying<i32>
+    } else {
+      osl.yield %arg2 : !osl.varying<i32>
+    }
+    osl.yield %10#0, %10#1, %12 : !osl.varying<i1>, !osl.varying<f32>, !osl.varying<i32>
+  }
+  %5 = osl.not %4#0 : !osl.varying<i1> -> !osl.varying<i1>
+  %6 = osl.if %5 : !osl.varying<i1> -> !osl.varying<f32> {
+    %7 = osl.broadcast %cst : f32 -> !osl.varying<f32>
+    osl.yield %7 : !osl.varying<f32>
+  } else {
+    osl.yield %4#1 : !osl.varying<f32>
+  }
+  osl.output "f" = %6 : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// exit() under a varying condition: outputs assigned before it keep their
+// value; one assigned after it is merged under "not exited".
+// CHECK-LABEL: func.func @exit_varying
+// CHECK: %[[U:.+]] = osl.global "u"
+// CHECK: %[[V:.+]] = osl.global "v"
+// CHECK: %[[EXIT:.+]] = osl.cmp "gt", %[[V]]
+// CHECK: %[[GO:.+]] = osl.not %[[EXIT]]
+// CHECK: %[[B:.+]] = osl.select %[[GO]], %[[V]], %{{.+}}
+// CHECK: osl.output "a" = %[[U]]
+// CHECK: osl.output "b" = %[[B]]
+func.func @exit_varying() attributes {osl.shader_type = "shader"} {
+  %cst = arith.constant 5.000000e-01 : f32
+  %cst_0 = arith.constant 0.000000e+00 : f32
+  %0 = osl.global "u" : !osl.varying<f32>
+  %1 = osl.global "v" : !osl.varying<f32>
+  %2 = osl.cmp "gt", %1, %cst : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %3 = osl.not %2 : !osl.varying<i1> -> !osl.varying<i1>
+  %4 = osl.if %3 : !osl.varying<i1> -> !osl.varying<f32> {
+    osl.yield %1 : !osl.varying<f32>
+  } else {
+    %5 = osl.broadcast %cst_0 : f32 -> !osl.varying<f32>
+    osl.yield %5 : !osl.varying<f32>
+  }
+  osl.output "a" = %0 : !osl.varying<f32>
+  osl.output "b" = %4 : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// Outputs written in one branch only: lanes that did not write keep the
+// output's previous (default) value.
+// CHECK-LABEL: func.func @partial_output
+// CHECK: %[[U:.+]] = osl.global "u"
+// CHECK: %[[V:.+]] = osl.global "v"
+// CHECK: %[[C:.+]] = osl.cmp "gt", %[[U]]
+// CHECK: %[[ADEF:.+]] = osl.broadcast %{{.+}} : f32 -> !osl.varying<f32>
+// CHECK: %[[BDEF:.+]] = osl.broadcast %{{.+}} : f32 -> !osl.varying<f32>
+// CHECK: %[[A:.+]] = osl.select %[[C]], %[[U]], %[[BDEF]]
+// CHECK: %[[B:.+]] = osl.select %[[C]], %[[ADEF]], %[[V]]
+// CHECK: osl.output "a" = %[[A]]
+// CHECK: osl.output "b" = %[[B]]
+func.func @partial_output() attributes {osl.shader_type = "shader"} {
+  %cst = arith.constant 5.000000e-01 : f32
+  %cst_0 = arith.constant 7.000000e+00 : f32
+  %cst_1 = arith.constant 0.000000e+00 : f32
+  %0 = osl.global "u" : !osl.varying<f32>
+  %1 = osl.global "v" : !osl.varying<f32>
+  %2 = osl.cmp "gt", %0, %cst : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %3:2 = osl.if %2 : !osl.varying<i1> -> !osl.varying<f32>, !osl.varying<f32> {
+    %4 = osl.broadcast %cst_0 : f32 -> !osl.varying<f32>
+    osl.yield %0, %4 : !osl.varying<f32>, !osl.varying<f32>
+  } else {
+    %4 = osl.broadcast %cst_1 : f32 -> !osl.varying<f32>
+    osl.yield %4, %1 : !osl.varying<f32>, !osl.varying<f32>
+  }
+  osl.output "a" = %3#0 : !osl.varying<f32>
+  osl.output "b" = %3#1 : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// An arm holding a loop (or many operations) is skipped when no lane of
+// the batch takes it: it runs under scf.if on osl.any of its mask, and
+// yields zeros otherwise, which the merge never selects for a live lane.
+// CHECK-LABEL: func.func @empty_arm_is_skipped
+// CHECK: %[[ENTRY:.+]] = osl.batch_mask
+// CHECK: %[[ARM:.+]] = osl.and %[[ENTRY]], %[[C:.+]] :
+// CHECK: %[[ANY:.+]] = osl.any %[[ARM]]
+// CHECK: %[[G:.+]] = scf.if %[[ANY]] -> (!osl.varying<f32>) {
+// CHECK:   %[[L:.+]]:2 = scf.while
+// CHECK:   scf.yield %[[L]]#0
+// CHECK: } else {
+// CHECK:   %[[Z:.+]] = osl.broadcast %{{.+}} : f32 -> !osl.varying<f32>
+// CHECK:   scf.yield %[[Z]]
+// CHECK: }
+// CHECK: osl.select %[[C]], %[[G]], %{{.+}}
+func.func @empty_arm_is_skipped(%c: !osl.varying<i1>, %n: !osl.varying<f32>, %x: !osl.varying<f32>) {
+  %r = osl.if %c : !osl.varying<i1> -> !osl.varying<f32> {
+    %l = osl.while (%x : !osl.varying<f32>) -> !osl.varying<f32> cond {
+    ^bb0(%v: !osl.varying<f32>):
+      %lt = osl.cmp "lt", %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+      osl.condition %lt : !osl.varying<i1>, %v : !osl.varying<f32>
+    } do {
+    ^bb0(%v: !osl.varying<f32>):
+      %one = arith.constant 1.0 : f32
+      %v2 = osl.add %v, %one : !osl.varying<f32>, f32 -> !osl.varying<f32>
+      osl.yield %v2 : !osl.varying<f32>
+    }
+    osl.yield %l : !osl.varying<f32>
+  } else {
+    osl.yield %x : !osl.varying<f32>
+  }
+  osl.output "x" = %r : !osl.varying<f32>
+  return
+}
