@@ -88,8 +88,11 @@ private:
     Location loc = op.getLoc();
     Value cond = op.getCondition();
     Value notCond = b.create<NotOp>(loc, cond);
-    Value thenMask = andMask(b, loc, mask, cond);
-    Value elseMask = andMask(b, loc, mask, notCond);
+    // Masks below a varying if always include the batch's live lanes, so
+    // tail lanes of a partial batch never run a loop or force an arm.
+    Value outer = mask ? mask : batchMask();
+    Value thenMask = andMask(b, loc, outer, cond);
+    Value elseMask = andMask(b, loc, outer, notCond);
     Block &thenBlock = op.getThenRegion().front();
     Block &elseBlock = op.getElseRegion().front();
     if (failed(processBlock(thenBlock, thenMask)) ||
@@ -100,8 +103,8 @@ private:
     if (failed(checkSlots(op, thenYield.getValues().getTypes(), op.getResultTypes())) ||
         failed(checkSlots(op, elseYield.getValues().getTypes(), op.getResultTypes())))
       return failure();
-    SmallVector<Value> thenValues = inlineArm(op, thenBlock, thenMask, mask);
-    SmallVector<Value> elseValues = inlineArm(op, elseBlock, elseMask, mask);
+    SmallVector<Value> thenValues = inlineArm(op, thenBlock, thenMask);
+    SmallVector<Value> elseValues = inlineArm(op, elseBlock, elseMask);
     b.setInsertionPoint(op);
     SmallVector<Value> merged;
     for (auto [t, e] : llvm::zip(thenValues, elseValues))
@@ -115,7 +118,7 @@ private:
   /// yields. A large arm goes under `scf.if (any(armMask))`; when it is
   /// skipped its values are zeros, which only lanes outside the arm's mask
   /// would see, and the merge never picks them for those lanes.
-  SmallVector<Value> inlineArm(IfOp op, Block &arm, Value armMask, Value mask) {
+  SmallVector<Value> inlineArm(IfOp op, Block &arm, Value armMask) {
     auto yield = cast<YieldOp>(arm.getTerminator());
     SmallVector<Value> values(yield.getValues());
     Block *parent = op->getBlock();
@@ -131,8 +134,7 @@ private:
     for (Value v : values)
       if (v.getParentBlock() == &arm && !llvm::is_contained(inner, v))
         inner.push_back(v);
-    Value live = mask ? armMask : andMask(b, loc, batchMask(), armMask);
-    Value taken = b.create<AnyOp>(loc, b.getI1Type(), live);
+    Value taken = b.create<AnyOp>(loc, b.getI1Type(), armMask);
     auto guard = b.create<scf::IfOp>(loc, TypeRange(ValueRange(inner)), taken,
                                      /*withThen=*/true, /*withElse=*/!inner.empty());
     Block *thenBlock = guard.thenBlock();

@@ -69,13 +69,14 @@ func.func @varying_loop_carries_mask(%n: !osl.varying<f32>, %x: !osl.varying<f32
 
 // -----
 
-// A loop inside a varying if starts with the arm's mask, so lanes that
-// took the other arm never keep it iterating.
+// A loop inside a varying if starts with the arm's mask (the batch's live
+// lanes AND the condition), so lanes that took the other arm, or are past
+// the end of a partial batch, never keep it iterating.
 // CHECK-LABEL: func.func @loop_inside_varying_if_uses_arm_mask
 func.func @loop_inside_varying_if_uses_arm_mask(%c: !osl.varying<i1>, %n: !osl.varying<f32>, %x: !osl.varying<f32>) {
-  // CHECK: %[[NOT:.+]] = osl.not %[[COND:.+]] :
-  // CHECK: scf.while (%{{.+}} = %{{.+}}, %{{.+}} = %[[COND]])
-  // CHECK-NOT: osl.batch_mask
+  // CHECK: %[[ENTRY:.+]] = osl.batch_mask
+  // CHECK: %[[ARM:.+]] = osl.and %[[ENTRY]], %arg0 :
+  // CHECK: scf.while (%{{.+}} = %{{.+}}, %{{.+}} = %[[ARM]])
   %r = osl.if %c : !osl.varying<i1> -> !osl.varying<f32> {
     %l = osl.while (%x : !osl.varying<f32>) -> !osl.varying<f32> cond {
     ^bb0(%v: !osl.varying<f32>):
