@@ -324,11 +324,34 @@ def Osl_TransformOp : Osl_Op<"transform", [Pure]> {
   let hasVerifier = 1;
 }
 
-def Osl_SplineOp : Osl_Op<"spline", [Pure]> {
-  let summary = "spline(basis, x, knots...) for float or triple knots";
-  let arguments = (ins StrAttr:$basis, Osl_Value:$x, Variadic<Osl_Value>:$knots);
+def Osl_SplineOp : Osl_Op<"spline", [Pure, AttrSizedOperandSegments]> {
+  let summary = "spline(basis, x, [count,] knots...) for float or triple knots";
+  let description = [{
+    OSL's spline. With `count` (an i32, possibly varying), only the first
+    `count` knots are used (at most as many as are given).
+  }];
+  let arguments = (ins StrAttr:$basis, Osl_Value:$x, Optional<Osl_Value>:$count,
+                       Variadic<Osl_Value>:$knots);
   let results = (outs Osl_Value:$result);
-  let assemblyFormat = "$basis $x `[` $knots `]` attr-dict `:` type($x) `,` type($knots) `->` type($result)";
+  let assemblyFormat = [{
+    $basis $x (`count` $count^ `:` type($count))? `[` $knots `]` attr-dict `:` type($x) `,` type($knots) `->` type($result)
+  }];
+  let hasVerifier = 1;
+}
+
+def Osl_SplineInverseOp : Osl_Op<"splineinverse", [Pure, AttrSizedOperandSegments]> {
+  let summary = "splineinverse(basis, y, [count,] knots...) for float knots";
+  let description = [{
+    The x in [0,1] where spline(basis, x, knots) = y, for monotonic knots:
+    0 or 1 outside the knots' range, else found segment by segment by
+    regula falsi falling back to bisection (32 iterations, eps 1e-6).
+  }];
+  let arguments = (ins StrAttr:$basis, Osl_Value:$y, Optional<Osl_Value>:$count,
+                       Variadic<Osl_Value>:$knots);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = [{
+    $basis $y (`count` $count^ `:` type($count))? `[` $knots `]` attr-dict `:` type($y) `,` type($knots) `->` type($result)
+  }];
   let hasVerifier = 1;
 }
 

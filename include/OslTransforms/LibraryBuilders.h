@@ -31,10 +31,16 @@ std::array<Value, 3> buildTransform(OpBuilder &b, Location loc,
 
 /// OSL's spline(basis, x, knots): `knots[i]` holds the components of knot
 /// i (one lane value for float knots, three for triples); the result has
-/// as many components. Fails for a basis it does not implement.
+/// as many components. `count` (a lane i32 shaped like x, or null for all)
+/// limits the knots used. Fails for a basis it does not implement.
 FailureOr<SmallVector<Value>> buildSpline(OpBuilder &b, Location loc,
-                                          StringRef basis, Value x,
+                                          StringRef basis, Value x, Value count,
                                           ArrayRef<SmallVector<Value>> knots);
+
+/// OSL's splineinverse(basis, y, knots) over float knots (see buildSpline).
+FailureOr<Value> buildSplineInverse(OpBuilder &b, Location loc, StringRef basis,
+                                    Value y, Value count,
+                                    ArrayRef<SmallVector<Value>> knots);
 
 } // namespace mlir::osl
 

@@ -357,19 +357,41 @@ LogicalResult TransformOp::verify() {
   return success();
 }
 
-LogicalResult SplineOp::verify() {
-  size_t minKnots = llvm::StringSwitch<size_t>(getBasis())
+/// Checks shared by spline and splineinverse: a known basis, enough knots,
+/// an f32 parameter and an i32 count.
+static LogicalResult verifySplineCommon(Operation *op, StringRef basis, Value x,
+                                        Value count, ValueRange knots) {
+  size_t minKnots = llvm::StringSwitch<size_t>(basis)
                         .Cases("catmull-rom", "bezier", "bspline", "hermite", 4)
                         .Case("linear", 2)
                         .Case("constant", 1)
                         .Default(0);
   if (minKnots == 0)
-    return emitOpError("unknown spline basis '") << getBasis() << "'";
-  if (getKnots().size() < minKnots)
-    return emitOpError("basis '") << getBasis() << "' needs at least "
-                                  << minKnots << " knots";
-  if (!getUniformType(getX().getType()).isF32())
-    return emitOpError("the spline parameter must be f32");
+    return op->emitOpError("unknown spline basis '") << basis << "'";
+  if (knots.size() < minKnots)
+    return op->emitOpError("basis '") << basis << "' needs at least " << minKnots
+                                      << " knots";
+  if (!getUniformType(x.getType()).isF32())
+    return op->emitOpError("the spline parameter must be f32");
+  if (count && !getUniformType(count.getType()).isInteger(32))
+    return op->emitOpError("the knot count must be i32");
+  return success();
+}
+
+LogicalResult SplineInverseOp::verify() {
+  if (failed(verifySplineCommon(*this, getBasis(), getY(), getCount(), getKnots())))
+    return failure();
+  for (Value k : getKnots())
+    if (!getUniformType(k.getType()).isF32())
+      return emitOpError("knots must be f32");
+  if (!getUniformType(getType()).isF32())
+    return emitOpError("result must be f32");
+  return success();
+}
+
+LogicalResult SplineOp::verify() {
+  if (failed(verifySplineCommon(*this, getBasis(), getX(), getCount(), getKnots())))
+    return failure();
   Type knot = getUniformType(getKnots().front().getType());
   for (Value k : getKnots())
     if (getUniformType(k.getType()) != knot || !isFloatLike(knot))

@@ -535,28 +535,30 @@ std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
   return RValue::num(p.type, v);
 }
 
-std::optional<RValue> emitSpline(IRGen &g, const Expr &call) {
+/// spline() and splineinverse(): (basis, x, knots...), (basis, x, knots[])
+/// or (basis, x, nknots, knots[]); splineinverse takes float knots only.
+std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
   auto args = emitArgs(g, call);
   if (!args)
     return std::nullopt;
+  llvm::StringRef fn = inverse ? "splineinverse" : "spline";
   auto wrong = [&]() -> std::optional<RValue> {
-    g.error(call.loc, "wrong arguments to 'spline(" + argTypesText(*args) +
-                          ")'; candidates: spline(string basis, float x, T knots...); "
-                          "spline(string basis, float x, T knots[]); spline(string "
-                          "basis, float x, int nknots, T knots[]) (T: float or triple)");
+    std::string T = inverse ? "float" : "T";
+    g.error(call.loc, "wrong arguments to '" + fn + "(" + argTypesText(*args) +
+                          ")'; candidates: " + fn + "(string basis, float x, " + T +
+                          " knots...); " + fn + "(string basis, float x, " + T +
+                          " knots[]); " + fn + "(string basis, float x, int nknots, " + T +
+                          " knots[])" + (inverse ? "" : " (T: float or triple)"));
     return std::nullopt;
   };
   if (args->size() < 3)
     return wrong();
   std::string basis;
-  if (!stringArg(g, (*args)[0], *call.args[0], "spline", "the basis name", basis))
+  if (!stringArg(g, (*args)[0], *call.args[0], fn, "the basis name", basis))
     return std::nullopt;
-  size_t minKnots = llvm::StringSwitch<size_t>(basis)
-                        .Cases("catmull-rom", "bezier", "bspline", "hermite", 4)
-                        .Case("linear", 2)
-                        .Case("constant", 1)
-                        .Default(0);
-  if (minKnots == 0) {
+  bool known = llvm::is_contained(
+      {"catmull-rom", "bezier", "bspline", "hermite", "linear", "constant"}, basis);
+  if (!known) {
     g.error(call.args[0]->loc, "unknown spline basis '" + basis +
                                    "' (expected catmull-rom, bezier, bspline, hermite, "
                                    "linear or constant)");
@@ -568,29 +570,27 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call) {
   Value xv = g.convert(x.value, g.builder().getF32Type(), call.args[1]->loc);
   // The knots: one array, (count, array), or a list of values.
   std::vector<RValue> knots;
+  Value count;
   SrcLoc knotLoc = call.args[2]->loc;
   if (args->size() <= 4 && args->back().type.isArray()) {
     const RValue &arr = args->back();
-    size_t count = arr.elems.size();
     if (args->size() == 4) {
       const RValue &c = (*args)[2];
-      auto k = c.type.isInt() ? IRGen::getConstInt(c.value) : std::nullopt;
-      if (!k) {
-        g.error(call.args[2]->loc,
-                "the knot count of 'spline' must be a constant int for now");
-        return std::nullopt;
-      }
-      if (*k < 0 || size_t(*k) > count) {
+      if (!c.type.isInt())
+        return wrong();
+      auto k = IRGen::getConstInt(c.value);
+      if (k && (*k < 4 || size_t(*k) > arr.elems.size())) {
         g.error(call.args[2]->loc, "knot count " + llvm::Twine(*k) +
-                                       " is out of range for '" + arr.type.str() + "'");
+                                       " is out of range for '" + arr.type.str() +
+                                       "' (at least 4)");
         return std::nullopt;
       }
-      count = size_t(*k);
+      count = c.value; // may be a parameter or computed per point
     } else if (args->size() != 3) {
       return wrong();
     }
-    for (size_t k = 0; k < count; ++k)
-      knots.push_back(RValue::num(arr.type.element(), arr.elems[k]));
+    for (Value e : arr.elems)
+      knots.push_back(RValue::num(arr.type.element(), e));
     knotLoc = call.args.back()->loc;
   } else {
     for (size_t k = 2; k < args->size(); ++k) {
@@ -599,20 +599,21 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call) {
       knots.push_back((*args)[k]);
     }
   }
-  if (knots.size() < minKnots) {
-    g.error(knotLoc, "spline basis '" + basis + "' needs at least " +
-                         llvm::Twine(minKnots) + " knots, got " +
+  if (knots.size() < 4) {
+    g.error(knotLoc, "'" + fn + "' needs at least 4 knots, got " +
                          llvm::Twine(knots.size()));
     return std::nullopt;
   }
   OslType knotType(BaseType::Float);
   for (const RValue &k : knots)
     if (k.type.isTriple()) {
+      if (inverse)
+        return wrong();
       knotType = k.type;
       break;
     }
   std::vector<Value> kv;
-  bool varying = isVarying(xv.getType());
+  bool varying = isVarying(xv.getType()) || (count && isVarying(count.getType()));
   for (const RValue &k : knots) {
     auto c = g.coerce(k, knotType, knotLoc, "in spline knots");
     if (!c)
@@ -621,7 +622,11 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call) {
     varying |= isVarying(c->value.getType());
   }
   Type t = withUniformity(irType(g.builder(), knotType), varying);
-  Value v = g.builder().create<SplineOp>(g.loc(call.loc), t, basis, xv, kv);
+  Value v = inverse
+                ? g.builder().create<SplineInverseOp>(g.loc(call.loc), t, basis, xv, count, kv)
+                      .getResult()
+                : g.builder().create<SplineOp>(g.loc(call.loc), t, basis, xv, count, kv)
+                      .getResult();
   return RValue::num(knotType, v);
 }
 
@@ -790,8 +795,8 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
     return emitNoise(g, call, expected);
   if (name == "transform")
     return emitTransform(g, call);
-  if (name == "spline")
-    return emitSpline(g, call);
+  if (name == "spline" || name == "splineinverse")
+    return emitSpline(g, call, name == "splineinverse");
   if (name == "exit") {
     if (!call.args.empty()) {
       g.error(call.loc, "'exit' takes no arguments");

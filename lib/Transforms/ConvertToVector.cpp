@@ -16,6 +16,7 @@
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Dialect/SCF/Transforms/Patterns.h"
+#include "mlir/IR/Matchers.h"
 #include "mlir/Transforms/DialectConversion.h"
 
 namespace mlir::osl {
@@ -430,20 +431,40 @@ struct TransformLowering : public OslPattern<TransformOp> {
   }
 };
 
-struct SplineLowering : public OslPattern<SplineOp> {
-  using OslPattern::OslPattern;
-  LogicalResult matchAndRewrite(SplineOp op, OpAdaptor adaptor,
+/// spline and splineinverse: x (or y) and the count take the result's
+/// shape; knots stay as they are (the builder broadcasts them).
+template <typename Op>
+struct SplineFamilyLowering : public OslPattern<Op> {
+  using OslPattern<Op>::OslPattern;
+  LogicalResult matchAndRewrite(Op op, typename Op::Adaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
     Location loc = op.getLoc();
     bool varying = isVarying(op.getType());
-    Lanes lanes{rewriter, loc, width};
-    Value x = lanes.unpack(adaptor.getX(), op.getX().getType(), varying)[0];
+    Lanes lanes{rewriter, loc, this->width};
+    Value x = lanes.unpack(adaptor.getOperands()[0], op->getOperand(0).getType(), varying)[0];
+    Value count;
+    if (op.getCount()) {
+      APInt known;
+      int64_t len = op.getKnots().size();
+      if (matchPattern(op.getCount(), m_ConstantInt(&known)) &&
+          (known.getSExtValue() < 4 || known.getSExtValue() > len))
+        return op.emitError("knot count ")
+               << known.getSExtValue() << " is out of range (4 to " << len << ")";
+      count = lanes.unpack(adaptor.getCount(), op.getCount().getType(), varying)[0];
+    }
     SmallVector<SmallVector<Value>> knots =
         lanes.unpackAll(adaptor.getKnots(), op.getKnots(), false);
-    FailureOr<SmallVector<Value>> r = buildSpline(rewriter, loc, op.getBasis(), x, knots);
+    FailureOr<SmallVector<Value>> r;
+    if constexpr (std::is_same_v<Op, SplineOp>) {
+      r = buildSpline(rewriter, loc, op.getBasis(), x, count, knots);
+    } else {
+      FailureOr<Value> inv = buildSplineInverse(rewriter, loc, op.getBasis(), x, count, knots);
+      if (succeeded(inv))
+        r = SmallVector<Value>{*inv};
+    }
     if (failed(r))
-      return op.emitError("spline basis '") << op.getBasis() << "' is not supported yet";
-    rewriter.replaceOp(op, lanes.pack(*r, convert(op.getType())));
+      return op.emitError("spline basis '") << op.getBasis() << "' needs at least 4 knots";
+    rewriter.replaceOp(op, lanes.pack(*r, this->convert(op.getType())));
     return success();
   }
 };
@@ -473,7 +494,8 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
                InsertLowering, GeometryLowering<DotOp>, GeometryLowering<LengthOp>,
                GeometryLowering<DistanceOp>, GeometryLowering<CrossOp>,
                GeometryLowering<NormalizeOp>, NoiseLowering, TransformLowering,
-               SplineLowering>(converter, ctx);
+               SplineFamilyLowering<SplineOp>,
+               SplineFamilyLowering<SplineInverseOp>>(converter, ctx);
 }
 
 //===----------------------------------------------------------------------===//

@@ -1,15 +1,22 @@
-//===- SplineBuilder.cpp - OSL spline() on lane values --------------------===//
+//===- SplineBuilder.cpp - OSL spline() and splineinverse() on lanes ------===//
 //
 // OSL's spline: x is clamped to [0,1] and split into nsegs = (n-4)/step + 1
 // segments; segment s uses knots [s*step, s*step+4) weighted by the basis
-// matrix, then evaluated by Horner's rule. The knot window is chosen per
-// lane with selects, so a varying x over uniform knots stays vector code.
+// matrix, then evaluated by Horner's rule ("constant" takes knot s+1). The
+// knot window is chosen per lane with selects, so a varying x (or a varying
+// knot count) over uniform knots stays vector code.
+//
+// splineinverse searches segment by segment with OIIO's invert: regula
+// falsi for 3/4 of 32 iterations, then bisection, until the bracket or the
+// value is within 1e-6. Lanes converge at different iterations, so every
+// lane runs the 32 iterations and keeps its value once it has converged.
 //
 //===----------------------------------------------------------------------===//
 #include "OslTransforms/LaneMath.h"
 #include "OslTransforms/LibraryBuilders.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
+#include "mlir/Dialect/SCF/IR/SCF.h"
 #include "mlir/Dialect/Vector/IR/VectorOps.h"
 
 using namespace mlir;
@@ -20,6 +27,7 @@ namespace {
 struct SplineBasis {
   double m[4][4];
   int step;
+  bool constant = false;
 };
 
 std::optional<SplineBasis> lookupBasis(StringRef name) {
@@ -41,53 +49,52 @@ std::optional<SplineBasis> lookupBasis(StringRef name) {
     return SplineBasis{{{2, 1, -2, 1}, {-3, -2, 3, -1}, {0, 1, 0, 0}, {1, 0, 0, 0}}, 2};
   if (name == "linear")
     return SplineBasis{{{0, 0, 0, 0}, {0, 0, 0, 0}, {0, -1, 1, 0}, {0, 1, 0, 0}}, 1};
+  if (name == "constant")
+    return SplineBasis{{{0}}, 1, /*constant=*/true};
   return std::nullopt;
 }
 
-} // namespace
-
-FailureOr<SmallVector<Value>>
-mlir::osl::buildSpline(OpBuilder &b, Location loc, StringRef basisName,
-                       Value x, ArrayRef<SmallVector<Value>> knots) {
-  std::optional<SplineBasis> basis = lookupBasis(basisName);
-  int n = knots.size();
-  if (!basis || n < 4)
-    return failure();
-  int nsegs = (n - 4) / basis->step + 1;
-  Type intLane = lane::withElement(x.getType(), b.getI32Type());
-
-  x = lane::clamp(b, loc, {x, lane::constantLike(b, loc, x, 0),
-                           lane::constantLike(b, loc, x, 1)});
-  Value segX = b.create<arith::MulFOp>(loc, x, lane::constantLike(b, loc, x, nsegs));
-  Value seg = b.create<arith::FPToSIOp>(loc, intLane, segX);
-  seg = lane::min(b, loc, {seg, lane::constant(b, loc, intLane, nsegs - 1)});
-  segX = b.create<arith::SubFOp>(loc, segX,
-                                 b.create<arith::SIToFPOp>(loc, x.getType(), seg));
-
-  auto asLane = [&](Value knotComponent) {
-    if (auto vec = dyn_cast<VectorType>(x.getType()))
-      return lane::broadcast(b, loc, knotComponent, vec.getDimSize(0));
-    return knotComponent;
-  };
-  SmallVector<Value> result;
-  for (size_t c = 0; c < knots.front().size(); ++c) {
-    // The four control points of each lane's segment.
-    Value cp[4];
-    for (int i = 0; i < 4; ++i) {
-      cp[i] = asLane(knots[i][c]);
-      for (int s = 1; s < nsegs; ++s) {
-        Value isSeg = b.create<arith::CmpIOp>(loc, arith::CmpIPredicate::eq, seg,
-                                              lane::constant(b, loc, intLane, s));
-        cp[i] = b.create<arith::SelectOp>(loc, isSeg,
-                                          asLane(knots[s * basis->step + i][c]), cp[i]);
-      }
+/// A spline over `knots` (components per knot) with a possibly dynamic
+/// knot count, evaluated at lane values of one shape.
+class LaneSpline {
+public:
+  LaneSpline(OpBuilder &b, Location loc, const SplineBasis &basis,
+             ArrayRef<SmallVector<Value>> knots, Value count, Type floatLane)
+      : b(b), loc(loc), basis(basis), knots(knots), floatLane(floatLane) {
+    intLane = lane::withElement(floatLane, b.getI32Type());
+    int len = knots.size();
+    maxSegs = (len - 4) / basis.step + 1;
+    if (!count) {
+      nsegs = intConst(maxSegs);
+      n = intConst(len);
+      return;
     }
+    // Only the first `count` knots (at most all of them); at least one segment.
+    n = lane::min(b, loc, {count, intConst(len)});
+    Value segs = b.create<arith::DivSIOp>(
+        loc, b.create<arith::SubIOp>(loc, n, intConst(4)), intConst(basis.step));
+    nsegs = lane::max(b, loc, {b.create<arith::AddIOp>(loc, segs, intConst(1)), intConst(1)});
+  }
+
+  /// The value of component `c` of the spline at x.
+  Value evaluate(Value x, size_t c) {
+    x = lane::clamp(b, loc, {x, floatConst(0), floatConst(1)});
+    Value segX = b.create<arith::MulFOp>(
+        loc, x, b.create<arith::SIToFPOp>(loc, floatLane, nsegs));
+    Value seg = b.create<arith::FPToSIOp>(loc, intLane, segX);
+    seg = lane::min(b, loc, {seg, b.create<arith::SubIOp>(loc, nsegs, intConst(1))});
+    if (basis.constant)
+      return knotOfSegment(seg, 1, c);
+    segX = b.create<arith::SubFOp>(loc, segX, b.create<arith::SIToFPOp>(loc, floatLane, seg));
+    Value cp[4];
+    for (int i = 0; i < 4; ++i)
+      cp[i] = knotOfSegment(seg, i, c);
     Value tk[4];
     for (int j = 0; j < 4; ++j) {
       Value sum;
       for (int i = 0; i < 4; ++i) {
-        Value term = b.create<arith::MulFOp>(
-            loc, lane::constantLike(b, loc, segX, float(basis->m[j][i])), cp[i]);
+        Value term =
+            b.create<arith::MulFOp>(loc, floatConst(float(basis.m[j][i])), cp[i]);
         sum = sum ? b.create<arith::AddFOp>(loc, sum, term).getResult() : term;
       }
       tk[j] = sum;
@@ -95,7 +102,189 @@ mlir::osl::buildSpline(OpBuilder &b, Location loc, StringRef basisName,
     Value r = tk[0];
     for (int j = 1; j < 4; ++j)
       r = b.create<arith::AddFOp>(loc, b.create<arith::MulFOp>(loc, r, segX), tk[j]);
-    result.push_back(r);
+    return r;
   }
+
+  /// Component c of knot `index` (a lane i32), for indices in [lo, hi].
+  Value knotAt(Value index, int lo, int hi, size_t c) {
+    Value r = asLane(knots[lo][c]);
+    for (int k = lo + 1; k <= hi; ++k)
+      r = b.create<arith::SelectOp>(loc, isIndex(index, k), asLane(knots[k][c]), r);
+    return r;
+  }
+
+  Value intConst(int v) { return lane::constant(b, loc, intLane, v); }
+  Value floatConst(double v) { return lane::constant(b, loc, floatLane, v); }
+  Value asLane(Value v) {
+    if (auto vec = dyn_cast<VectorType>(floatLane); vec && !isa<VectorType>(v.getType()))
+      return lane::broadcast(b, loc, v, vec.getDimSize(0));
+    return v;
+  }
+
+  OpBuilder &b;
+  Location loc;
+  const SplineBasis &basis;
+  ArrayRef<SmallVector<Value>> knots;
+  Type floatLane, intLane;
+  int maxSegs;
+  Value nsegs, n; // lane i32
+
+private:
+  Value isIndex(Value index, int k) {
+    return b.create<arith::CmpIOp>(loc, arith::CmpIPredicate::eq, index, intConst(k));
+  }
+  /// Knot s*step + i of each lane's segment s.
+  Value knotOfSegment(Value seg, int i, size_t c) {
+    Value r = asLane(knots[i][c]);
+    for (int s = 1; s < maxSegs; ++s)
+      r = b.create<arith::SelectOp>(loc, isIndex(seg, s),
+                                    asLane(knots[s * basis.step + i][c]), r);
+    return r;
+  }
+};
+
+Value selectLane(OpBuilder &b, Location loc, Value cond, Value t, Value f) {
+  return b.create<arith::SelectOp>(loc, cond, t, f);
+}
+
+Value cmpF(OpBuilder &b, Location loc, arith::CmpFPredicate p, Value x, Value y) {
+  return b.create<arith::CmpFOp>(loc, p, x, y);
+}
+
+/// OIIO's invert of the spline on [xmin, xmax] for target y: the x found
+/// and whether [xmin, xmax] brackets y.
+std::pair<Value, Value> invertSegment(LaneSpline &spline, Value y, Value xmin, Value xmax) {
+  OpBuilder &b = spline.b;
+  Location loc = spline.loc;
+  using P = arith::CmpFPredicate;
+  const int maxIters = 32, rfIters = 3 * maxIters / 4;
+  Value eps = spline.floatConst(1.0e-6);
+  Value v0 = spline.evaluate(xmin, 0), v1 = spline.evaluate(xmax, 0);
+  Value increasing = cmpF(b, loc, P::OLT, v0, v1);
+  Value vmin = selectLane(b, loc, increasing, v0, v1);
+  Value vmax = selectLane(b, loc, increasing, v1, v0);
+  Value bracketed = b.create<arith::AndIOp>(loc, cmpF(b, loc, P::OGE, y, vmin),
+                                            cmpF(b, loc, P::OLE, y, vmax));
+  Value belowIsLow = b.create<arith::CmpIOp>(loc, arith::CmpIPredicate::eq,
+                                             cmpF(b, loc, P::OLT, y, vmin), increasing);
+  Value edge = selectLane(b, loc, belowIsLow, xmin, xmax);
+  Value closeEnough =
+      cmpF(b, loc, P::OLT, lane::abs(b, loc, {b.create<arith::SubFOp>(loc, v0, v1)}), eps);
+  Value notBracketed = lane::logicalNot(b, loc, {bracketed});
+  Value done = b.create<arith::OrIOp>(loc, notBracketed, closeEnough);
+  Value x = selectLane(b, loc, bracketed, xmin, edge);
+
+  Value lb = b.create<arith::ConstantIndexOp>(loc, 0);
+  Value ub = b.create<arith::ConstantIndexOp>(loc, maxIters);
+  Value one = b.create<arith::ConstantIndexOp>(loc, 1);
+  auto loop = b.create<scf::ForOp>(loc, lb, ub, one,
+                                   ValueRange{xmin, xmax, v0, v1, x, done});
+  {
+        OpBuilder::InsertionGuard guard(b);
+        Block *body = loop.getBody();
+        if (!body->empty())
+          body->back().erase(); // the default empty yield, if any
+        b.setInsertionPointToEnd(body);
+        Value iter = loop.getInductionVar();
+        ValueRange st = loop.getRegionIterArgs();
+        Value lo = st[0], hi = st[1], f0 = st[2], f1 = st[3], xc = st[4], dn = st[5];
+        Value half = spline.floatConst(0.5);
+        Value rf = b.create<arith::DivFOp>(loc, b.create<arith::SubFOp>(loc, y, f0),
+                                           b.create<arith::SubFOp>(loc, f1, f0));
+        Value outside = b.create<arith::OrIOp>(
+            loc, cmpF(b, loc, P::OLE, rf, spline.floatConst(0)),
+            cmpF(b, loc, P::OGE, rf, spline.floatConst(1)));
+        rf = selectLane(b, loc, outside, half, rf);
+        Value useRf = b.create<arith::CmpIOp>(
+            loc, arith::CmpIPredicate::ult, iter, b.create<arith::ConstantIndexOp>(loc, rfIters));
+        Value t = b.create<arith::SelectOp>(loc, useRf, rf, half);
+        // lerp(lo, hi, t) = lo*(1-t) + hi*t
+        Value xn = b.create<arith::AddFOp>(
+            loc,
+            b.create<arith::MulFOp>(loc, lo,
+                                    b.create<arith::SubFOp>(loc, spline.floatConst(1), t)),
+            b.create<arith::MulFOp>(loc, hi, t));
+        Value v = spline.evaluate(xn, 0);
+        Value goLow = b.create<arith::CmpIOp>(loc, arith::CmpIPredicate::eq,
+                                              cmpF(b, loc, P::OLT, v, y), increasing);
+        Value nlo = selectLane(b, loc, goLow, xn, lo);
+        Value nf0 = selectLane(b, loc, goLow, v, f0);
+        Value nhi = selectLane(b, loc, goLow, hi, xn);
+        Value nf1 = selectLane(b, loc, goLow, f1, v);
+        Value converged = b.create<arith::OrIOp>(
+            loc,
+            cmpF(b, loc, P::OLT, lane::abs(b, loc, {b.create<arith::SubFOp>(loc, nhi, nlo)}),
+                 eps),
+            cmpF(b, loc, P::OLT, lane::abs(b, loc, {b.create<arith::SubFOp>(loc, v, y)}), eps));
+        // Lanes already done keep everything.
+        SmallVector<Value> next;
+        Value fresh[] = {nlo, nhi, nf0, nf1, xn}, old[] = {lo, hi, f0, f1, xc};
+        for (int k = 0; k < 5; ++k)
+          next.push_back(selectLane(b, loc, dn, old[k], fresh[k]));
+        next.push_back(b.create<arith::OrIOp>(loc, dn, converged));
+        b.create<scf::YieldOp>(loc, next);
+  }
+  return {loop.getResult(4), bracketed};
+}
+
+} // namespace
+
+FailureOr<SmallVector<Value>>
+mlir::osl::buildSpline(OpBuilder &b, Location loc, StringRef basisName, Value x,
+                       Value count, ArrayRef<SmallVector<Value>> knots) {
+  std::optional<SplineBasis> basis = lookupBasis(basisName);
+  if (!basis || knots.size() < 4)
+    return failure();
+  LaneSpline spline(b, loc, *basis, knots, count, x.getType());
+  SmallVector<Value> result;
+  for (size_t c = 0; c < knots.front().size(); ++c)
+    result.push_back(spline.evaluate(x, c));
   return result;
+}
+
+FailureOr<Value> mlir::osl::buildSplineInverse(OpBuilder &b, Location loc,
+                                               StringRef basisName, Value y, Value count,
+                                               ArrayRef<SmallVector<Value>> knots) {
+  std::optional<SplineBasis> basis = lookupBasis(basisName);
+  if (!basis || knots.size() < 4)
+    return failure();
+  using P = arith::CmpFPredicate;
+  LaneSpline spline(b, loc, *basis, knots, count, y.getType());
+  int len = knots.size();
+  // Targets outside the knots' range map to 0 or 1.
+  int lowIndex = basis->step == 1 ? 1 : 0;
+  Value highIndex = b.create<arith::SubIOp>(loc, spline.n,
+                                            spline.intConst(basis->step == 1 ? 2 : 1));
+  Value kLow = spline.knotAt(spline.intConst(lowIndex), lowIndex, lowIndex, 0);
+  Value kHigh = spline.knotAt(highIndex, 0, len - 1, 0);
+  Value kBeforeLast =
+      spline.knotAt(b.create<arith::SubIOp>(loc, spline.n, spline.intConst(2)), 0, len - 1, 0);
+  Value increasing = cmpF(b, loc, P::OLT, spline.asLane(knots[1][0]), kBeforeLast);
+  Value atLow = selectLane(b, loc, increasing, cmpF(b, loc, P::OLE, y, kLow),
+                           cmpF(b, loc, P::OGE, y, kLow));
+  Value atHigh = selectLane(b, loc, increasing, cmpF(b, loc, P::OGE, y, kHigh),
+                            cmpF(b, loc, P::OLE, y, kHigh));
+
+  // Each segment in turn; the first that brackets y gives the answer, else
+  // the last segment's edge.
+  Value segScale = b.create<arith::DivFOp>(
+      loc, spline.floatConst(1), b.create<arith::SIToFPOp>(loc, y.getType(), spline.nsegs));
+  Value r0 = spline.floatConst(0);
+  Value found = lane::constant(b, loc, lane::withElement(y.getType(), b.getI1Type()), 0);
+  Value answer = r0, fallback = r0;
+  for (int s = 0; s < spline.maxSegs; ++s) {
+    Value r1 = b.create<arith::MulFOp>(loc, segScale, spline.floatConst(s + 1));
+    auto [x, bracketed] = invertSegment(spline, y, r0, r1);
+    Value valid = b.create<arith::CmpIOp>(loc, arith::CmpIPredicate::slt,
+                                          spline.intConst(s), spline.nsegs);
+    Value take = b.create<arith::AndIOp>(
+        loc, b.create<arith::AndIOp>(loc, valid, bracketed), lane::logicalNot(b, loc, {found}));
+    answer = selectLane(b, loc, take, x, answer);
+    fallback = selectLane(b, loc, valid, x, fallback);
+    found = b.create<arith::OrIOp>(loc, found, take);
+    r0 = r1;
+  }
+  Value r = selectLane(b, loc, found, answer, fallback);
+  r = selectLane(b, loc, atHigh, spline.floatConst(1), r);
+  return selectLane(b, loc, atLow, spline.floatConst(0), r);
 }
