@@ -355,4 +355,36 @@ def Osl_SplineInverseOp : Osl_Op<"splineinverse", [Pure, AttrSizedOperandSegment
   let hasVerifier = 1;
 }
 
+//===----------------------------------------------------------------------===//
+// Derivatives
+//===----------------------------------------------------------------------===//
+
+def Osl_DerivOp : Osl_Op<"deriv", [Pure, AllTypesMatch<["value", "result"]>]> {
+  let summary = "Dx, Dy or Dz of a float or triple";
+  let description = [{
+    The derivative of `value` with respect to the screen x or y direction
+    (or z, for volumes). Uniform values have none (0). osl-convert-to-vector
+    turns it into osl.lane_deriv, which osl-derivatives resolves by
+    differentiating the lane code that computes the value.
+  }];
+  let arguments = (ins Osl_Value:$value, StrAttr:$axis);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "$axis $value attr-dict `:` type($value)";
+  let hasVerifier = 1;
+}
+
+def Osl_LaneDerivOp : Osl_Op<"lane_deriv", [Pure, AllTypesMatch<["value", "result"]>]> {
+  let summary = "the derivative of lane values, until osl-derivatives";
+  let description = [{
+    The vector-level form of osl.deriv: `value` is the f32 lanes
+    (vector<W x f32>) or triple lanes (vector<3 x W x f32>) of a varying
+    value. osl-derivatives replaces it with forward-mode derivative code
+    for exactly the operations `value` depends on, starting from the
+    derivative rows of the shader globals.
+  }];
+  let arguments = (ins AnyVectorOfAnyRank:$value, StrAttr:$axis);
+  let results = (outs AnyVectorOfAnyRank:$result);
+  let assemblyFormat = "$axis $value attr-dict `:` type($value)";
+}
+
 #endif // OSL_OPS_TD

@@ -13,6 +13,18 @@
 #include "mlir/IR/Builders.h"
 #include "mlir/IR/Value.h"
 
+namespace mlir::osl {
+/// Marks an operation whose derivative follows OSL's dual-number rule
+/// rather than the chain rule through it (read by osl-derivatives):
+/// kDualRuleOslAtan2 on math.atan2, kDualRuleValueOnly on a select that
+/// overrides a value in a special case without changing its derivative
+/// (the derivative is the false operand's).
+inline constexpr const char *kDualRuleAttr = "osl.dual_rule";
+inline constexpr const char *kDualRuleOslAtan2 = "osl_atan2";
+inline constexpr const char *kDualRuleValueOnly = "value_only";
+
+} // namespace mlir::osl
+
 namespace mlir::osl::lane {
 
 /// A constant with the shape of `like` (a lane type or a value's type).

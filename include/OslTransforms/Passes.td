@@ -64,6 +64,19 @@ def ConvertToVector : Pass<"osl-convert-to-vector", "::mlir::ModuleOp"> {
                            "::mlir::LLVM::LLVMDialect"];
 }
 
+def Derivatives : Pass<"osl-derivatives", "::mlir::ModuleOp"> {
+  let summary = "Resolve osl.lane_deriv by forward-mode differentiation";
+  let description = [{
+    Runs after osl-convert-to-vector. Each osl.lane_deriv becomes the
+    derivative of its operand with respect to x, y or z, computed by the
+    chain rule through the arith, math and vector operations that produce
+    it, from the derivative rows of the shader globals (dPdx, dudx, ...).
+    Only what a derivative is asked of is differentiated.
+  }];
+  let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::math::MathDialect",
+                           "::mlir::vector::VectorDialect", "::mlir::LLVM::LLVMDialect"];
+}
+
 def LowerToLLVM : Pass<"osl-lower-to-llvm", "::mlir::ModuleOp"> {
   let summary = "Lower vector/arith/math/scf code to the LLVM dialect";
   let description = [{

@@ -400,3 +400,15 @@ LogicalResult SplineOp::verify() {
     return emitOpError("result must have the knots' type");
   return success();
 }
+
+//===----------------------------------------------------------------------===//
+// Derivatives
+//===----------------------------------------------------------------------===//
+
+LogicalResult DerivOp::verify() {
+  if (getAxis() != "x" && getAxis() != "y" && getAxis() != "z")
+    return emitOpError("axis must be x, y or z, not '") << getAxis() << "'";
+  if (!isFloatLike(getUniformType(getValue().getType())))
+    return emitOpError("only floats and triples have derivatives");
+  return success();
+}

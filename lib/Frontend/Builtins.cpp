@@ -241,6 +241,53 @@ Value emitRotate(IRGen &g, SrcLoc l, Vals a, OslType) {
   return origin ? b.create<AddOp>(ml, r, origin).getResult() : r;
 }
 
+/// Dx, Dy, Dz: the derivative is varying exactly when the value is.
+Value derivOf(IRGen &g, SrcLoc l, Value v, char axis) {
+  const char *name = axis == 'x' ? "x" : axis == 'y' ? "y" : "z";
+  return g.builder().create<DerivOp>(g.loc(l), v.getType(), v, name);
+}
+template <char Axis>
+Value emitDeriv(IRGen &g, SrcLoc l, Vals a, OslType) {
+  return derivOf(g, l, a[0], Axis);
+}
+/// filterwidth(x) = sqrt(Dx(x)^2 + Dy(x)^2), per component for triples.
+Value filterWidthOf(IRGen &g, SrcLoc l, Value x) {
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  Value dx = derivOf(g, l, x, 'x'), dy = derivOf(g, l, x, 'y');
+  return b.create<SqrtOp>(ml, b.create<AddOp>(ml, b.create<MulOp>(ml, dx, dx),
+                                              b.create<MulOp>(ml, dy, dy)));
+}
+Value emitFilterWidth(IRGen &g, SrcLoc l, Vals a, OslType) {
+  return filterWidthOf(g, l, a[0]);
+}
+/// area(p) = |Dx(p) x Dy(p)|; calculatenormal(p) = Dx(p) x Dy(p).
+Value emitArea(IRGen &g, SrcLoc l, Vals a, OslType) {
+  OpBuilder &b = g.builder();
+  return b.create<LengthOp>(
+      g.loc(l), b.create<CrossOp>(g.loc(l), derivOf(g, l, a[0], 'x'), derivOf(g, l, a[0], 'y')));
+}
+Value emitCalculateNormal(IRGen &g, SrcLoc l, Vals a, OslType) {
+  return g.builder().create<CrossOp>(g.loc(l), derivOf(g, l, a[0], 'x'),
+                                     derivOf(g, l, a[0], 'y'));
+}
+/// stdosl.h's aastep(edge, s [, ds | dedge, ds]): a box-filtered step,
+/// 0 below edge - w/2, 1 above edge + w/2 and linear between, with
+/// w = |dedge| + |ds| (filterwidths by default).
+Value emitAaStep(IRGen &g, SrcLoc l, Vals a, OslType) {
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  Value edge = a[0], s = a[1];
+  Value dedge = a.size() == 4 ? a[2] : filterWidthOf(g, l, edge);
+  Value ds = a.size() == 4 ? a[3] : a.size() == 3 ? a[2] : filterWidthOf(g, l, s);
+  Value width = b.create<AddOp>(ml, b.create<AbsOp>(ml, dedge), b.create<AbsOp>(ml, ds));
+  Value half = b.create<MulOp>(ml, g.constFloat(0.5f, l), width);
+  Value lo = b.create<SubOp>(ml, edge, half), hi = b.create<AddOp>(ml, edge, half);
+  Value ramp = b.create<DivOp>(ml, b.create<SubOp>(ml, s, lo), width);
+  Value r = b.create<SelectOp>(ml, b.create<CmpOp>(ml, "ge", s, hi), g.constFloat(1, l), ramp);
+  return b.create<SelectOp>(ml, b.create<CmpOp>(ml, "le", s, lo), g.constFloat(0, l), r);
+}
+
 const std::vector<Builtin> &builtinTable() {
   static const std::vector<Builtin> table = {
       {"abs", {{"f", "f"}, {"i", "i"}, {"T", "T"}}, unary<AbsOp>},
@@ -300,6 +347,13 @@ const std::vector<Builtin> &builtinTable() {
       {"select", {{"i", "iii"}, {"f", "fff"}, {"T", "TTT"}, {"T", "TTf"}}, emitSelect},
       {"surfacearea", {{"f", ""}}, emitSurfaceArea},
       {"backfacing", {{"i", ""}}, emitBackfacing},
+      {"Dx", {{"f", "f"}, {"T", "T"}}, emitDeriv<'x'>},
+      {"Dy", {{"f", "f"}, {"T", "T"}}, emitDeriv<'y'>},
+      {"Dz", {{"f", "f"}, {"T", "T"}}, emitDeriv<'z'>},
+      {"filterwidth", {{"f", "f"}, {"v", "T"}}, emitFilterWidth},
+      {"area", {{"f", "p"}}, emitArea},
+      {"calculatenormal", {{"n", "p"}}, emitCalculateNormal},
+      {"aastep", {{"f", "ff"}, {"f", "fff"}, {"f", "ffff"}}, emitAaStep},
   };
   return table;
 }
@@ -307,8 +361,7 @@ const std::vector<Builtin> &builtinTable() {
 /// OSL library functions the front end knows about but cannot compile yet.
 const char *const kUnsupported[] = {
     "smooth_linearstep", "texture", "texture3d",
-    "environment", "gettextureinfo", "Dx", "Dy", "Dz", "area", "filterwidth",
-    "calculatenormal", "aastep", "printf", "fprintf", "error", "warning", "format",
+    "environment", "gettextureinfo", "printf", "fprintf", "error", "warning", "format",
     "concat", "strlen", "startswith", "endswith", "substr", "getchar", "stoi", "stof",
     "hash", "regex_search", "regex_match", "getattribute",
     "setmessage", "getmessage", "trace", "raytype", "blackbody", "wavelength_color",

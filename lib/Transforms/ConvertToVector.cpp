@@ -176,9 +176,28 @@ struct GlobalLowering : public OslPattern<GlobalOp> {
     SmallVector<Value> rows;
     for (int i = 0; i < slot->rows; ++i) {
       Value addr = rowAddress(rewriter, loc, kernelArg(op, 0), slot->row + i, width);
-      rows.push_back(rewriter.create<LLVM::LoadOp>(loc, rowType, addr, 4));
+      auto load = rewriter.create<LLVM::LoadOp>(loc, rowType, addr, 4);
+      // osl-derivatives finds the derivative rows of what it loads.
+      load->setAttr("osl.global_row", rewriter.getI64IntegerAttr(slot->row + i));
+      rows.push_back(load);
     }
     rewriter.replaceOp(op, lanes.pack(rows, convert(op.getType())));
+    return success();
+  }
+};
+
+/// osl.deriv: uniform values have derivative 0; varying ones become
+/// osl.lane_deriv for osl-derivatives.
+struct DerivLowering : public OslPattern<DerivOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(DerivOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Type type = convert(op.getType());
+    if (!isVarying(op.getValue().getType()))
+      rewriter.replaceOpWithNewOp<arith::ConstantOp>(op, rewriter.getZeroAttr(type));
+    else
+      rewriter.replaceOpWithNewOp<LaneDerivOp>(op, adaptor.getValue().getType(),
+                                               adaptor.getValue(), op.getAxis());
     return success();
   }
 };
@@ -495,7 +514,7 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
                GeometryLowering<DistanceOp>, GeometryLowering<CrossOp>,
                GeometryLowering<NormalizeOp>, NoiseLowering, TransformLowering,
                SplineFamilyLowering<SplineOp>,
-               SplineFamilyLowering<SplineInverseOp>>(converter, ctx);
+               SplineFamilyLowering<SplineInverseOp>, DerivLowering>(converter, ctx);
 }
 
 //===----------------------------------------------------------------------===//
@@ -545,6 +564,7 @@ struct ConvertToVectorPass
     VaryingTypeConverter converter(width);
     ConversionTarget target(*ctx);
     target.addIllegalDialect<OslDialect>();
+    target.addLegalOp<LaneDerivOp>();
     target.addLegalDialect<arith::ArithDialect, math::MathDialect,
                            vector::VectorDialect, LLVM::LLVMDialect,
                            func::FuncDialect>();

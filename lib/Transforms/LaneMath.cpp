@@ -220,7 +220,11 @@ Value lane::atan2(OpBuilder &b, Location loc, ValueRange x) {
   Value bothZero = b.create<arith::AndIOp>(
       loc, fcmp(b, loc, arith::CmpFPredicate::OEQ, x[0], zero),
       fcmp(b, loc, arith::CmpFPredicate::OEQ, x[1], zero));
-  return sel(b, loc, bothZero, zero, b.create<math::Atan2Op>(loc, x[0], x[1]));
+  auto angle = b.create<math::Atan2Op>(loc, x[0], x[1]);
+  // OSL's dual atan2 has the opposite sign of the true derivative; its
+  // derivatives are the ones to reproduce (see osl-derivatives).
+  angle->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleOslAtan2));
+  return sel(b, loc, bothZero, zero, angle);
 }
 Value lane::exp(OpBuilder &b, Location loc, ValueRange x) {
   return b.create<math::ExpOp>(loc, x[0]);
@@ -382,7 +386,12 @@ Value lane::pow(OpBuilder &b, Location loc, ValueRange x) {
   Value notInt = b.create<arith::XOrIOp>(loc, isInt, cst(b, loc, isInt, 1));
   r = sel(b, loc, b.create<arith::AndIOp>(loc, negBase, notInt), zero, r);
   r = sel(b, loc, fcmp(b, loc, arith::CmpFPredicate::OEQ, base, zero), zero, r);
-  return sel(b, loc, fcmp(b, loc, arith::CmpFPredicate::OEQ, e, zero), one, r);
+  // OSL's dual pow differentiates u^v as v u^(v-1) u' + ln(u) u^v v' even
+  // where the value is special-cased to 1 (v = 0).
+  Value result = sel(b, loc, fcmp(b, loc, arith::CmpFPredicate::OEQ, e, zero), one, r);
+  if (Operation *op = result.getDefiningOp())
+    op->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleValueOnly));
+  return result;
 }
 
 /// C fmod, with fmod(x, 0) = 0.

@@ -21,6 +21,7 @@ void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
   fn.addPass(createVaryingPropagation());
   fn.addPass(createInsertMaskStack());
   pm.addPass(createConvertToVector(ConvertToVectorOptions{width}));
+  pm.addPass(createDerivatives());
   pm.addPass(createCanonicalizerPass());
   pm.addPass(createCSEPass());
   pm.addPass(createLowerToLLVM());

@@ -1,0 +1,305 @@
+//===- Derivatives.cpp - Forward-mode derivatives of lane code -------------===//
+//
+// Each osl.lane_deriv asks for d(value)/dx (or y, z). The value is lane code
+// by now (arith, math, vector), so the derivative follows it back to the
+// loads of shader globals, whose derivative rows (dPdx, dudx, ...) are in
+// the globals block, and applies the chain rule forward. Only the values a
+// derivative is asked of are differentiated (null means "derivative 0"), so
+// a shader without Dx pays nothing. Library functions (noise, splines) are
+// already arithmetic here, so they differentiate like anything else.
+//
+//===----------------------------------------------------------------------===//
+#include "OslDialect/OslDialect.h"
+#include "OslRuntime/GlobalsLayout.h"
+#include "OslTransforms/LaneMath.h"
+#include "OslTransforms/Passes.h"
+
+#include "mlir/Dialect/Arith/IR/Arith.h"
+#include "mlir/Dialect/LLVMIR/LLVMDialect.h"
+#include "mlir/Dialect/Math/IR/Math.h"
+#include "mlir/Dialect/Vector/IR/VectorOps.h"
+#include "mlir/Dialect/Func/IR/FuncOps.h"
+#include "mlir/IR/Builders.h"
+#include "mlir/IR/IRMapping.h"
+
+namespace mlir::osl {
+#define GEN_PASS_DEF_DERIVATIVES
+#include "OslTransforms/Passes.h.inc"
+} // namespace mlir::osl
+
+using namespace mlir;
+using namespace mlir::osl;
+
+namespace {
+
+/// The attribute osl-convert-to-vector puts on a load of a global's row.
+constexpr const char *kGlobalRowAttr = "osl.global_row";
+
+class Differentiator {
+public:
+  Differentiator(StringRef axis) : axis(axis) {}
+
+  /// d(v)/d(axis), or null for 0; failure for an operation it cannot
+  /// differentiate (reported at `user`).
+  FailureOr<Value> derive(Value v, Operation *user) {
+    if (!isFloatValue(v))
+      return Value();
+    if (auto it = memo.find(v); it != memo.end())
+      return it->second;
+    FailureOr<Value> d = compute(v, user);
+    if (succeeded(d))
+      memo[v] = *d;
+    return d;
+  }
+
+  static Value zeroLike(OpBuilder &b, Location loc, Type t) {
+    return b.create<arith::ConstantOp>(loc, b.getZeroAttr(t));
+  }
+
+private:
+  static bool isFloatValue(Value v) {
+    return isa<FloatType>(getElementTypeOrSelf(v.getType()));
+  }
+
+  FailureOr<Value> compute(Value v, Operation *user) {
+    Operation *def = v.getDefiningOp();
+    if (!def) // a function argument (pointers) or a loop-carried value
+      return isa<BlockArgument>(v) && isa<func::FuncOp>(v.getParentBlock()->getParentOp())
+                 ? FailureOr<Value>(Value())
+                 : fail(user, "a value carried around a loop");
+    if (isa<arith::ConstantOp>(def))
+      return Value();
+    if (auto load = dyn_cast<LLVM::LoadOp>(def))
+      return deriveGlobal(load, user);
+    if (def->getNumRegions() > 0) // scf.if, scf.while: not yet
+      return fail(user, def->getName().getStringRef());
+
+    // Operands' derivatives first (they are placed after their own
+    // definitions, so they dominate this one's).
+    SmallVector<Value> d;
+    bool anyNonZero = false;
+    for (Value operand : def->getOperands()) {
+      FailureOr<Value> od = derive(operand, user);
+      if (failed(od))
+        return failure();
+      d.push_back(*od);
+      anyNonZero |= bool(*od);
+    }
+    if (!anyNonZero)
+      return Value(); // a function of constants and integers
+    OpBuilder b(def->getContext());
+    b.setInsertionPointAfter(def);
+    Location loc = def->getLoc();
+    auto rule = def->getAttrOfType<StringAttr>(kDualRuleAttr);
+    if (rule && rule.getValue() == kDualRuleValueOnly && isa<arith::SelectOp>(def))
+      return d[2];
+    auto dz = [&](unsigned i) { return d[i] ? d[i] : zeroLike(b, loc, def->getOperand(i).getType()); };
+    Value x = def->getNumOperands() > 0 ? def->getOperand(0) : Value();
+
+    // Linear in their float operands: the same op on the derivatives.
+    if (isa<arith::AddFOp, arith::SubFOp, arith::NegFOp, vector::ExtractOp,
+            vector::InsertOp, vector::FromElementsOp, vector::BroadcastOp,
+            vector::ShapeCastOp, vector::SplatOp, vector::ShuffleOp, vector::TransposeOp,
+            arith::SelectOp>(def)) {
+      IRMapping map;
+      for (unsigned i = 0; i < def->getNumOperands(); ++i)
+        if (isFloatValue(def->getOperand(i)))
+          map.map(def->getOperand(i), dz(i));
+      return b.clone(*def, map)->getResult(0);
+    }
+    if (isa<arith::MulFOp>(def)) // (xy)' = x'y + xy'
+      return sum(b, loc, product(b, loc, d[0], def->getOperand(1)),
+                 product(b, loc, x, d[1]));
+    if (isa<arith::DivFOp>(def)) { // (x/y)' = (x' - (x/y) y') / y
+      Value q = def->getResult(0);
+      Value num = d[1] ? (d[0] ? b.create<arith::SubFOp>(loc, d[0], product(b, loc, q, d[1]))
+                                      .getResult()
+                               : b.create<arith::NegFOp>(loc, product(b, loc, q, d[1]))
+                                     .getResult())
+                       : d[0];
+      return b.create<arith::DivFOp>(loc, num, def->getOperand(1)).getResult();
+    }
+    if (isa<math::FmaOp>(def)) // (xy + z)'
+      return sum(b, loc,
+                 sum(b, loc, product(b, loc, d[0], def->getOperand(1)),
+                     product(b, loc, x, d[1])),
+                 d[2]);
+    if (isa<arith::MaximumFOp, arith::MinimumFOp, arith::MaxNumFOp, arith::MinNumFOp>(def)) {
+      // The derivative of whichever operand was chosen.
+      Value pickFirst = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OEQ,
+                                                def->getResult(0), x);
+      return b.create<arith::SelectOp>(loc, pickFirst, dz(0), dz(1)).getResult();
+    }
+    if (isa<arith::RemFOp>(def)) // OSL's dual fmod keeps the dividend's derivative
+      return d[0];
+    if (isa<math::FloorOp, math::CeilOp, math::TruncOp, math::RoundOp,
+            math::RoundEvenOp, arith::BitcastOp>(def))
+      return Value(); // piecewise constant
+    if (isa<math::CopySignOp>(def)) { // |x| with y's sign: x' * sign(x) * sign(y)
+      Value one = b.create<arith::ConstantOp>(loc, b.getFloatAttr(getElementTypeOrSelf(x.getType()), 1.0));
+      if (auto vt = dyn_cast<VectorType>(x.getType()))
+        one = b.create<vector::BroadcastOp>(loc, vt, one);
+      Value s = b.create<math::CopySignOp>(loc, one, x);
+      s = b.create<math::CopySignOp>(loc, s, def->getOperand(1));
+      return product(b, loc, s, d[0]);
+    }
+    // f(x)' = f'(x) x'
+    if (def->getNumOperands() == 1) {
+      Value slope = unarySlope(b, loc, def, x);
+      if (!slope)
+        return fail(user, def->getName().getStringRef());
+      return product(b, loc, slope, d[0]);
+    }
+    if (auto atan2 = dyn_cast<math::Atan2Op>(def)) { // atan2(y, x)
+      // (x y' - y x') / (x^2 + y^2); OSL's rule is its negation.
+      Value y = atan2.getLhs(), xx = atan2.getRhs();
+      bool oslRule = rule && rule.getValue() == kDualRuleOslAtan2;
+      Value den = b.create<arith::AddFOp>(loc, b.create<arith::MulFOp>(loc, xx, xx),
+                                          b.create<arith::MulFOp>(loc, y, y));
+      Value plus = oslRule ? product(b, loc, y, d[1]) : product(b, loc, xx, d[0]);
+      Value minus = oslRule ? product(b, loc, xx, d[0]) : product(b, loc, y, d[1]);
+      Value num = minus ? (plus ? b.create<arith::SubFOp>(loc, plus, minus).getResult()
+                                : b.create<arith::NegFOp>(loc, minus).getResult())
+                        : plus;
+      return b.create<arith::DivFOp>(loc, num, den).getResult();
+    }
+    if (isa<math::PowFOp>(def)) { // x^y: y x^(y-1) x' + x^y ln(x) y'
+      Value p = def->getResult(0), y = def->getOperand(1);
+      Value t0 = d[0] ? product(b, loc, b.create<arith::DivFOp>(
+                                            loc, b.create<arith::MulFOp>(loc, y, p), x),
+                                d[0])
+                      : Value();
+      Value t1 = d[1] ? product(b, loc, b.create<arith::MulFOp>(
+                                            loc, p, b.create<math::LogOp>(loc, x)),
+                                d[1])
+                      : Value();
+      return sum(b, loc, t0, t1);
+    }
+    return fail(user, def->getName().getStringRef());
+  }
+
+  /// f'(x) for the unary math ops (result r = f(x) where that helps).
+  Value unarySlope(OpBuilder &b, Location loc, Operation *def, Value x) {
+    Value r = def->getResult(0);
+    Type t = x.getType();
+    auto cst = [&](double c) -> Value {
+      Value s = b.create<arith::ConstantOp>(loc, b.getFloatAttr(getElementTypeOrSelf(t), c));
+      if (auto vt = dyn_cast<VectorType>(t))
+        s = b.create<vector::BroadcastOp>(loc, vt, s);
+      return s;
+    };
+    auto mul = [&](Value a, Value c) { return b.create<arith::MulFOp>(loc, a, c).getResult(); };
+    auto div = [&](Value a, Value c) { return b.create<arith::DivFOp>(loc, a, c).getResult(); };
+    auto sub = [&](Value a, Value c) { return b.create<arith::SubFOp>(loc, a, c).getResult(); };
+    auto add = [&](Value a, Value c) { return b.create<arith::AddFOp>(loc, a, c).getResult(); };
+    if (isa<math::SinOp>(def))
+      return b.create<math::CosOp>(loc, x);
+    if (isa<math::CosOp>(def))
+      return b.create<arith::NegFOp>(loc, b.create<math::SinOp>(loc, x));
+    if (isa<math::TanOp>(def))
+      return add(cst(1), mul(r, r));
+    if (isa<math::AtanOp>(def))
+      return div(cst(1), add(cst(1), mul(x, x)));
+    if (isa<math::TanhOp>(def))
+      return sub(cst(1), mul(r, r));
+    if (isa<math::ExpOp>(def))
+      return r;
+    if (isa<math::Exp2Op>(def))
+      return mul(r, cst(0.69314718055994530942));
+    if (isa<math::ExpM1Op>(def))
+      return add(r, cst(1));
+    if (isa<math::LogOp>(def))
+      return div(cst(1), x);
+    if (isa<math::Log2Op>(def))
+      return div(cst(1.44269504088896340736), x);
+    if (isa<math::Log10Op>(def))
+      return div(cst(0.43429448190325182765), x);
+    if (isa<math::SqrtOp>(def))
+      return div(cst(0.5), r);
+    if (isa<math::RsqrtOp>(def))
+      return mul(cst(-0.5), mul(r, div(r, x)));
+    if (isa<math::AbsFOp>(def))
+      return b.create<math::CopySignOp>(loc, cst(1), x);
+    if (isa<math::ErfOp>(def)) // 2/sqrt(pi) e^(-x^2)
+      return mul(cst(1.12837916709551257390),
+                 b.create<math::ExpOp>(loc, b.create<arith::NegFOp>(loc, mul(x, x))));
+    if (isa<math::CbrtOp>(def)) // 1 / (3 r^2)
+      return div(cst(1), mul(cst(3), mul(r, r)));
+    if (isa<arith::SIToFPOp, arith::UIToFPOp>(def))
+      return cst(0);
+    return Value();
+  }
+
+  /// Derivative of a load of a global's row: the matching derivative row
+  /// (dPdx for P, dudy for u...); 0 for globals without derivatives.
+  FailureOr<Value> deriveGlobal(LLVM::LoadOp load, Operation *user) {
+    auto rowAttr = load->getAttrOfType<IntegerAttr>(kGlobalRowAttr);
+    if (!rowAttr)
+      return fail(user, "a load that is not a shader global");
+    int64_t row = rowAttr.getInt();
+    const ::osl::GlobalSlot *slot = nullptr;
+    for (const ::osl::GlobalSlot &s : ::osl::kGlobalSlots)
+      if (row >= s.row && row < s.row + s.rows)
+        slot = &s;
+    std::string name = "d" + std::string(slot->name) + "d" + axis.str();
+    const ::osl::GlobalSlot *dslot = ::osl::findGlobal(name);
+    if (!dslot)
+      return Value();
+    auto gep = load.getAddr().getDefiningOp<LLVM::GEPOp>();
+    if (!gep)
+      return fail(user, "a global loaded from an unknown address");
+    int64_t width = cast<VectorType>(load.getType()).getDimSize(0);
+    OpBuilder b(load);
+    Location loc = load.getLoc();
+    auto addr = b.create<LLVM::GEPOp>(
+        loc, gep.getType(), b.getF32Type(), gep.getBase(),
+        ArrayRef<LLVM::GEPArg>{int32_t((dslot->row + (row - slot->row)) * width)});
+    return b.create<LLVM::LoadOp>(loc, load.getType(), addr, 4).getResult();
+  }
+
+  static Value product(OpBuilder &b, Location loc, Value a, Value c) {
+    if (!a || !c)
+      return Value();
+    return b.create<arith::MulFOp>(loc, a, c);
+  }
+  static Value sum(OpBuilder &b, Location loc, Value a, Value c) {
+    if (!a)
+      return c;
+    if (!c)
+      return a;
+    return b.create<arith::AddFOp>(loc, a, c);
+  }
+
+  FailureOr<Value> fail(Operation *user, StringRef what) {
+    user->emitError("cannot take the derivative through ") << what << " yet";
+    return failure();
+  }
+
+  StringRef axis;
+  DenseMap<Value, Value> memo;
+};
+
+struct DerivativesPass : public mlir::osl::impl::DerivativesBase<DerivativesPass> {
+  void runOnOperation() override {
+    SmallVector<LaneDerivOp> requests;
+    getOperation().walk([&](LaneDerivOp op) { requests.push_back(op); });
+    if (requests.empty())
+      return;
+    llvm::StringMap<Differentiator> byAxis;
+    for (LaneDerivOp op : requests) {
+      Differentiator &diff = byAxis.try_emplace(op.getAxis(), op.getAxis()).first->second;
+      FailureOr<Value> d = diff.derive(op.getValue(), op);
+      if (failed(d))
+        return signalPassFailure();
+      Value result = *d;
+      if (!result) {
+        OpBuilder b(op);
+        result = Differentiator::zeroLike(b, op.getLoc(), op.getType());
+      }
+      op.replaceAllUsesWith(result);
+      op.erase();
+    }
+  }
+};
+
+} // namespace

@@ -1,0 +1,109 @@
+// RUN: osl-opt %s -split-input-file --osl-derivatives -verify-diagnostics | FileCheck %s
+
+// The derivative of a global's row is its derivative row: dudx is row 35
+// (u is row 33), so at width 4 it is read 140 floats into the block.
+// CHECK-LABEL: func.func @global_row
+// CHECK: %[[DU:.+]] = llvm.getelementptr %arg0[140]
+// CHECK: %[[D:.+]] = llvm.load %[[DU]]
+// CHECK: llvm.intr.masked.store %[[D]]
+// CHECK-NOT: osl.lane_deriv
+func.func @global_row(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %d = osl.lane_deriv "x" %u : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
+
+// -----
+
+// Product rule on u * v with respect to y: dudy * v + u * dvdy (rows 36
+// and 38); nothing is computed for x, which nobody asks for.
+// CHECK-LABEL: func.func @product_rule
+// CHECK-DAG: %[[U:.+]] = llvm.load %{{.+}} {alignment = 4 : i64, osl.global_row = 33 : i64}
+// CHECK-DAG: %[[V:.+]] = llvm.load %{{.+}} {alignment = 4 : i64, osl.global_row = 34 : i64}
+// CHECK-DAG: llvm.getelementptr %arg0[144]
+// CHECK-DAG: llvm.getelementptr %arg0[152]
+// CHECK: arith.mulf %[[U]], %[[V]]
+// CHECK: %[[A:.+]] = arith.mulf %{{.+}}, %[[V]]
+// CHECK: %[[B:.+]] = arith.mulf %[[U]], %{{.+}}
+// CHECK: %[[S:.+]] = arith.addf %[[A]], %[[B]]
+// CHECK: llvm.intr.masked.store %[[S]]
+// CHECK-NOT: arith.constant dense<0.0
+func.func @product_rule(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %1 = llvm.getelementptr %arg0[136] : (!llvm.ptr) -> !llvm.ptr, f32
+  %v = llvm.load %1 {alignment = 4 : i64, osl.global_row = 34 : i64} : !llvm.ptr -> vector<4xf32>
+  %p = arith.mulf %u, %v : vector<4xf32>
+  %d = osl.lane_deriv "y" %p : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
+
+// -----
+
+// Triples: the derivative of a vector assembled from rows is the vector of
+// the rows' derivatives (dPdx for P); constants contribute nothing.
+// CHECK-LABEL: func.func @triple
+// CHECK: llvm.getelementptr %arg0[108]
+// CHECK: %[[DX:.+]] = llvm.load %{{.+}} {alignment = 4 : i64} : !llvm.ptr -> vector<4xf32>
+// CHECK: vector.insert
+// CHECK: %[[Z:.+]] = arith.constant dense<0.000000e+00> : vector<3x4xf32>
+// CHECK: vector.insert %[[DX]], %[[Z]] [0]
+func.func @triple(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[0] : (!llvm.ptr) -> !llvm.ptr, f32
+  %px = llvm.load %0 {alignment = 4 : i64, osl.global_row = 0 : i64} : !llvm.ptr -> vector<4xf32>
+  %z = arith.constant dense<0.000000e+00> : vector<3x4xf32>
+  %p = vector.insert %px, %z [0] : vector<4xf32> into vector<3x4xf32>
+  %d = osl.lane_deriv "x" %p : vector<3x4xf32>
+  %r = vector.extract %d[0] : vector<4xf32> from vector<3x4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %r, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
+
+// -----
+
+// OSL's atan2 rule (osl.dual_rule): (y x' - x y') / (x^2 + y^2), the
+// negation of the true derivative, which OSL's results follow.
+// With y = 1 and x = u that is +dudx / (u^2 + 1).
+// CHECK-LABEL: func.func @osl_atan2
+// CHECK: %[[DU:.+]] = llvm.load %{{.+}} {alignment = 4 : i64} : !llvm.ptr -> vector<4xf32>
+// CHECK: %[[A:.+]] = math.atan2 %[[Y:.+]], %[[X:.+]] {osl.dual_rule = "osl_atan2"}
+// CHECK: %[[XX:.+]] = arith.mulf %[[X]], %[[X]]
+// CHECK: %[[YY:.+]] = arith.mulf %[[Y]], %[[Y]]
+// CHECK: %[[DEN:.+]] = arith.addf %[[XX]], %[[YY]]
+// CHECK: %[[NUM:.+]] = arith.mulf %[[Y]], %[[DU]]
+// CHECK: %[[D:.+]] = arith.divf %[[NUM]], %[[DEN]]
+// CHECK: llvm.intr.masked.store %[[D]]
+func.func @osl_atan2(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %one = arith.constant dense<1.0> : vector<4xf32>
+  %a = math.atan2 %one, %u {osl.dual_rule = "osl_atan2"} : vector<4xf32>
+  %d = osl.lane_deriv "x" %a : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
+
+// -----
+
+// A value carried around a loop is not differentiated yet: a clear error.
+func.func @loop_carried(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %c0 = arith.constant 0 : index
+  %c4 = arith.constant 4 : index
+  %c1 = arith.constant 1 : index
+  %r = scf.for %i = %c0 to %c4 step %c1 iter_args(%acc = %u) -> (vector<4xf32>) {
+    %n = arith.mulf %acc, %acc : vector<4xf32>
+    // expected-error @+1 {{cannot take the derivative through a value carried around a loop yet}}
+    %d = osl.lane_deriv "x" %n : vector<4xf32>
+    scf.yield %d : vector<4xf32>
+  }
+  return
+}
