@@ -288,6 +288,58 @@ Value emitAaStep(IRGen &g, SrcLoc l, Vals a, OslType) {
   return b.create<SelectOp>(ml, b.create<CmpOp>(ml, "le", s, lo), g.constFloat(0, l), r);
 }
 
+/// stdosl.h's smooth_linearstep on floats: linear between the edges, with
+/// quadratic ramps of half-width eps around each edge; a step when the
+/// edges coincide.
+Value smoothLinearStep1(IRGen &g, SrcLoc l, Value e0, Value e1, Value x, Value eps) {
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  auto c = [&](float v) { return g.constFloat(v, l); };
+  auto sub = [&](Value p, Value q) { return b.create<SubOp>(ml, p, q).getResult(); };
+  auto mul = [&](Value p, Value q) { return b.create<MulOp>(ml, p, q).getResult(); };
+  auto cmp = [&](const char *pred, Value p, Value q) {
+    return b.create<CmpOp>(ml, pred, p, q).getResult();
+  };
+  auto sel = [&](Value cond, Value t, Value f) {
+    return b.create<SelectOp>(ml, cond, t, f).getResult();
+  };
+  // rampup(x, r) = 0.5 / r * x * x
+  auto rampup = [&](Value t, Value r) {
+    return mul(mul(b.create<DivOp>(ml, c(0.5f), r), t), t);
+  };
+  Value widthInv = b.create<DivOp>(ml, c(1), sub(e1, e0));
+  Value e = mul(eps, widthInv);
+  Value t = mul(sub(x, e0), widthInv);
+  Value twoE = mul(c(2), e);
+  Value onePlusE = b.create<AddOp>(ml, c(1), e);
+  Value r = sub(c(1), rampup(sub(onePlusE, t), twoE));
+  r = sel(cmp("lt", t, e), rampup(b.create<AddOp>(ml, t, e), twoE), r);
+  r = sel(cmp("ge", t, onePlusE), c(1), r);
+  Value inside = b.create<AndOp>(ml, cmp("ge", t, e), cmp("le", t, sub(c(1), e)));
+  r = sel(inside, t, r);
+  r = sel(cmp("le", t, b.create<NegOp>(ml, e)), c(0), r);
+  Value stepped = sel(cmp("lt", x, e0), c(0), c(1));
+  return sel(cmp("ne", e0, e1), r, stepped);
+}
+Value emitSmoothLinearStep(IRGen &g, SrcLoc l, Vals a, OslType r) {
+  if (!r.isTriple())
+    return smoothLinearStep1(g, l, a[0], a[1], a[2], a[3]);
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  bool varying = llvm::any_of(a, [](Value v) { return isVarying(v.getType()); });
+  Value result = g.constTriple(0, 0, 0, l);
+  for (int j = 0; j < 3; ++j) {
+    SmallVector<Value> comps;
+    for (Value v : a)
+      comps.push_back(b.create<ExtractOp>(ml, withUniformity(b.getF32Type(), isVarying(v.getType())),
+                                          v, b.getI64IntegerAttr(j)));
+    Value s = smoothLinearStep1(g, l, comps[0], comps[1], comps[2], comps[3]);
+    result = b.create<InsertOp>(ml, withUniformity(irType(b, r), varying), s, result,
+                                b.getI64IntegerAttr(j));
+  }
+  return result;
+}
+
 const std::vector<Builtin> &builtinTable() {
   static const std::vector<Builtin> table = {
       {"abs", {{"f", "f"}, {"i", "i"}, {"T", "T"}}, unary<AbsOp>},
@@ -354,17 +406,19 @@ const std::vector<Builtin> &builtinTable() {
       {"area", {{"f", "p"}}, emitArea},
       {"calculatenormal", {{"n", "p"}}, emitCalculateNormal},
       {"aastep", {{"f", "ff"}, {"f", "fff"}, {"f", "ffff"}}, emitAaStep},
+      {"smooth_linearstep", {{"f", "ffff"}, {"T", "TTTT"}}, emitSmoothLinearStep},
   };
   return table;
 }
 
-/// OSL library functions the front end knows about but cannot compile yet.
+/// Every OSL library function name the front end knows: those not handled
+/// above are reported as "not supported yet" rather than unknown.
 const char *const kUnsupported[] = {
-    "smooth_linearstep", "texture", "texture3d",
+    "smooth_linearstep", "raytype", "texture", "texture3d",
     "environment", "gettextureinfo", "printf", "fprintf", "error", "warning", "format",
     "concat", "strlen", "startswith", "endswith", "substr", "getchar", "stoi", "stof",
     "hash", "regex_search", "regex_match", "getattribute",
-    "setmessage", "getmessage", "trace", "raytype", "blackbody", "wavelength_color",
+    "setmessage", "getmessage", "trace", "blackbody", "wavelength_color",
     "luminance", "transformc", "transformu", "determinant", "transpose",
     "splineinverse", "fresnel",
     "pointcloud_search", "pointcloud_get", "pointcloud_write", "dict_find",
@@ -850,6 +904,20 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
     return emitTransform(g, call);
   if (name == "spline" || name == "splineinverse")
     return emitSpline(g, call, name == "splineinverse");
+  if (name == "raytype") {
+    // testshade shades camera rays.
+    auto args = emitArgs(g, call);
+    if (!args)
+      return std::nullopt;
+    std::string ray;
+    if (args->size() != 1) {
+      g.error(call.loc, "wrong arguments to 'raytype'; candidates: int raytype(string name)");
+      return std::nullopt;
+    }
+    if (!stringArg(g, (*args)[0], *call.args[0], "raytype", "the ray type", ray))
+      return std::nullopt;
+    return RValue::num(OslType(BaseType::Int), g.constInt(ray == "camera" ? 1 : 0, call.loc));
+  }
   if (name == "exit") {
     if (!call.args.empty()) {
       g.error(call.loc, "'exit' takes no arguments");
