@@ -117,7 +117,28 @@ struct ShaderDecl {
   StmtPtr body;
 };
 
+struct StructField {
+  OslType type;
+  std::string name;
+  SrcLoc loc;
+};
+
+/// `struct Name { fields };` Values of a struct type keep one value per
+/// field; arrays of structs keep one array per field.
+struct StructDecl {
+  std::string name;
+  SrcLoc loc;
+  std::vector<StructField> fields;
+  int fieldIndex(llvm::StringRef n) const {
+    for (size_t i = 0; i < fields.size(); ++i)
+      if (fields[i].name == n)
+        return int(i);
+    return -1;
+  }
+};
+
 struct Program {
+  std::vector<std::unique_ptr<StructDecl>> structs;
   std::vector<std::unique_ptr<FunctionDecl>> functions;
   std::unique_ptr<ShaderDecl> shader;
 };

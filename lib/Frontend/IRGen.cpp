@@ -76,6 +76,13 @@ Value IRGen::constTriple(float x, float y, float z, SrcLoc l) {
 RValue IRGen::zeroValue(OslType t, SrcLoc l) {
   if (t.isString())
     return RValue::string("");
+  if (t.isStructLike()) {
+    RValue r;
+    r.type = t;
+    for (size_t j = 0; j < t.structDecl->fields.size(); ++j)
+      r.fields.push_back(zeroValue(fieldType(t, j), l));
+    return r;
+  }
   if (t.isArray()) {
     RValue r;
     r.type = t;
@@ -156,7 +163,38 @@ Value IRGen::convert(Value v, Type toBase, SrcLoc l) {
   return b.create<ConvertOp>(loc(l), withUniformity(toBase, isVarying(v.getType())), v);
 }
 
+OslType IRGen::fieldType(const OslType &structType, size_t j) {
+  OslType f = structType.structDecl->fields[j].type;
+  if (structType.isArray())
+    f.arrayLen = structType.arrayLen;
+  return f;
+}
+
+bool IRGen::checkStructType(const OslType &t, SrcLoc l) {
+  if (!t.isStructLike())
+    return true;
+  for (size_t j = 0; j < t.structDecl->fields.size(); ++j) {
+    const StructField &f = t.structDecl->fields[j];
+    if (f.type.base == BaseType::String || f.type.base == BaseType::Matrix ||
+        f.type.base == BaseType::Closure)
+      return error(l, "field '" + f.name + "' of struct '" + t.structDecl->name +
+                          "': '" + f.type.str() + "' fields are not supported yet");
+    if (t.isArray() && f.type.isArray())
+      return error(l, "arrays of struct '" + t.structDecl->name +
+                          "' (it has the array field '" + f.name +
+                          "') are not supported yet");
+    if (!checkStructType(fieldType(t, j), l))
+      return false;
+  }
+  return true;
+}
+
 int IRGen::conversionCost(OslType from, OslType to) {
+  if (from.isStructLike() || to.isStructLike()) {
+    bool same = from.structDecl == to.structDecl &&
+                (from.arrayLen == to.arrayLen || (to.arrayLen == 0 && from.isArray()));
+    return same ? 0 : -1;
+  }
   if (from.isArray() || to.isArray()) {
     if (!from.isArray() || !to.isArray())
       return -1;
@@ -196,6 +234,9 @@ std::optional<RValue> IRGen::coerce(RValue v, OslType to, SrcLoc l,
   };
   if (conversionCost(v.type, to) < 0)
     return fail();
+  if (to.isStructLike())
+    return v; // the same struct (and length), by conversionCost
+
   if (to.isArray()) {
     RValue r;
     r.type = v.type;
@@ -459,8 +500,8 @@ std::optional<RValue> IRGen::overrideValue(const Param &p, const std::string &te
 
 bool IRGen::emitParam(const Param &p, Scope *scope) {
   OslType t = p.type;
-  if (t.base == BaseType::Matrix || t.base == BaseType::Closure)
-    return error(p.loc, "parameters of type '" + t.str() + "' are not supported yet");
+  if (t.base == BaseType::Matrix || t.base == BaseType::Closure || t.isStructLike())
+    return error(p.loc, "shader parameters of type '" + t.str() + "' are not supported yet");
   if (t.isVoid())
     return error(p.loc, "parameters cannot have type 'void'");
   if (t.isArray() && t.base == BaseType::String)

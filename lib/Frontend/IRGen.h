@@ -39,6 +39,8 @@ struct RValue {
   mlir::Value value;
   std::string str;
   std::vector<mlir::Value> elems;
+  /// Structs: one value per field; arrays of structs: one array per field.
+  std::vector<RValue> fields;
 
   static RValue num(OslType t, mlir::Value v) {
     RValue r;
@@ -83,6 +85,7 @@ struct Scope {
 /// One step of an lvalue: an array element or a triple component, with
 /// its index (a constant when `constIndex >= 0`).
 struct Access {
+  int field = -1; // a struct field
   bool component = false;
   mlir::Value index; // i32
   int64_t constIndex = -1;
@@ -245,8 +248,15 @@ private:
   RValue updatePath(const RValue &cur, const std::vector<Access> &path, size_t k,
                     const RValue &newValue, SrcLoc l);
   RValue elementAt(const RValue &cur, const Access &a, int j, SrcLoc l);
-  /// Reads element `a` of an array (elems) or triple, index clamped.
+  /// Reads element `a` of an array (elems) or triple, index clamped, or a
+  /// struct's field.
   RValue readAccess(const RValue &cur, const Access &a, SrcLoc l);
+  /// The type of field j of a struct or (one array per field) of an array
+  /// of structs.
+  static OslType fieldType(const OslType &structType, size_t j);
+  /// Reports struct types the IR cannot hold yet (string fields, array
+  /// fields in arrays of structs).
+  bool checkStructType(const OslType &t, SrcLoc l);
   /// i1: does the (clamped) index select element k of n?
   mlir::Value selectsElement(mlir::Value index, int k, int n, SrcLoc l);
 

@@ -348,6 +348,21 @@ std::optional<Access> IRGen::makeAccess(OslType baseType, const Expr &e,
                                         OslType &elemType) {
   Access a;
   a.loc = e.loc;
+  if (e.kind == ExprKind::Member && baseType.isStructLike()) {
+    if (baseType.isArray()) {
+      error(e.loc, "index the array of '" + baseType.structDecl->name +
+                       "' before selecting field '" + e.name + "'");
+      return std::nullopt;
+    }
+    a.field = baseType.structDecl->fieldIndex(e.name);
+    if (a.field < 0) {
+      error(e.loc, "struct '" + baseType.structDecl->name + "' has no field '" + e.name +
+                       "'");
+      return std::nullopt;
+    }
+    elemType = fieldType(baseType, a.field);
+    return a;
+  }
   if (e.kind == ExprKind::Member) {
     if (!baseType.isTriple()) {
       error(e.loc, "type '" + baseType.str() + "' has no component '" + e.name + "'");
@@ -420,6 +435,16 @@ RValue IRGen::elementAt(const RValue &cur, const Access &a, int j, SrcLoc l) {
 }
 
 RValue IRGen::readAccess(const RValue &cur, const Access &a, SrcLoc l) {
+  if (a.field >= 0)
+    return cur.fields[a.field];
+  if (cur.type.isStructLike()) {
+    // Element of an array of structs: that element of every field's array.
+    RValue r;
+    r.type = cur.type.element();
+    for (const RValue &f : cur.fields)
+      r.fields.push_back(readAccess(f, a, l));
+    return r;
+  }
   if (a.constIndex >= 0)
     return elementAt(cur, a, int(a.constIndex), l);
   // Clamped index: a chain of selects from the last element down.
@@ -437,6 +462,26 @@ RValue IRGen::updatePath(const RValue &cur, const std::vector<Access> &path, siz
   if (k == path.size())
     return newValue;
   const Access &a = path[k];
+  if (a.field >= 0) {
+    RValue res = cur;
+    res.fields[a.field] = updatePath(cur.fields[a.field], path, k + 1, newValue, l);
+    return res;
+  }
+  if (cur.type.isStructLike()) {
+    // An element of an array of structs: the same element of the field
+    // arrays that the rest of the path reaches.
+    RValue res = cur;
+    if (k + 1 == path.size()) {
+      for (size_t j = 0; j < cur.fields.size(); ++j)
+        res.fields[j] = updatePath(cur.fields[j], {a}, 0, newValue.fields[j], l);
+      return res;
+    }
+    int f = path[k + 1].field; // the element is a struct: a field comes next
+    std::vector<Access> rest = {a};
+    rest.insert(rest.end(), path.begin() + k + 2, path.end());
+    res.fields[f] = updatePath(cur.fields[f], rest, 0, newValue, l);
+    return res;
+  }
   Location ml = loc(l);
   auto insertComponent = [&](Value f, Value vec, int j) -> Value {
     bool varying = isVarying(f.getType()) || isVarying(vec.getType());

@@ -251,6 +251,8 @@ bool IRGen::emitDecl(const Stmt &s) {
   for (const Declarator &d : s.decls) {
     OslType t = base;
     t.arrayLen = d.arrayLen;
+    if (!checkStructType(t, d.loc))
+      return false;
     if (t.isArray() && t.base == BaseType::String)
       return error(d.loc, "string arrays are not supported yet");
     RValue init;
@@ -306,28 +308,43 @@ std::vector<Var *> IRGen::carriedVars(const llvm::StringSet<> &names) {
   return result;
 }
 
+namespace {
+/// The IR values of a variable's value: one, an array's elements, or a
+/// struct's fields' values in order.
+void collectLeaves(const RValue &r, std::vector<Value> &out) {
+  if (r.type.isStructLike()) {
+    for (const RValue &f : r.fields)
+      collectLeaves(f, out);
+  } else if (r.type.isArray()) {
+    out.insert(out.end(), r.elems.begin(), r.elems.end());
+  } else {
+    out.push_back(r.value);
+  }
+}
+void replaceLeaves(RValue &r, ValueRange values, size_t &k) {
+  if (r.type.isStructLike()) {
+    for (RValue &f : r.fields)
+      replaceLeaves(f, values, k);
+  } else if (r.type.isArray()) {
+    for (Value &e : r.elems)
+      e = values[k++];
+  } else {
+    r.value = values[k++];
+  }
+}
+} // namespace
+
 std::vector<Value> IRGen::flatten(const std::vector<Var *> &vs, SrcLoc l) {
   std::vector<Value> out;
-  for (Var *v : vs) {
-    RValue r = readVar(v, l);
-    if (v->type.isArray())
-      out.insert(out.end(), r.elems.begin(), r.elems.end());
-    else
-      out.push_back(r.value);
-  }
+  for (Var *v : vs)
+    collectLeaves(readVar(v, l), out);
   return out;
 }
 
 void IRGen::unflatten(const std::vector<Var *> &vs, ValueRange values) {
   size_t k = 0;
-  for (Var *v : vs) {
-    if (v->type.isArray()) {
-      for (Value &e : v->val.elems)
-        e = values[k++];
-    } else {
-      v->val.value = values[k++];
-    }
-  }
+  for (Var *v : vs)
+    replaceLeaves(v->val, values, k);
 }
 
 /// String variables the region may assign, with their values before it.

@@ -1,6 +1,7 @@
 //===- Parser.cpp - OSL tokens to a syntax tree ------------------------------===//
 #include "Parser.h"
 
+#include "llvm/ADT/StringMap.h"
 #include "llvm/ADT/StringSwitch.h"
 
 #include <algorithm>
@@ -55,8 +56,9 @@ public:
     while (!cur().is(TokKind::Eof)) {
       const Token &t = cur();
       if (t.isIdent("struct")) {
-        error(t.loc, "structs are not supported yet");
-        return false;
+        if (!parseStruct(program))
+          return false;
+        continue;
       }
       if (t.is(TokKind::Ident) && isShaderTypeKeyword(t.text) &&
           peek(1).is(TokKind::Ident)) {
@@ -162,12 +164,21 @@ private:
     const Token &t = cur();
     BaseType b;
     return t.is(TokKind::Ident) &&
-           (lookupTypeName(t.text, b) || t.text == "uniform" || t.text == "varying");
+           (lookupTypeName(t.text, b) || structTypes.count(t.text) || t.text == "uniform" ||
+            t.text == "varying");
   }
 
   bool parseType(OslType &type) {
     while (cur().isIdent("uniform") || cur().isIdent("varying"))
       advance();
+    if (cur().is(TokKind::Ident)) {
+      auto it = structTypes.find(cur().text);
+      if (it != structTypes.end()) {
+        advance();
+        type = OslType::ofStruct(it->second);
+        return true;
+      }
+    }
     BaseType base;
     if (!cur().is(TokKind::Ident) || !lookupTypeName(cur().text, base)) {
       errorExpected("a type name");
@@ -181,6 +192,68 @@ private:
       }
     }
     type = OslType(base);
+    return true;
+  }
+
+  /// `struct Name { type field [N], ...; ... };` at file scope.
+  bool parseStruct(Program &program) {
+    advance(); // struct
+    if (!cur().is(TokKind::Ident) || isReserved(cur().text)) {
+      errorExpected("a struct name");
+      return false;
+    }
+    auto decl = std::make_unique<StructDecl>();
+    decl->name = cur().text;
+    decl->loc = cur().loc;
+    if (structTypes.count(decl->name)) {
+      error(decl->loc, "struct '" + decl->name + "' is already defined");
+      return false;
+    }
+    advance();
+    if (!expectPunct("{", "after the struct name"))
+      return false;
+    while (!cur().isPunct("}")) {
+      if (cur().is(TokKind::Eof) || !isTypeStart()) {
+        errorExpected("a field type or '}'");
+        return false;
+      }
+      OslType type;
+      if (!parseType(type))
+        return false;
+      while (true) {
+        if (!cur().is(TokKind::Ident) || isReserved(cur().text)) {
+          errorExpected("a field name");
+          return false;
+        }
+        StructField f;
+        f.name = cur().text;
+        f.loc = cur().loc;
+        advance();
+        if (decl->fieldIndex(f.name) >= 0) {
+          error(f.loc, "struct '" + decl->name + "' already has a field '" + f.name + "'");
+          return false;
+        }
+        int len;
+        if (!parseArraySuffix(len, false))
+          return false;
+        f.type = type;
+        f.type.arrayLen = len;
+        decl->fields.push_back(std::move(f));
+        if (!acceptPunct(","))
+          break;
+      }
+      if (!expectPunct(";", "after a struct field"))
+        return false;
+    }
+    advance(); // }
+    if (decl->fields.empty()) {
+      error(decl->loc, "struct '" + decl->name + "' has no fields");
+      return false;
+    }
+    if (!expectPunct(";", "after the struct definition"))
+      return false;
+    structTypes[decl->name] = decl.get();
+    program.structs.push_back(std::move(decl));
     return true;
   }
 
@@ -507,7 +580,7 @@ private:
       return s;
     }
     if (t.isIdent("struct")) {
-      error(loc, "structs are not supported yet");
+      error(loc, "structs must be defined outside functions and shaders");
       return nullptr;
     }
     if (t.isIdent("else")) {
@@ -967,6 +1040,8 @@ private:
   Diagnostics &diags;
   size_t pos = 0;
   unsigned depth = 0;
+  /// Structs defined so far: their names are type names from then on.
+  llvm::StringMap<const StructDecl *> structTypes;
 };
 
 } // namespace

@@ -1,5 +1,6 @@
 //===- Types.cpp - OSL types ------------------------------------------------===//
 #include "Types.h"
+#include "Ast.h"
 
 #include "mlir/IR/BuiltinTypes.h"
 
@@ -18,12 +19,13 @@ llvm::StringRef osl::frontend::baseTypeName(BaseType base) {
   case BaseType::Matrix: return "matrix";
   case BaseType::Closure: return "closure color";
   case BaseType::Bool: return "int";
+  case BaseType::Struct: return "struct";
   }
   return "?";
 }
 
 std::string OslType::str() const {
-  std::string s = baseTypeName(base).str();
+  std::string s = structDecl ? structDecl->name : baseTypeName(base).str();
   if (arrayLen == 0)
     s += "[]";
   else if (arrayLen > 0)

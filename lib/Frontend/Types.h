@@ -15,6 +15,8 @@
 
 namespace osl::frontend {
 
+struct StructDecl; // Ast.h
+
 enum class BaseType {
   Void,
   Int,
@@ -27,6 +29,7 @@ enum class BaseType {
   Matrix,  // parsed, not supported by the IR yet
   Closure, // parsed, not supported by the IR yet
   Bool,    // internal: the i1 result of a comparison; OSL calls it int
+  Struct,  // a user struct (OslType::structDecl)
 };
 
 /// An OSL type: a base type, possibly a fixed-size array.
@@ -36,11 +39,25 @@ struct OslType {
   /// parameters); N: array of N elements.
   int arrayLen = -1;
 
+  /// The struct, for BaseType::Struct.
+  const StructDecl *structDecl = nullptr;
+
   OslType() = default;
   OslType(BaseType base, int arrayLen = -1) : base(base), arrayLen(arrayLen) {}
+  static OslType ofStruct(const StructDecl *decl, int arrayLen = -1) {
+    OslType t(BaseType::Struct, arrayLen);
+    t.structDecl = decl;
+    return t;
+  }
 
   bool isArray() const { return arrayLen >= 0; }
-  OslType element() const { return OslType(base); }
+  OslType element() const {
+    OslType e = *this;
+    e.arrayLen = -1;
+    return e;
+  }
+  /// A struct or an array of structs.
+  bool isStructLike() const { return base == BaseType::Struct; }
   bool isTriple() const {
     return !isArray() && (base == BaseType::Point || base == BaseType::Vector ||
                           base == BaseType::Normal || base == BaseType::Color);
@@ -55,7 +72,7 @@ struct OslType {
   bool isString() const { return !isArray() && base == BaseType::String; }
   bool isVoid() const { return base == BaseType::Void; }
   bool operator==(const OslType &o) const {
-    return base == o.base && arrayLen == o.arrayLen;
+    return base == o.base && arrayLen == o.arrayLen && structDecl == o.structDecl;
   }
   bool operator!=(const OslType &o) const { return !(*this == o); }
 
