@@ -35,6 +35,8 @@ struct CompileOptions {
   /// Lanes per batch: 1, 4, 8 or 16; 0 picks the widest the host supports.
   int width = 0;
   std::vector<ParamOverride> params;
+  /// Directories searched by #include (after the including file's own).
+  std::vector<std::string> includePaths;
 };
 
 /// One shader compiled for one width. Keeps its JIT alive.

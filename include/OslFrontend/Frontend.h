@@ -30,12 +30,14 @@ struct ParamOverride {
 
 /// Parses `source` (named `filename` in diagnostics) and returns a module
 /// with the shader, or null after printing diagnostics to `errs` as
-/// `filename:line:col: error: message`. Loads the osl, func and arith
-/// dialects into `context` if they are not loaded yet.
+/// `filename:line:col: error: message`. #include searches the directory of
+/// `filename`, then `includePaths`. Loads the osl, func and arith dialects
+/// into `context` if they are not loaded yet.
 mlir::OwningOpRef<mlir::ModuleOp>
 parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                mlir::MLIRContext &context,
-               llvm::ArrayRef<ParamOverride> overrides, llvm::raw_ostream &errs);
+               llvm::ArrayRef<ParamOverride> overrides, llvm::raw_ostream &errs,
+               llvm::ArrayRef<std::string> includePaths = {});
 
 } // namespace osl
 

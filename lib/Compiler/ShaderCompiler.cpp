@@ -53,7 +53,8 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
     mlir::SourceMgrDiagnosticHandler handler(sourceMgr, &context, errs);
     mlirModule = mlir::parseSourceFile<mlir::ModuleOp>(sourceMgr, &context);
   } else {
-    mlirModule = parseOslShader(source, filename, context, options.params, errs);
+    mlirModule = parseOslShader(source, filename, context, options.params, errs,
+                                options.includePaths);
   }
   if (!mlirModule)
     return false;

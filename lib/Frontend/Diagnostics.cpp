@@ -6,7 +6,7 @@ using namespace osl::frontend;
 void Diagnostics::error(SrcLoc loc, const llvm::Twine &message) {
   if (errors++ > 0)
     return;
-  os << filename << ":" << loc.line << ":" << loc.col << ": error: " << message
+  os << files[loc.file] << ":" << loc.line << ":" << loc.col << ": error: " << message
      << "\n";
   os.flush();
 }
@@ -14,6 +14,6 @@ void Diagnostics::error(SrcLoc loc, const llvm::Twine &message) {
 void Diagnostics::error(const llvm::Twine &message) {
   if (errors++ > 0)
     return;
-  os << filename << ": error: " << message << "\n";
+  os << files[0] << ": error: " << message << "\n";
   os.flush();
 }

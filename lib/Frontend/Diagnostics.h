@@ -7,13 +7,16 @@
 #include "llvm/Support/raw_ostream.h"
 
 #include <string>
+#include <vector>
 
 namespace osl::frontend {
 
-/// A 1-based line and column (columns count bytes).
+/// A 1-based line and column (columns count bytes) in a source file
+/// (0: the main file; others are #included, see Diagnostics::addFile).
 struct SrcLoc {
   unsigned line = 1;
   unsigned col = 1;
+  unsigned file = 0;
 };
 
 /// Prints `file:line:col: error: message`. The front end stops at the
@@ -21,7 +24,7 @@ struct SrcLoc {
 class Diagnostics {
 public:
   Diagnostics(llvm::StringRef filename, llvm::raw_ostream &os)
-      : filename(filename.str()), os(os) {}
+      : files{filename.str()}, os(os) {}
 
   /// Reports an error; only the first one is printed (later ones would
   /// mostly be consequences of it).
@@ -29,10 +32,17 @@ public:
   /// An error with no source position (`file: error: message`).
   void error(const llvm::Twine &message);
   bool hadError() const { return errors > 0; }
-  llvm::StringRef getFilename() const { return filename; }
+  llvm::StringRef getFilename() const { return files[0]; }
+  /// The name of source file `file` of a SrcLoc.
+  llvm::StringRef fileName(unsigned file) const { return files[file]; }
+  /// Registers an #included file; returns its SrcLoc::file.
+  unsigned addFile(llvm::StringRef name) {
+    files.push_back(name.str());
+    return unsigned(files.size() - 1);
+  }
 
 private:
-  std::string filename;
+  std::vector<std::string> files;
   llvm::raw_ostream &os;
   unsigned errors = 0;
 };

@@ -15,12 +15,12 @@ using namespace osl::frontend;
 mlir::OwningOpRef<mlir::ModuleOp>
 osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                     mlir::MLIRContext &context, llvm::ArrayRef<ParamOverride> overrides,
-                    llvm::raw_ostream &errs) {
+                    llvm::raw_ostream &errs, llvm::ArrayRef<std::string> includePaths) {
   context.loadDialect<mlir::osl::OslDialect, mlir::func::FuncDialect,
                       mlir::arith::ArithDialect>();
   Diagnostics diags(filename, errs);
   std::vector<Token> raw, tokens;
-  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens))
+  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths))
     return nullptr;
   Program program;
   if (!parseProgram(tokens, diags, program))

@@ -51,7 +51,7 @@ bool IRGen::checkSize(SrcLoc l) {
 }
 
 Location IRGen::loc(SrcLoc l) {
-  return FileLineColLoc::get(&ctx, diags.getFilename(), l.line, l.col);
+  return FileLineColLoc::get(&ctx, diags.fileName(l.file), l.line, l.col);
 }
 
 //===----------------------------------------------------------------------===//

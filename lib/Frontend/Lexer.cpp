@@ -9,7 +9,8 @@ namespace {
 
 class Lexer {
 public:
-  Lexer(llvm::StringRef src, Diagnostics &diags) : src(src), diags(diags) {}
+  Lexer(llvm::StringRef src, Diagnostics &diags, unsigned file)
+      : src(src), diags(diags), file(file) {}
 
   bool run(std::vector<Token> &out) {
     bool startOfLine = true;
@@ -115,7 +116,7 @@ public:
 
 private:
   char peek(size_t k) const { return pos + k < src.size() ? src[pos + k] : '\0'; }
-  SrcLoc loc() const { return {line, col}; }
+  SrcLoc loc() const { return {line, col, file}; }
   void advance() {
     if (pos >= src.size())
       return;
@@ -231,6 +232,7 @@ private:
 
   llvm::StringRef src;
   Diagnostics &diags;
+  unsigned file;
   size_t pos = 0;
   unsigned line = 1, col = 1;
 };
@@ -238,8 +240,8 @@ private:
 } // namespace
 
 bool osl::frontend::lex(llvm::StringRef source, Diagnostics &diags,
-                        std::vector<Token> &out) {
-  Lexer lexer(source, diags);
+                        std::vector<Token> &out, unsigned file) {
+  Lexer lexer(source, diags, file);
   return lexer.run(out);
 }
 

@@ -34,7 +34,9 @@ struct Token {
 
 /// Splits source text into tokens (no preprocessing). Returns false after
 /// reporting an error. The token list always ends with an Eof token.
-bool lex(llvm::StringRef source, Diagnostics &diags, std::vector<Token> &out);
+/// `file` is the SrcLoc::file of the tokens.
+bool lex(llvm::StringRef source, Diagnostics &diags, std::vector<Token> &out,
+         unsigned file = 0);
 
 /// Describes a token for "unexpected token" messages: 'x', end of file...
 std::string describeToken(const Token &tok);

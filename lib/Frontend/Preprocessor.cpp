@@ -4,6 +4,9 @@
 #include "llvm/ADT/SmallVector.h"
 #include "llvm/ADT/StringMap.h"
 #include "llvm/ADT/StringSet.h"
+#include "llvm/Support/FileSystem.h"
+#include "llvm/Support/MemoryBuffer.h"
+#include "llvm/Support/Path.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -22,10 +25,14 @@ struct Macro {
 constexpr unsigned kMaxExpansionDepth = 128;
 constexpr size_t kMaxOutputTokens = 4u << 20;
 
+/// Limits for #include: nesting depth (cycles end here) and file size.
+constexpr unsigned kMaxIncludeDepth = 32;
+constexpr uint64_t kMaxIncludeBytes = 16u << 20;
+
 class Preprocessor {
 public:
-  Preprocessor(const std::vector<Token> &raw, Diagnostics &diags)
-      : raw(raw), diags(diags) {
+  Preprocessor(Diagnostics &diags, llvm::ArrayRef<std::string> includePaths)
+      : diags(diags), includePaths(includePaths) {
     auto define = [&](const char *name, const char *value) {
       Macro m;
       Token t;
@@ -40,7 +47,21 @@ public:
     define("OSL_VERSION", "11312");
   }
 
-  bool run(std::vector<Token> &out) {
+  /// Preprocesses one file's tokens into `out` (the Eof token only for
+  /// the main file, at include depth 0).
+  bool run(const std::vector<Token> &raw, std::vector<Token> &out, unsigned depth) {
+    std::vector<Cond> outerConds;
+    std::swap(outerConds, conds); // conditionals do not cross files
+    unsigned outerDepth = includeDepth;
+    includeDepth = depth;
+    bool ok = runFile(raw, out);
+    std::swap(outerConds, conds);
+    includeDepth = outerDepth;
+    return ok;
+  }
+
+private:
+  bool runFile(const std::vector<Token> &raw, std::vector<Token> &out) {
     size_t i = 0;
     std::vector<Token> text; // a run of ordinary lines
     while (true) {
@@ -59,7 +80,7 @@ public:
         std::vector<Token> line;
         while (!raw[i].is(TokKind::Eof) && !raw[i].startOfLine)
           line.push_back(raw[i++]);
-        if (!directive(hashLoc, line))
+        if (!directive(hashLoc, line, out))
           return false;
         continue;
       }
@@ -71,12 +92,11 @@ public:
       diags.error(conds.back().loc, "unterminated conditional directive (missing #endif)");
       return false;
     }
-    Token eof = raw.back();
-    out.push_back(eof);
+    if (includeDepth == 0)
+      out.push_back(raw.back()); // Eof
     return true;
   }
 
-private:
   struct Cond {
     SrcLoc loc;
     bool parentActive; // the enclosing region is being compiled
@@ -87,7 +107,7 @@ private:
 
   bool active() const { return conds.empty() || conds.back().active; }
 
-  bool directive(SrcLoc hashLoc, std::vector<Token> &line) {
+  bool directive(SrcLoc hashLoc, std::vector<Token> &line, std::vector<Token> &out) {
     if (line.empty())
       return true; // null directive
     const Token &name = line[0];
@@ -160,12 +180,11 @@ private:
         for (size_t k = 2; k < line.size() && !line[k].isPunct(">"); ++k)
           file += line[k].text;
       }
-      if (file == "stdosl.h")
-        return true; // built in
-      diags.error(name.loc, file.empty() ? llvm::Twine("malformed #include")
-                                          : "#include \"" + file +
-                                                "\" is not supported (only stdosl.h)");
-      return false;
+      if (file.empty()) {
+        diags.error(name.loc, "malformed #include (expected \"file\" or <file>)");
+        return false;
+      }
+      return include(name.loc, file, line[1].is(TokKind::String), out);
     }
     if (d == "define")
       return define(name, line);
@@ -486,8 +505,63 @@ private:
     return false;
   }
 
-  const std::vector<Token> &raw;
+  /// #include "file" looks next to the including file first, then in the
+  /// -I directories; <file> only in the -I directories. stdosl.h is built
+  /// in when no file of that name is found.
+  bool include(SrcLoc loc, const std::string &file, bool quoted, std::vector<Token> &out) {
+    llvm::SmallVector<std::string> candidates;
+    if (llvm::sys::path::is_absolute(file)) {
+      candidates.push_back(file);
+    } else {
+      if (quoted) {
+        llvm::SmallString<256> here(llvm::sys::path::parent_path(diags.fileName(loc.file)));
+        llvm::sys::path::append(here, file);
+        candidates.push_back(std::string(here));
+      }
+      for (const std::string &dir : includePaths) {
+        llvm::SmallString<256> p(dir);
+        llvm::sys::path::append(p, file);
+        candidates.push_back(std::string(p));
+      }
+    }
+    std::string found;
+    for (const std::string &c : candidates)
+      if (llvm::sys::fs::is_regular_file(c)) {
+        found = c;
+        break;
+      }
+    if (found.empty()) {
+      if (file == "stdosl.h")
+        return true; // its contents are built in
+      diags.error(loc, "cannot find #include file '" + file + "'" +
+                           (includePaths.empty() ? " (no -I directories given)" : ""));
+      return false;
+    }
+    if (includeDepth + 1 > kMaxIncludeDepth) {
+      diags.error(loc, "#include nested too deeply (an include cycle?)");
+      return false;
+    }
+    uint64_t size = 0;
+    if (llvm::sys::fs::file_size(found, size) || size > kMaxIncludeBytes) {
+      diags.error(loc, "#include file '" + found + "' is too large or unreadable");
+      return false;
+    }
+    auto buffer = llvm::MemoryBuffer::getFile(found, /*IsText=*/true);
+    if (!buffer) {
+      diags.error(loc, "cannot read #include file '" + found + "': " +
+                           buffer.getError().message());
+      return false;
+    }
+    unsigned fileId = diags.addFile(found);
+    std::vector<Token> raw;
+    if (!lex((*buffer)->getBuffer(), diags, raw, fileId))
+      return false;
+    return run(raw, out, includeDepth + 1);
+  }
+
   Diagnostics &diags;
+  llvm::ArrayRef<std::string> includePaths;
+  unsigned includeDepth = 0;
   llvm::StringMap<Macro> macros;
   std::vector<Cond> conds;
   size_t produced = 0; // tokens made by macro expansion, against runaway macros
@@ -500,7 +574,8 @@ private:
 } // namespace
 
 bool osl::frontend::preprocess(const std::vector<Token> &raw, Diagnostics &diags,
-                               std::vector<Token> &out) {
-  Preprocessor pp(raw, diags);
-  return pp.run(out);
+                               std::vector<Token> &out,
+                               llvm::ArrayRef<std::string> includePaths) {
+  Preprocessor pp(diags, includePaths);
+  return pp.run(raw, out, 0);
 }

@@ -1,7 +1,8 @@
 //===- Preprocessor.h - A small C-style preprocessor ------------*- C++ -*-===//
 //
-// Supports what shaders commonly use: #include <stdosl.h> (ignored: its
-// contents are built in), object-like and function-like #define, #undef,
+// Supports what shaders commonly use: #include "file" and <file> (searched
+// next to the including file and in -I directories; stdosl.h is built in),
+// object-like and function-like #define, #undef,
 // #if/#elif/#else/#endif with defined(), #ifdef/#ifndef, #pragma (ignored)
 // and #error. Stringizing (#) and pasting (##) are reported unsupported.
 //
@@ -11,12 +12,14 @@
 
 #include "Lexer.h"
 
+#include "llvm/ADT/ArrayRef.h"
+
 namespace osl::frontend {
 
 /// Expands `raw` (from lex()) into the token stream the parser reads.
 /// Returns false after reporting an error.
 bool preprocess(const std::vector<Token> &raw, Diagnostics &diags,
-                std::vector<Token> &out);
+                std::vector<Token> &out, llvm::ArrayRef<std::string> includePaths = {});
 
 } // namespace osl::frontend
 

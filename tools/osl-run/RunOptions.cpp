@@ -26,6 +26,7 @@ const char *const osl::kUsage =
     "  --width N              lanes per batch: 1, 4, 8 or 16 (default: widest\n"
     "                         the CPU supports)\n"
     "  --center               shade pixel centres: u = (x+0.5)/X\n"
+    "  -I DIR                 search DIR for #include files\n"
     "  --vary_udxdy, --vary_vdxdy, --vary_pdxdy\n"
     "                         testshade's varying derivatives\n"
     "  -t N                   threads (default: all cores)\n"
@@ -102,6 +103,10 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       }
     } else if (a == "--center") {
       o.grid.center = true;
+    } else if (a == "-I" || (a.size() > 2 && a.rfind("-I", 0) == 0)) {
+      if (a == "-I" && !need(i, 1, "-I"))
+        return false;
+      o.compile.includePaths.push_back(a == "-I" ? std::string(argv[++i]) : a.substr(2));
     } else if (a == "--vary_udxdy") {
       o.grid.varyUdxdy = true;
     } else if (a == "--vary_vdxdy") {

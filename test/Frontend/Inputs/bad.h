@@ -1,0 +1,2 @@
+// An error inside an included file is reported at its own position.
+float broken(float x) { return x +; }

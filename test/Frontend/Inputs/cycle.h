@@ -1,0 +1,2 @@
+// Includes itself: error_in_include.osl checks the cycle is reported.
+#include "cycle.h"
