@@ -38,7 +38,7 @@ def InsertMaskStack : Pass<"osl-insert-mask-stack", "::mlir::func::FuncOp"> {
     (the outermost mask is the batch's active lanes). Uniform control flow
     stays ordinary scf.if/scf.while with no masking cost.
 
-    An arm of a varying if that holds a loop or at least `skip-threshold`
+    An arm of a varying if that holds a loop, a noise call, or more than `skip-threshold`
     operations runs under `scf.if (osl.any(mask))`, so a batch in which no
     lane takes it skips it at run time; smaller arms run unconditionally
     because the test would cost more than the arm.

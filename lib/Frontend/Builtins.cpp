@@ -529,6 +529,10 @@ bool stringArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
   if (!v.type.isString())
     return g.error(e.loc, "'" + fn + "' expects " + what + " (a string) here, got '" +
                               v.type.str() + "'");
+  if (v.isStringChoice())
+    return g.error(e.loc, "'" + fn + "' needs " + what +
+                              " known when the shader is compiled; this string is chosen "
+                              "per point");
   out = v.str;
   return true;
 }
@@ -545,18 +549,22 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
                          .Default("hash");
   bool periodic = name == "pnoise" || name == "psnoise";
   size_t first = 0;
+  RValue kindName = RValue::string(kind);
   if (!args->empty() && (*args)[0].type.isString()) {
     if (name != "noise" && name != "pnoise") {
       g.error(call.args[0]->loc, "'" + name + "' takes no noise type name; use noise(\"" +
                                      (*args)[0].str + "\", ...)");
       return std::nullopt;
     }
-    kind = (*args)[0].str;
+    kindName = (*args)[0];
     first = 1;
-    if (!isKnownNoiseName(kind)) {
-      g.error(call.args[0]->loc, "unknown noise type '" + kind + "'");
-      return std::nullopt;
-    }
+    std::vector<std::string> names =
+        kindName.isStringChoice() ? kindName.choices : std::vector<std::string>{kindName.str};
+    for (const std::string &k : names)
+      if (!isKnownNoiseName(k)) {
+        g.error(call.args[0]->loc, "unknown noise type '" + k + "'");
+        return std::nullopt;
+      }
   }
   size_t n = args->size() - first;
   // Trailing (string, value) pairs are noise options (Gabor parameters).
@@ -594,8 +602,10 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
   OslType resultType = triple ? OslType(expected->base) : OslType(BaseType::Float);
   bool varying = llvm::any_of(coords, [](Value v) { return isVarying(v.getType()); });
   Type t = withUniformity(irType(g.builder(), resultType), varying);
-  Value v = g.builder().create<NoiseOp>(g.loc(call.loc), t, kind, coords, periodic);
-  return RValue::num(resultType, v);
+  return g.forEachStringChoice(kindName, call.loc, [&](const std::string &k) {
+    Value v = g.builder().create<NoiseOp>(g.loc(call.loc), t, k, coords, periodic);
+    return std::optional<RValue>(RValue::num(resultType, v));
+  });
 }
 
 std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
@@ -660,16 +670,24 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
   };
   if (args->size() < 3)
     return wrong();
-  std::string basis;
-  if (!stringArg(g, (*args)[0], *call.args[0], fn, "the basis name", basis))
+  const RValue &basisName = (*args)[0];
+  if (!basisName.type.isString()) {
+    g.error(call.args[0]->loc, "'" + fn + "' expects the basis name (a string) here, got '" +
+                                   basisName.type.str() + "'");
     return std::nullopt;
-  bool known = llvm::is_contained(
-      {"catmull-rom", "bezier", "bspline", "hermite", "linear", "constant"}, basis);
-  if (!known) {
-    g.error(call.args[0]->loc, "unknown spline basis '" + basis +
-                                   "' (expected catmull-rom, bezier, bspline, hermite, "
-                                   "linear or constant)");
-    return std::nullopt;
+  }
+  std::vector<std::string> bases = basisName.isStringChoice()
+                                       ? basisName.choices
+                                       : std::vector<std::string>{basisName.str};
+  for (const std::string &basis : bases) {
+    bool known = llvm::is_contained(
+        {"catmull-rom", "bezier", "bspline", "hermite", "linear", "constant"}, basis);
+    if (!known) {
+      g.error(call.args[0]->loc, "unknown spline basis '" + basis +
+                                     "' (expected catmull-rom, bezier, bspline, hermite, "
+                                     "linear or constant)");
+      return std::nullopt;
+    }
   }
   const RValue &x = (*args)[1];
   if (!x.type.isScalar())
@@ -729,12 +747,15 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
     varying |= isVarying(c->value.getType());
   }
   Type t = withUniformity(irType(g.builder(), knotType), varying);
-  Value v = inverse
-                ? g.builder().create<SplineInverseOp>(g.loc(call.loc), t, basis, xv, count, kv)
-                      .getResult()
-                : g.builder().create<SplineOp>(g.loc(call.loc), t, basis, xv, count, kv)
-                      .getResult();
-  return RValue::num(knotType, v);
+  return g.forEachStringChoice(basisName, call.loc, [&](const std::string &basis) {
+    Value v =
+        inverse
+            ? g.builder().create<SplineInverseOp>(g.loc(call.loc), t, basis, xv, count, kv)
+                  .getResult()
+            : g.builder().create<SplineOp>(g.loc(call.loc), t, basis, xv, count, kv)
+                  .getResult();
+    return std::optional<RValue>(RValue::num(knotType, v));
+  });
 }
 
 std::optional<RValue> emitConstructor(IRGen &g, const Expr &call) {

@@ -6,6 +6,8 @@
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
 
+#include <functional>
+
 #include "OslRuntime/GlobalsLayout.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
@@ -76,6 +78,12 @@ Value IRGen::constTriple(float x, float y, float z, SrcLoc l) {
 RValue IRGen::zeroValue(OslType t, SrcLoc l) {
   if (t.isString())
     return RValue::string("");
+  if (t.isArray() && t.base == BaseType::String) {
+    RValue r;
+    r.type = t;
+    r.fields.assign(t.arrayLen, RValue::string(""));
+    return r;
+  }
   if (t.isStructLike()) {
     RValue r;
     r.type = t;
@@ -244,7 +252,7 @@ std::optional<RValue> IRGen::coerce(RValue v, OslType to, SrcLoc l,
     r.elems = v.elems;
     return r;
   }
-  if (to.isString()) {
+  if (to.isString() || (to.isArray() && to.base == BaseType::String)) {
     v.type = to;
     return v;
   }
@@ -279,6 +287,44 @@ std::optional<Value> IRGen::toBool(const RValue &v, SrcLoc l) {
   else
     zero = constTriple(0, 0, 0, l);
   return b.create<CmpOp>(loc(l), "ne", v.value, zero).getResult();
+}
+
+RValue IRGen::stringChoice(std::vector<RValue> strings, Value index, SrcLoc l) {
+  // Flatten nested choices: each choice becomes its own entry.
+  RValue r = RValue::string("");
+  Value flat = constInt(0, l);
+  for (size_t k = 0; k < strings.size(); ++k) {
+    Value isK = b.create<CmpOp>(loc(l), "eq", index, constInt(int(k), l));
+    const RValue &s = strings[k];
+    Value sub;
+    if (s.isStringChoice()) {
+      sub = b.create<AddOp>(loc(l), s.value, constInt(int(r.choices.size()), l));
+      r.choices.insert(r.choices.end(), s.choices.begin(), s.choices.end());
+    } else {
+      sub = constInt(int(r.choices.size()), l);
+      r.choices.push_back(s.str);
+    }
+    flat = b.create<SelectOp>(loc(l), isK, sub, flat);
+  }
+  r.value = flat;
+  return r;
+}
+
+std::optional<RValue>
+IRGen::forEachStringChoice(const RValue &s, SrcLoc l,
+                           llvm::function_ref<std::optional<RValue>(const std::string &)> emitOne) {
+  if (!s.isStringChoice())
+    return emitOne(s.str);
+  // if (choice == 0) A else if (choice == 1) B ... else <last>
+  std::function<std::optional<RValue>(size_t)> from = [&](size_t k) -> std::optional<RValue> {
+    if (k + 1 == s.choices.size())
+      return emitOne(s.choices[k]);
+    Value isK = b.create<CmpOp>(loc(l), "eq", s.value, constInt(int(k), l));
+    return emitIfRegion(
+        isK, l, {}, [&]() { return emitOne(s.choices[k]); }, [&]() { return from(k + 1); },
+        /*wantValue=*/true);
+  };
+  return from(0);
 }
 
 //===----------------------------------------------------------------------===//
@@ -564,13 +610,27 @@ std::optional<RValue> IRGen::emitInitializer(const Expr &init, OslType &type,
             "too many initializers for '" + name + "' of type '" + type.str() + "'");
       return std::nullopt;
     }
-    if (type.base == BaseType::String) {
-      error(init.loc, "string arrays are not supported yet");
-      return std::nullopt;
-    }
     OslType elem = type.element();
     RValue r;
     r.type = type;
+    if (type.base == BaseType::String) {
+      for (int i = 0; i < type.arrayLen; ++i) {
+        if (i >= int(init.args.size())) {
+          r.fields.push_back(RValue::string(""));
+          continue;
+        }
+        auto v = emitExpr(*init.args[i], &elem);
+        if (!v)
+          return std::nullopt;
+        if (!v->type.isString()) {
+          error(init.args[i]->begin, "cannot convert '" + v->type.str() +
+                                         "' to 'string' in initializer of '" + name + "'");
+          return std::nullopt;
+        }
+        r.fields.push_back(*v);
+      }
+      return r;
+    }
     for (int i = 0; i < type.arrayLen; ++i) {
       if (i < int(init.args.size())) {
         const Expr &e = *init.args[i];

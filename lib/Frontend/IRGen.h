@@ -34,13 +34,22 @@ namespace osl::frontend {
 
 /// A value of some OSL type: one IR value for numbers and triples, a
 /// compile-time string, or the elements of an array.
+///
+/// A string chosen per point (from a string array with a run-time index,
+/// or by `c ? "a" : "b"`) is one of `choices`, selected by the i32 `value`;
+/// uses such as noise names then run once per choice, under masks.
 struct RValue {
   OslType type;
   mlir::Value value;
   std::string str;
+  std::vector<std::string> choices;
   std::vector<mlir::Value> elems;
-  /// Structs: one value per field; arrays of structs: one array per field.
+  /// Structs: one value per field; arrays of structs: one array per field;
+  /// string arrays: one string per element.
   std::vector<RValue> fields;
+
+  /// A string chosen per point (see above).
+  bool isStringChoice() const { return type.isString() && !choices.empty(); }
 
   static RValue num(OslType t, mlir::Value v) {
     RValue r;
@@ -151,6 +160,15 @@ public:
   std::optional<LValue> emitLValue(const Expr &e);
   RValue loadLValue(const LValue &lv, SrcLoc l);
   bool storeLValue(const LValue &lv, RValue v, SrcLoc l);
+
+  /// Calls `emitOne` with the string `s` names: once if it is known, else
+  /// once per choice under `if (choice == k)`, so lanes run only the
+  /// choices they made (lane-group filtering); the results merge per lane.
+  std::optional<RValue>
+  forEachStringChoice(const RValue &s, SrcLoc l,
+                      llvm::function_ref<std::optional<RValue>(const std::string &)> emitOne);
+  /// A string chosen by `index` (i32) among `strings`.
+  RValue stringChoice(std::vector<RValue> strings, mlir::Value index, SrcLoc l);
 
   /// The value of a shader global (emitted once, at the top of the shader).
   mlir::Value getGlobal(llvm::StringRef name, mlir::Type base, SrcLoc l);

@@ -216,11 +216,11 @@ std::optional<RValue> IRGen::emitTernary(const Expr &e, const OslType *expected)
   if (a->type.isString() && bv->type.isString()) {
     if (auto k = getConstBool(*cb))
       return *k ? a : bv;
-    if (a->str == bv->str)
+    if (!a->isStringChoice() && !bv->isStringChoice() && a->str == bv->str)
       return a;
-    error(e.loc, "choosing between strings at run time is not supported yet "
-                 "(strings are compile-time values)");
-    return std::nullopt;
+    // choice 0 is the then-string, 1 the else-string
+    Value index = b.create<SelectOp>(loc(e.loc), *cb, constInt(0, e.loc), constInt(1, e.loc));
+    return stringChoice({*a, *bv}, index, e.loc);
   }
   auto t = unify(a->type, bv->type);
   if (!t || !t->isNumeric()) {
@@ -245,10 +245,32 @@ std::optional<RValue> IRGen::emitBinaryOp(llvm::StringRef op, RValue l, RValue r
   Location ml = loc(sl);
   bool isEq = op == "==" || op == "!=";
   if (l.type.isString() || r.type.isString()) {
-    if (isEq && l.type.isString() && r.type.isString())
-      return RValue::num(OslType(BaseType::Bool),
-                         constBool((l.str == r.str) == (op == "=="), sl));
-    return invalid();
+    if (!isEq || !l.type.isString() || !r.type.isString())
+      return invalid();
+    if (l.isStringChoice() || r.isStringChoice()) {
+      // Equal where the chosen strings are: compare per pair of choices.
+      const RValue &c = l.isStringChoice() ? l : r, &o = l.isStringChoice() ? r : l;
+      Value eq = constBool(false, sl);
+      for (size_t k = 0; k < c.choices.size(); ++k) {
+        Value thisOne = b.create<CmpOp>(ml, "eq", c.value, constInt(int(k), sl));
+        Value match;
+        if (!o.isStringChoice()) {
+          match = constBool(c.choices[k] == o.str, sl);
+        } else {
+          match = constBool(false, sl);
+          for (size_t j = 0; j < o.choices.size(); ++j)
+            if (o.choices[j] == c.choices[k])
+              match = b.create<OrOp>(ml, match,
+                                     b.create<CmpOp>(ml, "eq", o.value, constInt(int(j), sl)));
+        }
+        eq = b.create<OrOp>(ml, eq, b.create<AndOp>(ml, thisOne, match));
+      }
+      if (op == "!=")
+        eq = b.create<NotOp>(ml, eq);
+      return RValue::num(OslType(BaseType::Bool), eq);
+    }
+    return RValue::num(OslType(BaseType::Bool),
+                       constBool((l.str == r.str) == (op == "=="), sl));
   }
   if (!l.type.isNumeric() || !r.type.isNumeric())
     return invalid();
@@ -437,6 +459,13 @@ RValue IRGen::elementAt(const RValue &cur, const Access &a, int j, SrcLoc l) {
 RValue IRGen::readAccess(const RValue &cur, const Access &a, SrcLoc l) {
   if (a.field >= 0)
     return cur.fields[a.field];
+  if (cur.type.isArray() && cur.type.base == BaseType::String) {
+    if (a.constIndex >= 0)
+      return cur.fields[a.constIndex];
+    Value last = constInt(a.length - 1, l);
+    Value index = b.create<ClampOp>(loc(l), a.index, constInt(0, l), last);
+    return stringChoice(cur.fields, index, l);
+  }
   if (cur.type.isStructLike()) {
     // Element of an array of structs: that element of every field's array.
     RValue r;
@@ -462,6 +491,12 @@ RValue IRGen::updatePath(const RValue &cur, const std::vector<Access> &path, siz
   if (k == path.size())
     return newValue;
   const Access &a = path[k];
+  if (cur.type.isArray() && cur.type.base == BaseType::String) {
+    RValue res = cur;
+    if (a.constIndex >= 0)
+      res.fields[a.constIndex] = newValue; // a varying index is rejected in storeLValue
+    return res;
+  }
   if (a.field >= 0) {
     RValue res = cur;
     res.fields[a.field] = updatePath(cur.fields[a.field], path, k + 1, newValue, l);
@@ -551,6 +586,10 @@ RValue IRGen::loadLValue(const LValue &lv, SrcLoc l) {
 }
 
 bool IRGen::storeLValue(const LValue &lv, RValue v, SrcLoc l) {
+  if (lv.var->type.isArray() && lv.var->type.base == BaseType::String && !lv.path.empty() &&
+      lv.path[0].constIndex < 0)
+    return error(l, "assigning to a string array element chosen at run time is not "
+                    "supported yet");
   if (lv.path.empty()) {
     v.type = lv.var->type;
     lv.var->val = std::move(v);

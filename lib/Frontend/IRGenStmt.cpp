@@ -253,8 +253,6 @@ bool IRGen::emitDecl(const Stmt &s) {
     t.arrayLen = d.arrayLen;
     if (!checkStructType(t, d.loc))
       return false;
-    if (t.isArray() && t.base == BaseType::String)
-      return error(d.loc, "string arrays are not supported yet");
     RValue init;
     if (d.init) {
       auto v = emitInitializer(*d.init, t, d.name, d.loc);

@@ -155,14 +155,16 @@ private:
     return values;
   }
 
+  /// Loops and the library calls that expand to hundreds of operations
+  /// (noise, splineinverse) always pay for the test.
   bool worthSkipping(Block &arm) {
     int64_t count = 0;
-    bool hasLoop = false;
+    bool expensive = false;
     arm.walk([&](Operation *nested) {
       ++count;
-      hasLoop |= isa<scf::WhileOp, WhileOp>(nested);
+      expensive |= isa<scf::WhileOp, WhileOp, NoiseOp, SplineInverseOp>(nested);
     });
-    return hasLoop || count > skipThreshold;
+    return expensive || count > skipThreshold;
   }
 
   static Value zeroOf(OpBuilder &b, Location loc, Type type) {
