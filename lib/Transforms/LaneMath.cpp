@@ -179,8 +179,9 @@ Value lane::shr(OpBuilder &b, Location loc, ValueRange x) {
 }
 
 //===----------------------------------------------------------------------===//
-// Float math. math.* ops become polynomial approximations in
-// osl-lower-to-llvm; the rules for edge inputs are applied here.
+// Float math. math.* ops stay until osl-lower-to-llvm, which computes them
+// as OSL does (OslMathApproximation.cpp), so osl-derivatives still sees
+// them; the rules for edge inputs are applied here.
 //===----------------------------------------------------------------------===//
 
 Value lane::sin(OpBuilder &b, Location loc, ValueRange x) {
@@ -385,6 +386,17 @@ Value lane::pow(OpBuilder &b, Location loc, ValueRange x) {
                 b.create<arith::NegFOp>(loc, mag), mag);
   Value notInt = b.create<arith::XOrIOp>(loc, isInt, cst(b, loc, isInt, 1));
   r = sel(b, loc, b.create<arith::AndIOp>(loc, negBase, notInt), zero, r);
+  // OSL (fast_safe_pow) is exact for x^1 and x^2 (the square capped at
+  // FLT_MAX); as for v = 0 below, its derivative is the general formula's.
+  auto valueOnly = [&](Value cond, Value special, Value general) {
+    Value v = sel(b, loc, cond, special, general);
+    if (Operation *op = v.getDefiningOp())
+      op->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleValueOnly));
+    return v;
+  };
+  Value square = min(b, loc, {b.create<arith::MulFOp>(loc, base, base), cst(b, loc, base, FLT_MAX)});
+  r = valueOnly(fcmp(b, loc, arith::CmpFPredicate::OEQ, e, cst(b, loc, e, 2)), square, r);
+  r = valueOnly(fcmp(b, loc, arith::CmpFPredicate::OEQ, e, one), base, r);
   r = sel(b, loc, fcmp(b, loc, arith::CmpFPredicate::OEQ, base, zero), zero, r);
   // OSL's dual pow differentiates u^v as v u^(v-1) u' + ln(u) u^v v' even
   // where the value is special-cased to 1 (v = 0).

@@ -36,6 +36,9 @@ namespace {
 
 LogicalResult approximateMath(ModuleOp module) {
   RewritePatternSet patterns(module.getContext());
+  // OSL's algorithms first (higher benefit); MLIR's approximations cover the
+  // rest (atan, atan2, erf, tanh...).
+  osl::populateOslMathApproximationPatterns(patterns);
   populateExpandTanPattern(patterns);
   populateExpandExp2FPattern(patterns);
   populateExpandPowFPattern(patterns);

@@ -1,0 +1,237 @@
+//===- OslMathApproximation.cpp - math ops computed as OSL computes them --===//
+//
+// OSL's default (fast-math) build evaluates the transcendental functions
+// with OpenImageIO's fast_* routines; reproducing their algorithms step by
+// step is what makes our results match OSL's, including where those
+// routines are inaccurate (large sin/cos arguments) or saturate (exp2 is
+// clamped to [-126, 126]). The published constants are facts of the
+// algorithms; the code is ours.
+//
+//  sin, cos  reduce by the nearest multiple of pi, with pi/4 split in four
+//            float parts (Cody-Waite); SLEEF's minimax polynomials; values
+//            pushed outside [-1, 1] by a failed reduction become 0.
+//  tan       the same with pi/2; -1/p on odd quadrants.
+//  exp2      clamp to [-126, 126], split off the integer part (truncated),
+//            degree-5 polynomial, scale by 2^m.
+//  log2      clamp to [FLT_MIN, FLT_MAX], exponent from the bits, a
+//            polynomial in the mantissa.
+//  exp, log, log10, pow   through exp2 and log2 (pow of |x|; the sign and
+//            special cases are lane::pow's).
+//  atan, atan2  a rational approximation on [0, 1] after folding the
+//            argument, then the quadrant from the signs (the sign bit of y,
+//            so atan2(-0, -1) is -pi).
+//
+// madd(a, b, c) is a*b + c rounded twice, as in OIIO without FMA.
+//
+//===----------------------------------------------------------------------===//
+#include "OslTransforms/LaneMath.h"
+#include "OslTransforms/Passes.h"
+
+#include "mlir/Dialect/Arith/IR/Arith.h"
+#include "mlir/Dialect/Math/IR/Math.h"
+#include "mlir/IR/PatternMatch.h"
+
+#include <cfloat>
+
+using namespace mlir;
+using namespace mlir::osl;
+
+namespace {
+
+/// The parts of pi/4 (their sum is pi/4 to ~2^-64).
+constexpr float kPi4Parts[] = {0.78515625f, 0.00024187564849853515625f,
+                               3.7747668102383613586e-08f, 1.2816720341285448015e-12f};
+
+/// Lane arithmetic on one f32 lane shape.
+struct LaneBuilder {
+  OpBuilder &b;
+  Location loc;
+  Type type;
+
+  Value c(double v) { return lane::constant(b, loc, type, v); }
+  Value mul(Value x, Value y) { return b.create<arith::MulFOp>(loc, x, y); }
+  Value add(Value x, Value y) { return b.create<arith::AddFOp>(loc, x, y); }
+  Value sub(Value x, Value y) { return b.create<arith::SubFOp>(loc, x, y); }
+  Value neg(Value x) { return b.create<arith::NegFOp>(loc, x); }
+  Value madd(Value x, Value y, Value z) { return add(mul(x, y), z); }
+  Value select(Value cond, Value t, Value f) {
+    return b.create<arith::SelectOp>(loc, cond, t, f);
+  }
+  Value clamp(Value x, double lo, double hi) {
+    return lane::clamp(b, loc, {x, c(lo), c(hi)});
+  }
+  Type intType() { return lane::withElement(type, b.getI32Type()); }
+  Value ci(int64_t v) { return lane::constant(b, loc, intType(), double(v)); }
+  Value toBits(Value x) { return b.create<arith::BitcastOp>(loc, intType(), x); }
+  Value fromBits(Value x) { return b.create<arith::BitcastOp>(loc, type, x); }
+  /// OIIO's "crush denormals": k - (k - x).
+  Value crush(Value x, float k) { return sub(c(k), sub(c(k), x)); }
+
+  /// x reduced by the nearest multiple q of the period (4 pi/4 parts per
+  /// pi: scale 4; pi/2: scale 2); also whether q is odd.
+  std::pair<Value, Value> reduce(Value x, double inversePeriod, float scale) {
+    // fast_rint rounds to nearest, ties to even (one roundps on SSE4).
+    Value qf = b.create<math::RoundEvenOp>(loc, mul(x, c(float(inversePeriod))));
+    for (float part : kPi4Parts)
+      x = madd(qf, c(-part * scale), x);
+    Value q = b.create<arith::FPToSIOp>(loc, intType(), qf);
+    Value odd = b.create<arith::CmpIOp>(loc, arith::CmpIPredicate::ne,
+                                        b.create<arith::AndIOp>(loc, q, ci(1)), ci(0));
+    return {x, odd};
+  }
+  /// Values a failed reduction pushes outside [-1, 1] become 0.
+  Value zeroOutsideUnit(Value u) {
+    Value outside = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OGT,
+                                            b.create<math::AbsFOp>(loc, u), c(1));
+    return select(outside, c(0), u);
+  }
+
+  Value sin(Value x) {
+    auto [r, odd] = reduce(x, 0.31830988618379067154, 4);
+    r = crush(r, float(M_PI_2));
+    Value s = mul(r, r);
+    r = select(odd, neg(r), r);
+    Value u = c(2.6083159809786593541503e-06f);
+    u = madd(u, s, c(-0.0001981069071916863322258f));
+    u = madd(u, s, c(0.00833307858556509017944336f));
+    u = madd(u, s, c(-0.166666597127914428710938f));
+    return zeroOutsideUnit(madd(s, mul(u, r), r));
+  }
+  Value cos(Value x) {
+    auto [r, odd] = reduce(x, 0.31830988618379067154, 4);
+    r = crush(r, float(M_PI_2));
+    Value s = mul(r, r);
+    Value u = c(-2.71811842367242206819355e-07f);
+    u = madd(u, s, c(2.47990446951007470488548e-05f));
+    u = madd(u, s, c(-0.00138888787478208541870117f));
+    u = madd(u, s, c(0.0416666641831398010253906f));
+    u = madd(u, s, c(-0.5f));
+    u = madd(u, s, c(1.0f));
+    return zeroOutsideUnit(select(odd, neg(u), u));
+  }
+  Value tan(Value x) {
+    auto [r, odd] = reduce(x, 0.63661977236758134308, 2);
+    // Tiny values are flushed only where the result is not inverted.
+    r = select(odd, r, crush(r, float(M_PI_4)));
+    Value s = mul(r, r);
+    Value u = c(0.00927245803177356719970703f);
+    u = madd(u, s, c(0.00331984995864331722259521f));
+    u = madd(u, s, c(0.0242998078465461730957031f));
+    u = madd(u, s, c(0.0534495301544666290283203f));
+    u = madd(u, s, c(0.133383005857467651367188f));
+    u = madd(u, s, c(0.333331853151321411132812f));
+    u = madd(s, mul(u, r), r);
+    return select(odd, neg(b.create<arith::DivFOp>(loc, c(1), u)), u);
+  }
+  /// OIIO's rational atan on s in [0, 1].
+  Value atanCore(Value s) {
+    s = crush(s, 1.0f);
+    Value t = mul(s, s);
+    Value num = mul(s, madd(c(0.430165678f), t, c(1.0f)));
+    Value den = madd(madd(c(0.0579354987f), t, c(0.763007998f)), t, c(1.0f));
+    return b.create<arith::DivFOp>(loc, num, den);
+  }
+  Value atan(Value x) {
+    Value a = b.create<math::AbsFOp>(loc, x);
+    Value big = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OGT, a, c(1));
+    Value k = select(big, b.create<arith::DivFOp>(loc, c(1), a), a);
+    Value r = atanCore(k);
+    r = select(big, sub(c(1.570796326794896557998982f), r), r);
+    return b.create<math::CopySignOp>(loc, r, x);
+  }
+  Value atan2(Value y, Value x) {
+    Value a = b.create<math::AbsFOp>(loc, x), bb = b.create<math::AbsFOp>(loc, y);
+    Value bGreater = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OGT, bb, a);
+    Value ratio = select(bGreater, b.create<arith::DivFOp>(loc, a, bb),
+                         b.create<arith::DivFOp>(loc, bb, a));
+    Value equal = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OEQ, a, bb);
+    Value bZero = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OEQ, bb, c(0));
+    Value k = select(bZero, c(0), select(equal, c(1), ratio));
+    Value r = atanCore(k);
+    r = select(bGreater, sub(c(1.570796326794896557998982f), r), r);
+    Value xNegative = b.create<arith::CmpIOp>(loc, arith::CmpIPredicate::slt, toBits(x), ci(0));
+    r = select(xNegative, sub(c(float(M_PI)), r), r);
+    return b.create<math::CopySignOp>(loc, r, y);
+  }
+  Value exp2(Value x) {
+    x = clamp(x, -126.0, 126.0);
+    Value m = b.create<arith::FPToSIOp>(loc, intType(), x); // truncates
+    x = sub(x, b.create<arith::SIToFPOp>(loc, type, m));
+    x = crush(x, 1.0f);
+    Value r = c(1.33336498402e-3f);
+    r = madd(x, r, c(9.810352697968e-3f));
+    r = madd(x, r, c(5.551834031939e-2f));
+    r = madd(x, r, c(0.2401793301105f));
+    r = madd(x, r, c(0.693144857883f));
+    r = madd(x, r, c(1.0f));
+    // 2^m added into the exponent bits (r is in (0.5, 2), so no overflow).
+    Value shifted = b.create<arith::ShLIOp>(loc, m, ci(23));
+    return fromBits(b.create<arith::AddIOp>(loc, toBits(r), shifted));
+  }
+  Value log2(Value x) {
+    x = clamp(x, FLT_MIN, FLT_MAX);
+    Value bits = toBits(x);
+    Value exponent = b.create<arith::SubIOp>(
+        loc, b.create<arith::ShRUIOp>(loc, bits, ci(23)), ci(127));
+    Value mantissa = b.create<arith::OrIOp>(
+        loc, b.create<arith::AndIOp>(loc, bits, ci(0x007FFFFF)), ci(0x3f800000));
+    Value f = sub(fromBits(mantissa), c(1.0f));
+    Value f2 = mul(f, f), f4 = mul(f2, f2);
+    Value hi = madd(f, c(-0.00931049621349f), c(0.05206469089414f));
+    Value lo = madd(f, c(0.47868480909345f), c(-0.72116591947498f));
+    hi = madd(f, hi, c(-0.13753123777116f));
+    hi = madd(f, hi, c(0.24187369696082f));
+    hi = madd(f, hi, c(-0.34730547155299f));
+    lo = madd(f, lo, c(1.442689881667200f));
+    return add(add(mul(f4, hi), mul(f, lo)), b.create<arith::SIToFPOp>(loc, type, exponent));
+  }
+};
+
+/// Replaces a unary or binary math op by a LaneBuilder computation.
+template <typename Op>
+struct OslMathPattern : public OpRewritePattern<Op> {
+  using Compute = Value (*)(LaneBuilder &, Op);
+  OslMathPattern(MLIRContext *ctx, Compute compute)
+      : OpRewritePattern<Op>(ctx, /*benefit=*/10), compute(compute) {}
+  LogicalResult matchAndRewrite(Op op, PatternRewriter &rewriter) const override {
+    if (!isa<Float32Type>(getElementTypeOrSelf(op.getType())))
+      return failure();
+    LaneBuilder l{rewriter, op.getLoc(), op.getType()};
+    rewriter.replaceOp(op, compute(l, op));
+    return success();
+  }
+  Compute compute;
+};
+
+} // namespace
+
+void mlir::osl::populateOslMathApproximationPatterns(RewritePatternSet &patterns) {
+  MLIRContext *ctx = patterns.getContext();
+  patterns.add<OslMathPattern<math::SinOp>>(
+      ctx, [](LaneBuilder &l, math::SinOp op) { return l.sin(op.getOperand()); });
+  patterns.add<OslMathPattern<math::CosOp>>(
+      ctx, [](LaneBuilder &l, math::CosOp op) { return l.cos(op.getOperand()); });
+  patterns.add<OslMathPattern<math::TanOp>>(
+      ctx, [](LaneBuilder &l, math::TanOp op) { return l.tan(op.getOperand()); });
+  patterns.add<OslMathPattern<math::Exp2Op>>(
+      ctx, [](LaneBuilder &l, math::Exp2Op op) { return l.exp2(op.getOperand()); });
+  patterns.add<OslMathPattern<math::ExpOp>>(ctx, [](LaneBuilder &l, math::ExpOp op) {
+    return l.exp2(l.mul(op.getOperand(), l.c(float(1 / M_LN2))));
+  });
+  patterns.add<OslMathPattern<math::Log2Op>>(
+      ctx, [](LaneBuilder &l, math::Log2Op op) { return l.log2(op.getOperand()); });
+  patterns.add<OslMathPattern<math::LogOp>>(ctx, [](LaneBuilder &l, math::LogOp op) {
+    return l.mul(l.log2(op.getOperand()), l.c(float(M_LN2)));
+  });
+  patterns.add<OslMathPattern<math::Log10Op>>(ctx, [](LaneBuilder &l, math::Log10Op op) {
+    return l.mul(l.log2(op.getOperand()), l.c(float(M_LN2 / M_LN10)));
+  });
+  patterns.add<OslMathPattern<math::AtanOp>>(
+      ctx, [](LaneBuilder &l, math::AtanOp op) { return l.atan(op.getOperand()); });
+  patterns.add<OslMathPattern<math::Atan2Op>>(ctx, [](LaneBuilder &l, math::Atan2Op op) {
+    return l.atan2(op.getLhs(), op.getRhs());
+  });
+  patterns.add<OslMathPattern<math::PowFOp>>(ctx, [](LaneBuilder &l, math::PowFOp op) {
+    return l.exp2(l.mul(op.getRhs(), l.log2(op.getLhs())));
+  });
+}
