@@ -37,6 +37,9 @@ struct CompileOptions {
   std::vector<ParamOverride> params;
   /// Directories searched by #include (after the including file's own).
   std::vector<std::string> includePaths;
+  /// Reference mode (osl-run --interpret): one point at a time with
+  /// ordinary branches and no masks; implies width 1.
+  bool reference = false;
 };
 
 /// One shader compiled for one width. Keeps its JIT alive.

@@ -378,12 +378,12 @@ def Osl_LaneDerivOp : Osl_Op<"lane_deriv", [Pure, AllTypesMatch<["value", "resul
   let description = [{
     The vector-level form of osl.deriv: `value` is the f32 lanes
     (vector<W x f32>) or triple lanes (vector<3 x W x f32>) of a varying
-    value. osl-derivatives replaces it with forward-mode derivative code
+    value (scalars in reference mode). osl-derivatives replaces it with forward-mode derivative code
     for exactly the operations `value` depends on, starting from the
     derivative rows of the shader globals.
   }];
-  let arguments = (ins AnyVectorOfAnyRank:$value, StrAttr:$axis);
-  let results = (outs AnyVectorOfAnyRank:$result);
+  let arguments = (ins AnyType:$value, StrAttr:$axis);
+  let results = (outs AnyType:$result);
   let assemblyFormat = "$axis $value attr-dict `:` type($value)";
 }
 

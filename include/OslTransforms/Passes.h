@@ -18,8 +18,10 @@ namespace mlir::osl {
 #include "OslTransforms/Passes.h.inc"
 
 /// The whole chain from front-end output to the LLVM dialect at `width`.
+/// `reference`: one point at a time with ordinary branches (width 1, no
+/// masks), the oracle of the differential tester.
 void buildOslToLLVMPipeline(OpPassManager &pm, int width,
-                            const std::string &paramValues = "");
+                            const std::string &paramValues = "", bool reference = false);
 
 /// Patterns computing sin, cos, tan, exp, exp2, log, log2, log10 and pow
 /// with OSL's own (OpenImageIO fast_*) algorithms, for osl-lower-to-llvm.

@@ -49,6 +49,18 @@ def InsertMaskStack : Pass<"osl-insert-mask-stack", "::mlir::func::FuncOp"> {
   let dependentDialects = ["::mlir::scf::SCFDialect"];
 }
 
+def UniformReference : Pass<"osl-uniform-reference", "::mlir::func::FuncOp"> {
+  let summary = "Make every value uniform: run one point at a time (reference mode)";
+  let description = [{
+    Replaces every !osl.varying<T> by T and removes osl.broadcast, so that
+    at width 1 the shader runs one point per call and osl.if/osl.while
+    become ordinary branches and loops on that point's values: no masks,
+    no selects. This is the reference the differential tester compares the
+    vectorized kernels with (osl-run --interpret); it shares the math
+    lowering, so results agree bit for bit when masking is right.
+  }];
+}
+
 def ConvertToVector : Pass<"osl-convert-to-vector", "::mlir::ModuleOp"> {
   let summary = "Lower the osl dialect to vector code of a chosen width";
   let description = [{
@@ -57,7 +69,10 @@ def ConvertToVector : Pass<"osl-convert-to-vector", "::mlir::ModuleOp"> {
     `void @osl_batch(ptr globals, ptr outputs, i32 nactive)` of
     OslRuntime/GlobalsLayout.h; library calls become arith/math/vector ops.
   }];
-  let options = [Option<"width", "width", "int", "8",
+  let options = [Option<"referenceMode", "reference", "bool", "false",
+                        "every value is uniform (osl-uniform-reference): keep their "
+                        "derivatives">,
+                 Option<"width", "width", "int", "8",
                         "lanes per batch: 1, 4, 8 or 16">];
   let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::math::MathDialect",
                            "::mlir::vector::VectorDialect", "::mlir::scf::SCFDialect",

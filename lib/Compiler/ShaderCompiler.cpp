@@ -28,6 +28,8 @@ ShaderCompiler::ShaderCompiler(const CompileOptions &options,
                                llvm::raw_ostream &errs, Stats *stats)
     : options(options), errs(errs), stats(stats),
       context(mlir::MLIRContext::Threading::DISABLED) {
+  if (this->options.reference)
+    this->options.width = 1;
   if (this->options.width == 0)
     this->options.width = Jit::hostMaxWidth();
   mlir::DialectRegistry registry;
@@ -78,8 +80,8 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
 bool ShaderCompiler::lower() {
   ScopedTimer timer(stats, "mlir passes");
   mlir::PassManager pm(&context);
-  mlir::osl::buildOslToLLVMPipeline(pm, options.width,
-                                    paramBindings(options.params));
+  mlir::osl::buildOslToLLVMPipeline(pm, options.width, paramBindings(options.params),
+                                    options.reference);
   // Pass failures report through the context's diagnostics, with the
   // shader's file:line:col locations.
   mlir::ScopedDiagnosticHandler handler(&context, [&](mlir::Diagnostic &d) {

@@ -121,7 +121,12 @@ LogicalResult GlobalOp::verify() {
   const ::osl::GlobalSlot *slot = ::osl::findGlobal(getName().str());
   if (!slot)
     return emitOpError("unknown shader global '") << getName() << "'";
-  if (!isVarying(getType()))
+  // Globals are varying, except in reference mode (osl-uniform-reference),
+  // which shades one point at a time.
+  bool reference = false;
+  for (Operation *p = (*this)->getParentOp(); p; p = p->getParentOp())
+    reference |= p->hasAttr("osl.reference");
+  if (!isVarying(getType()) && !reference)
     return emitOpError("shader globals are varying");
   Type base = getUniformType(getType());
   if ((slot->rows == 3) != isTriple(base) || (slot->rows == 1 && !base.isF32()))

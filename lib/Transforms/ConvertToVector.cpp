@@ -172,7 +172,10 @@ struct GlobalLowering : public OslPattern<GlobalOp> {
     const ::osl::GlobalSlot *slot = ::osl::findGlobal(op.getName().str());
     Location loc = op.getLoc();
     Lanes lanes{rewriter, loc, width};
-    auto rowType = VectorType::get({width}, rewriter.getF32Type());
+    // A uniform global (reference mode, see osl-uniform-reference) is lane 0.
+    Type rowType = isVarying(op.getType())
+                       ? Type(VectorType::get({width}, rewriter.getF32Type()))
+                       : Type(rewriter.getF32Type());
     SmallVector<Value> rows;
     for (int i = 0; i < slot->rows; ++i) {
       Value addr = rowAddress(rewriter, loc, kernelArg(op, 0), slot->row + i, width);
@@ -189,11 +192,15 @@ struct GlobalLowering : public OslPattern<GlobalOp> {
 /// osl.deriv: uniform values have derivative 0; varying ones become
 /// osl.lane_deriv for osl-derivatives.
 struct DerivLowering : public OslPattern<DerivOp> {
-  using OslPattern::OslPattern;
+  DerivLowering(const VaryingTypeConverter &converter, MLIRContext *ctx, bool referenceMode)
+      : OslPattern(converter, ctx), referenceMode(referenceMode) {}
+  bool referenceMode;
   LogicalResult matchAndRewrite(DerivOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
     Type type = convert(op.getType());
-    if (!isVarying(op.getValue().getType()))
+    // Uniform values have no derivatives, except in reference mode, where
+    // every value is uniform (one point at a time).
+    if (!isVarying(op.getValue().getType()) && !referenceMode)
       rewriter.replaceOpWithNewOp<arith::ConstantOp>(op, rewriter.getZeroAttr(type));
     else
       rewriter.replaceOpWithNewOp<LaneDerivOp>(op, adaptor.getValue().getType(),
@@ -514,7 +521,7 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
                GeometryLowering<DistanceOp>, GeometryLowering<CrossOp>,
                GeometryLowering<NormalizeOp>, NoiseLowering, TransformLowering,
                SplineFamilyLowering<SplineOp>,
-               SplineFamilyLowering<SplineInverseOp>, DerivLowering>(converter, ctx);
+               SplineFamilyLowering<SplineInverseOp>>(converter, ctx);
 }
 
 //===----------------------------------------------------------------------===//
@@ -571,6 +578,7 @@ struct ConvertToVectorPass
     RewritePatternSet patterns(ctx);
     populateLaneOpPatterns(converter, patterns);
     patterns.add<OutputLowering>(converter, ctx, outputRow);
+    patterns.add<DerivLowering>(converter, ctx, referenceMode);
     scf::populateSCFStructuralTypeConversionsAndLegality(converter, patterns, target);
     if (failed(applyPartialConversion(getOperation(), target, std::move(patterns))))
       signalPassFailure();

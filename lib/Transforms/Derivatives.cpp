@@ -248,7 +248,8 @@ private:
     auto gep = load.getAddr().getDefiningOp<LLVM::GEPOp>();
     if (!gep)
       return fail(user, "a global loaded from an unknown address");
-    int64_t width = cast<VectorType>(load.getType()).getDimSize(0);
+    auto rowType = dyn_cast<VectorType>(load.getType());
+    int64_t width = rowType ? rowType.getDimSize(0) : 1; // scalar: reference mode
     OpBuilder b(load);
     Location loc = load.getLoc();
     auto addr = b.create<LLVM::GEPOp>(

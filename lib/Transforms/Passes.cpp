@@ -14,13 +14,19 @@ struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
 } // namespace
 
 void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
-                                       const std::string &paramValues) {
+                                       const std::string &paramValues, bool reference) {
   OpPassManager &fn = pm.nest<func::FuncOp>();
   fn.addPass(createBindParams(BindParamsOptions{paramValues}));
   fn.addPass(createCanonicalizerPass());
-  fn.addPass(createVaryingPropagation());
+  if (reference)
+    fn.addPass(createUniformReference());
+  else
+    fn.addPass(createVaryingPropagation());
   fn.addPass(createInsertMaskStack());
-  pm.addPass(createConvertToVector(ConvertToVectorOptions{width}));
+  ConvertToVectorOptions vectorOptions;
+  vectorOptions.width = reference ? 1 : width;
+  vectorOptions.referenceMode = reference;
+  pm.addPass(createConvertToVector(vectorOptions));
   pm.addPass(createDerivatives());
   pm.addPass(createCanonicalizerPass());
   pm.addPass(createCSEPass());

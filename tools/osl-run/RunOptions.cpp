@@ -27,6 +27,9 @@ const char *const osl::kUsage =
     "                         the CPU supports)\n"
     "  --center               shade pixel centres: u = (x+0.5)/X\n"
     "  -I DIR                 search DIR for #include files\n"
+    "  --interpret            reference mode: one point at a time, ordinary\n"
+    "                         branches, no masking (what the differential\n"
+    "                         tester compares the SIMD kernels with)\n"
     "  --vary_udxdy, --vary_vdxdy, --vary_pdxdy\n"
     "                         testshade's varying derivatives\n"
     "  -t N                   threads (default: all cores)\n"
@@ -103,6 +106,8 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       }
     } else if (a == "--center") {
       o.grid.center = true;
+    } else if (a == "--interpret") {
+      o.compile.reference = true;
     } else if (a == "-I" || (a.size() > 2 && a.rfind("-I", 0) == 0)) {
       if (a == "-I" && !need(i, 1, "-I"))
         return false;
