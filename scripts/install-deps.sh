@@ -5,6 +5,7 @@ SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO=sudo; fi
 PKGS=(cmake ninja-build ccache pkg-config python3
       clang-19 lld-19 llvm-19-dev llvm-19-tools libmlir-19-dev mlir-19-tools
+      libclang-rt-19-dev
       libopenimageio-dev openimageio-tools libgtest-dev)
 missing=()
 for p in "${PKGS[@]}"; do

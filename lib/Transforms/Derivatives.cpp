@@ -17,6 +17,7 @@
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/LLVMIR/LLVMDialect.h"
 #include "mlir/Dialect/Math/IR/Math.h"
+#include "mlir/Dialect/SCF/IR/SCF.h"
 #include "mlir/Dialect/Vector/IR/VectorOps.h"
 #include "mlir/Dialect/Func/IR/FuncOps.h"
 #include "mlir/IR/Builders.h"
@@ -34,6 +35,8 @@ namespace {
 
 /// The attribute osl-convert-to-vector puts on a load of a global's row.
 constexpr const char *kGlobalRowAttr = "osl.global_row";
+/// Marks the loads of derivative rows made here.
+constexpr const char *kDerivativeRowAttr = "osl.derivative_row";
 
 class Differentiator {
 public:
@@ -46,6 +49,8 @@ public:
       return Value();
     if (auto it = memo.find(v); it != memo.end())
       return it->second;
+    if (auto ifOp = v.getDefiningOp<scf::IfOp>()) // memoizes the rebuilt branch
+      return deriveIfResult(ifOp, cast<OpResult>(v), user);
     FailureOr<Value> d = compute(v, user);
     if (succeeded(d))
       memo[v] = *d;
@@ -71,7 +76,7 @@ private:
       return Value();
     if (auto load = dyn_cast<LLVM::LoadOp>(def))
       return deriveGlobal(load, user);
-    if (def->getNumRegions() > 0) // scf.if, scf.while: not yet
+    if (def->getNumRegions() > 0) // loops: not yet
       return fail(user, def->getName().getStringRef());
 
     // Operands' derivatives first (they are placed after their own
@@ -178,6 +183,57 @@ private:
     return fail(user, def->getName().getStringRef());
   }
 
+  /// A result of a uniform branch: the branch is rebuilt to also yield the
+  /// derivatives of all its float results (each arm differentiates what it
+  /// yields), once.
+  FailureOr<Value> deriveIfResult(scf::IfOp ifOp, OpResult v, Operation *user) {
+    auto thenYield = ifOp.thenYield(), elseYield = ifOp.elseYield();
+    SmallVector<unsigned> floats;
+    SmallVector<Value> thenD, elseD;
+    for (unsigned i = 0; i < ifOp.getNumResults(); ++i) {
+      if (!isFloatValue(ifOp.getResult(i)))
+        continue;
+      FailureOr<Value> t = derive(thenYield.getOperand(i), user);
+      FailureOr<Value> e = derive(elseYield.getOperand(i), user);
+      if (failed(t) || failed(e))
+        return failure();
+      floats.push_back(i);
+      thenD.push_back(*t);
+      elseD.push_back(*e);
+    }
+    auto fill = [&](scf::YieldOp yield, SmallVector<Value> &ds) {
+      OpBuilder b(yield);
+      for (auto [k, d] : llvm::enumerate(ds))
+        if (!d)
+          d = zeroLike(b, yield.getLoc(), ifOp.getResult(floats[k]).getType());
+      yield.getResultsMutable().append(ds);
+    };
+    fill(thenYield, thenD);
+    fill(elseYield, elseD);
+    SmallVector<Type> types(ifOp.getResultTypes());
+    for (unsigned i : floats)
+      types.push_back(ifOp.getResult(i).getType());
+    OpBuilder b(ifOp);
+    auto rebuilt = b.create<scf::IfOp>(ifOp.getLoc(), types, ifOp.getCondition(),
+                                       /*withElse=*/true);
+    rebuilt.getThenRegion().takeBody(ifOp.getThenRegion());
+    rebuilt.getElseRegion().takeBody(ifOp.getElseRegion());
+    unsigned n = ifOp.getNumResults();
+    for (unsigned i = 0; i < n; ++i) {
+      Value old = ifOp.getResult(i);
+      old.replaceAllUsesWith(rebuilt.getResult(i));
+      if (auto it = memo.find(old); it != memo.end()) {
+        memo[rebuilt.getResult(i)] = it->second;
+        memo.erase(it);
+      }
+    }
+    for (auto [k, i] : llvm::enumerate(floats))
+      memo[rebuilt.getResult(i)] = rebuilt.getResult(n + k);
+    Value requested = rebuilt.getResult(v.getResultNumber());
+    ifOp.erase();
+    return memo[requested];
+  }
+
   /// f'(x) for the unary math ops (result r = f(x) where that helps).
   Value unarySlope(OpBuilder &b, Location loc, Operation *def, Value x) {
     Value r = def->getResult(0);
@@ -233,6 +289,8 @@ private:
   /// Derivative of a load of a global's row: the matching derivative row
   /// (dPdx for P, dudy for u...); 0 for globals without derivatives.
   FailureOr<Value> deriveGlobal(LLVM::LoadOp load, Operation *user) {
+    if (load->hasAttr(kDerivativeRowAttr))
+      return Value(); // no second derivatives, as in OSL
     auto rowAttr = load->getAttrOfType<IntegerAttr>(kGlobalRowAttr);
     if (!rowAttr)
       return fail(user, "a load that is not a shader global");
@@ -255,7 +313,9 @@ private:
     auto addr = b.create<LLVM::GEPOp>(
         loc, gep.getType(), b.getF32Type(), gep.getBase(),
         ArrayRef<LLVM::GEPArg>{int32_t((dslot->row + (row - slot->row)) * width)});
-    return b.create<LLVM::LoadOp>(loc, load.getType(), addr, 4).getResult();
+    auto derivative = b.create<LLVM::LoadOp>(loc, load.getType(), addr, 4);
+    derivative->setAttr(kDerivativeRowAttr, b.getUnitAttr());
+    return derivative.getResult();
   }
 
   static Value product(OpBuilder &b, Location loc, Value a, Value c) {
@@ -276,7 +336,10 @@ private:
     return failure();
   }
 
+public:
   StringRef axis;
+
+private:
   DenseMap<Value, Value> memo;
 };
 
@@ -286,10 +349,16 @@ struct DerivativesPass : public mlir::osl::impl::DerivativesBase<DerivativesPass
     getOperation().walk([&](LaneDerivOp op) { requests.push_back(op); });
     if (requests.empty())
       return;
-    llvm::StringMap<Differentiator> byAxis;
+    // One axis at a time: rebuilding a branch for one axis replaces values
+    // another axis's memo would otherwise still hold.
+    llvm::stable_sort(requests, [](LaneDerivOp a, LaneDerivOp b) {
+      return a.getAxis() < b.getAxis();
+    });
+    std::optional<Differentiator> diff;
     for (LaneDerivOp op : requests) {
-      Differentiator &diff = byAxis.try_emplace(op.getAxis(), op.getAxis()).first->second;
-      FailureOr<Value> d = diff.derive(op.getValue(), op);
+      if (!diff || diff->axis != op.getAxis())
+        diff.emplace(op.getAxis());
+      FailureOr<Value> d = diff->derive(op.getValue(), op);
       if (failed(d))
         return signalPassFailure();
       Value result = *d;

@@ -49,7 +49,7 @@ func.func @product_rule(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
 // the rows' derivatives (dPdx for P); constants contribute nothing.
 // CHECK-LABEL: func.func @triple
 // CHECK: llvm.getelementptr %arg0[108]
-// CHECK: %[[DX:.+]] = llvm.load %{{.+}} {alignment = 4 : i64} : !llvm.ptr -> vector<4xf32>
+// CHECK: %[[DX:.+]] = llvm.load %{{.+}} {alignment = 4 : i64, osl.derivative_row} : !llvm.ptr -> vector<4xf32>
 // CHECK: vector.insert
 // CHECK: %[[Z:.+]] = arith.constant dense<0.000000e+00> : vector<3x4xf32>
 // CHECK: vector.insert %[[DX]], %[[Z]] [0]
@@ -71,7 +71,7 @@ func.func @triple(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
 // negation of the true derivative, which OSL's results follow.
 // With y = 1 and x = u that is +dudx / (u^2 + 1).
 // CHECK-LABEL: func.func @osl_atan2
-// CHECK: %[[DU:.+]] = llvm.load %{{.+}} {alignment = 4 : i64} : !llvm.ptr -> vector<4xf32>
+// CHECK: %[[DU:.+]] = llvm.load %{{.+}} {alignment = 4 : i64, osl.derivative_row} : !llvm.ptr -> vector<4xf32>
 // CHECK: %[[A:.+]] = math.atan2 %[[Y:.+]], %[[X:.+]] {osl.dual_rule = "osl_atan2"}
 // CHECK: %[[XX:.+]] = arith.mulf %[[X]], %[[X]]
 // CHECK: %[[YY:.+]] = arith.mulf %[[Y]], %[[Y]]
@@ -105,5 +105,35 @@ func.func @loop_carried(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
     %d = osl.lane_deriv "x" %n : vector<4xf32>
     scf.yield %d : vector<4xf32>
   }
+  return
+}
+
+// -----
+
+// A value chosen by a uniform branch: the branch is rebuilt to also yield
+// the derivative of what each arm yields.
+// CHECK-LABEL: func.func @uniform_branch
+// CHECK: %[[R:.+]]:2 = scf.if %arg3 -> (vector<4xf32>, vector<4xf32>) {
+// CHECK:   %[[T:.+]] = arith.mulf %[[U:.+]], %{{.+}}
+// CHECK:   %[[D:.+]] = arith.mulf %{{.+}}, %{{.+}}
+// CHECK:   scf.yield %[[T]], %[[D]]
+// CHECK: } else {
+// CHECK:   %[[Z:.+]] = arith.constant dense<0.000000e+00>
+// CHECK:   scf.yield %{{.+}}, %[[Z]]
+// CHECK: llvm.intr.masked.store %[[R]]#1
+func.func @uniform_branch(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32, %arg3: i1) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %r = scf.if %arg3 -> (vector<4xf32>) {
+    %two = arith.constant dense<2.0> : vector<4xf32>
+    %t = arith.mulf %u, %two : vector<4xf32>
+    scf.yield %t : vector<4xf32>
+  } else {
+    %c = arith.constant dense<1.0> : vector<4xf32>
+    scf.yield %c : vector<4xf32>
+  }
+  %d = osl.lane_deriv "x" %r : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return
 }
