@@ -351,23 +351,22 @@ struct DerivativesPass : public mlir::osl::impl::DerivativesBase<DerivativesPass
       return;
     // One axis at a time: rebuilding a branch for one axis replaces values
     // another axis's memo would otherwise still hold.
-    llvm::stable_sort(requests, [](LaneDerivOp a, LaneDerivOp b) {
-      return a.getAxis() < b.getAxis();
-    });
-    std::optional<Differentiator> diff;
-    for (LaneDerivOp op : requests) {
-      if (!diff || diff->axis != op.getAxis())
-        diff.emplace(op.getAxis());
-      FailureOr<Value> d = diff->derive(op.getValue(), op);
-      if (failed(d))
-        return signalPassFailure();
-      Value result = *d;
-      if (!result) {
-        OpBuilder b(op);
-        result = Differentiator::zeroLike(b, op.getLoc(), op.getType());
+    for (StringRef axis : {"x", "y", "z"}) {
+      Differentiator diff(axis);
+      for (LaneDerivOp op : requests) {
+        if (op.getAxis() != axis)
+          continue;
+        FailureOr<Value> d = diff.derive(op.getValue(), op);
+        if (failed(d))
+          return signalPassFailure();
+        Value result = *d;
+        if (!result) {
+          OpBuilder b(op);
+          result = Differentiator::zeroLike(b, op.getLoc(), op.getType());
+        }
+        op.replaceAllUsesWith(result);
+        op.erase();
       }
-      op.replaceAllUsesWith(result);
-      op.erase();
     }
   }
 };
