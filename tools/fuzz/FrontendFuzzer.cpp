@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   mlir::MLIRContext context;
@@ -24,7 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   mlir::ScopedDiagnosticHandler quiet(&context, [](mlir::Diagnostic &) {
     return mlir::success();
   });
-  llvm::StringRef source(reinterpret_cast<const char *>(data), size);
+  std::string source(reinterpret_cast<const char *>(data), size); // NUL-terminated
   std::string errors;
   llvm::raw_string_ostream errs(errors);
   mlir::OwningOpRef<mlir::ModuleOp> module =
