@@ -23,10 +23,6 @@ namespace mlir::osl {
 void buildOslToLLVMPipeline(OpPassManager &pm, int width,
                             const std::string &paramValues = "", bool reference = false);
 
-/// Patterns computing sin, cos, tan, exp, exp2, log, log2, log10 and pow
-/// with OSL's own (OpenImageIO fast_*) algorithms, for osl-lower-to-llvm.
-void populateOslMathApproximationPatterns(RewritePatternSet &patterns);
-
 /// Registers every pass and the `osl-to-llvm` pipeline with mlir-opt style
 /// tools.
 void registerOslPasses();

@@ -92,6 +92,20 @@ def Derivatives : Pass<"osl-derivatives", "::mlir::ModuleOp"> {
                            "::mlir::vector::VectorDialect", "::mlir::LLVM::LLVMDialect"];
 }
 
+def ApproximateMath : Pass<"osl-approximate-math", "::mlir::ModuleOp"> {
+  let summary = "Expand math ops into the arithmetic that computes them, before folding";
+  let description = [{
+    sin, cos, tan, atan, atan2, exp, exp2, log, log2, log10 and pow become
+    OSL's own algorithms (OslMathApproximation.cpp), the other math ops
+    MLIR's polynomial approximations. It runs right after osl-derivatives
+    and before any canonicalization, because the math dialect's folders
+    evaluate constant operands with the host's libm: a value the optimizer
+    proves constant would otherwise differ from the same value computed at
+    run time (found by the differential tester, seed 7489).
+  }];
+  let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::vector::VectorDialect"];
+}
+
 def LowerToLLVM : Pass<"osl-lower-to-llvm", "::mlir::ModuleOp"> {
   let summary = "Lower vector/arith/math/scf code to the LLVM dialect";
   let description = [{

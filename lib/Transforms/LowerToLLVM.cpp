@@ -19,7 +19,6 @@
 #include "mlir/Conversion/SCFToControlFlow/SCFToControlFlow.h"
 #include "mlir/Conversion/VectorToLLVM/ConvertVectorToLLVM.h"
 #include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
-#include "mlir/Dialect/Math/Transforms/Approximation.h"
 #include "mlir/Dialect/Math/Transforms/Passes.h"
 #include "mlir/Dialect/Vector/Transforms/LoweringPatterns.h"
 #include "mlir/Transforms/DialectConversion.h"
@@ -34,17 +33,6 @@ using namespace mlir;
 
 namespace {
 
-LogicalResult approximateMath(ModuleOp module) {
-  RewritePatternSet patterns(module.getContext());
-  // OSL's algorithms first (higher benefit); MLIR's approximations cover the
-  // rest (atan, atan2, erf, tanh...).
-  osl::populateOslMathApproximationPatterns(patterns);
-  populateExpandTanPattern(patterns);
-  populateExpandExp2FPattern(patterns);
-  populateExpandPowFPattern(patterns);
-  populateMathPolynomialApproximationPatterns(patterns);
-  return applyPatternsAndFoldGreedily(module, std::move(patterns));
-}
 
 LogicalResult lowerStructuredControlFlow(ModuleOp module) {
   RewritePatternSet patterns(module.getContext());
@@ -82,8 +70,7 @@ struct LowerToLLVMPass
     : public mlir::osl::impl::LowerToLLVMBase<LowerToLLVMPass> {
   void runOnOperation() override {
     ModuleOp module = getOperation();
-    if (failed(approximateMath(module)) ||
-        failed(lowerStructuredControlFlow(module)) ||
+    if (failed(lowerStructuredControlFlow(module)) ||
         failed(convertToLLVM(module)))
       return signalPassFailure();
     // Casts between converted and unconverted types pair up and vanish.

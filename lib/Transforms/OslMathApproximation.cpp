@@ -29,7 +29,11 @@
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Math/IR/Math.h"
+#include "mlir/Dialect/Math/Transforms/Approximation.h"
+#include "mlir/Dialect/Math/Transforms/Passes.h"
 #include "mlir/IR/PatternMatch.h"
+#include "llvm/ADT/TypeSwitch.h"
+#include "mlir/Transforms/GreedyPatternRewriteDriver.h"
 
 #include <cfloat>
 
@@ -187,51 +191,66 @@ struct LaneBuilder {
   }
 };
 
-/// Replaces a unary or binary math op by a LaneBuilder computation.
-template <typename Op>
-struct OslMathPattern : public OpRewritePattern<Op> {
-  using Compute = Value (*)(LaneBuilder &, Op);
-  OslMathPattern(MLIRContext *ctx, Compute compute)
-      : OpRewritePattern<Op>(ctx, /*benefit=*/10), compute(compute) {}
-  LogicalResult matchAndRewrite(Op op, PatternRewriter &rewriter) const override {
-    if (!isa<Float32Type>(getElementTypeOrSelf(op.getType())))
-      return failure();
-    LaneBuilder l{rewriter, op.getLoc(), op.getType()};
-    rewriter.replaceOp(op, compute(l, op));
-    return success();
-  }
-  Compute compute;
-};
+/// The OSL algorithm for `op`, or null for an op OSL computes otherwise.
+Value expandOslMath(OpBuilder &b, Operation *op) {
+  if (op->getNumResults() != 1 || !isa<Float32Type>(getElementTypeOrSelf(op->getResult(0))))
+    return Value();
+  LaneBuilder l{b, op->getLoc(), op->getResult(0).getType()};
+  auto arg = [&](unsigned i) { return op->getOperand(i); };
+  return llvm::TypeSwitch<Operation *, Value>(op)
+      .Case<math::SinOp>([&](auto) { return l.sin(arg(0)); })
+      .Case<math::CosOp>([&](auto) { return l.cos(arg(0)); })
+      .Case<math::TanOp>([&](auto) { return l.tan(arg(0)); })
+      .Case<math::AtanOp>([&](auto) { return l.atan(arg(0)); })
+      .Case<math::Atan2Op>([&](auto) { return l.atan2(arg(0), arg(1)); })
+      .Case<math::Exp2Op>([&](auto) { return l.exp2(arg(0)); })
+      .Case<math::ExpOp>([&](auto) { return l.exp2(l.mul(arg(0), l.c(float(1 / M_LN2)))); })
+      .Case<math::Log2Op>([&](auto) { return l.log2(arg(0)); })
+      .Case<math::LogOp>([&](auto) { return l.mul(l.log2(arg(0)), l.c(float(M_LN2))); })
+      .Case<math::Log10Op>(
+          [&](auto) { return l.mul(l.log2(arg(0)), l.c(float(M_LN2 / M_LN10))); })
+      .Case<math::PowFOp>([&](auto) { return l.exp2(l.mul(arg(1), l.log2(arg(0)))); })
+      .Default([](Operation *) { return Value(); });
+}
 
 } // namespace
 
-void mlir::osl::populateOslMathApproximationPatterns(RewritePatternSet &patterns) {
-  MLIRContext *ctx = patterns.getContext();
-  patterns.add<OslMathPattern<math::SinOp>>(
-      ctx, [](LaneBuilder &l, math::SinOp op) { return l.sin(op.getOperand()); });
-  patterns.add<OslMathPattern<math::CosOp>>(
-      ctx, [](LaneBuilder &l, math::CosOp op) { return l.cos(op.getOperand()); });
-  patterns.add<OslMathPattern<math::TanOp>>(
-      ctx, [](LaneBuilder &l, math::TanOp op) { return l.tan(op.getOperand()); });
-  patterns.add<OslMathPattern<math::Exp2Op>>(
-      ctx, [](LaneBuilder &l, math::Exp2Op op) { return l.exp2(op.getOperand()); });
-  patterns.add<OslMathPattern<math::ExpOp>>(ctx, [](LaneBuilder &l, math::ExpOp op) {
-    return l.exp2(l.mul(op.getOperand(), l.c(float(1 / M_LN2))));
-  });
-  patterns.add<OslMathPattern<math::Log2Op>>(
-      ctx, [](LaneBuilder &l, math::Log2Op op) { return l.log2(op.getOperand()); });
-  patterns.add<OslMathPattern<math::LogOp>>(ctx, [](LaneBuilder &l, math::LogOp op) {
-    return l.mul(l.log2(op.getOperand()), l.c(float(M_LN2)));
-  });
-  patterns.add<OslMathPattern<math::Log10Op>>(ctx, [](LaneBuilder &l, math::Log10Op op) {
-    return l.mul(l.log2(op.getOperand()), l.c(float(M_LN2 / M_LN10)));
-  });
-  patterns.add<OslMathPattern<math::AtanOp>>(
-      ctx, [](LaneBuilder &l, math::AtanOp op) { return l.atan(op.getOperand()); });
-  patterns.add<OslMathPattern<math::Atan2Op>>(ctx, [](LaneBuilder &l, math::Atan2Op op) {
-    return l.atan2(op.getLhs(), op.getRhs());
-  });
-  patterns.add<OslMathPattern<math::PowFOp>>(ctx, [](LaneBuilder &l, math::PowFOp op) {
-    return l.exp2(l.mul(op.getRhs(), l.log2(op.getLhs())));
-  });
-}
+//===----------------------------------------------------------------------===//
+// osl-approximate-math
+//===----------------------------------------------------------------------===//
+
+namespace mlir::osl {
+#define GEN_PASS_DEF_APPROXIMATEMATH
+#include "OslTransforms/Passes.h.inc"
+} // namespace mlir::osl
+
+namespace {
+struct ApproximateMathPass
+    : public mlir::osl::impl::ApproximateMathBase<ApproximateMathPass> {
+  void runOnOperation() override {
+    // OSL's algorithms, op by op: a pattern driver would fold constant
+    // operands with libm first, which is what this pass must avoid.
+    SmallVector<Operation *> ops;
+    getOperation().walk([&](Operation *op) {
+      if (op->getDialect() && isa<math::MathDialect>(op->getDialect()))
+        ops.push_back(op);
+    });
+    for (Operation *op : ops) {
+      OpBuilder b(op);
+      if (Value r = expandOslMath(b, op)) {
+        op->getResult(0).replaceAllUsesWith(r);
+        op->erase();
+      }
+    }
+    // MLIR's approximations for the rest (erf, tanh...); these can still be
+    // folded on constant operands.
+    RewritePatternSet patterns(&getContext());
+    populateExpandTanPattern(patterns);
+    populateExpandExp2FPattern(patterns);
+    populateExpandPowFPattern(patterns);
+    populateMathPolynomialApproximationPatterns(patterns);
+    if (failed(applyPatternsAndFoldGreedily(getOperation(), std::move(patterns))))
+      signalPassFailure();
+  }
+};
+} // namespace

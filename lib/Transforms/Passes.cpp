@@ -28,6 +28,7 @@ void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
   vectorOptions.referenceMode = reference;
   pm.addPass(createConvertToVector(vectorOptions));
   pm.addPass(createDerivatives());
+  pm.addPass(createApproximateMath());
   pm.addPass(createCanonicalizerPass());
   pm.addPass(createCSEPass());
   pm.addPass(createLowerToLLVM());

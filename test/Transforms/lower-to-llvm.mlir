@@ -1,29 +1,5 @@
 // RUN: osl-opt %s -split-input-file --osl-lower-to-llvm | FileCheck %s
 
-// sin on 16 lanes becomes a polynomial in vector registers, never 16
-// calls to sinf.
-// CHECK-LABEL: llvm.func @sin_is_a_polynomial
-// CHECK-NOT: llvm.call
-// CHECK-NOT: math.sin
-// CHECK: llvm.fmul %{{.+}}, %{{.+}} : vector<16xf32>
-func.func @sin_is_a_polynomial(%x: vector<16xf32>) -> vector<16xf32> {
-  %s = math.sin %x : vector<16xf32>
-  return %s : vector<16xf32>
-}
-
-// -----
-
-// pow expands into exp and log approximations, also without calls.
-// CHECK-LABEL: llvm.func @pow_is_inline
-// CHECK-NOT: llvm.call
-// CHECK-NOT: math.
-func.func @pow_is_inline(%x: vector<8xf32>, %y: vector<8xf32>) -> vector<8xf32> {
-  %p = math.powf %x, %y : vector<8xf32>
-  return %p : vector<8xf32>
-}
-
-// -----
-
 // Structured loops become branches; an OR reduction is an LLVM intrinsic.
 // CHECK-LABEL: llvm.func @loop_until_no_lane_active
 // CHECK: llvm.intr.vector.reduce.or
