@@ -579,8 +579,7 @@ RValue IRGen::updatePath(const RValue &cur, const std::vector<Access> &path, siz
       Value sel = a.constIndex >= 0 ? Value() : selectsElement(a.index, i, 4, l);
       for (int j = 0; j < 4; ++j)
         res.elems[4 * i + j] =
-            sel ? b.create<SelectOp>(loc(l), sel, updated.elems[j], old.elems[j]).getResult()
-                : updated.elems[j];
+            sel ? select(sel, updated.elems[j], old.elems[j], l) : updated.elems[j];
     }
     return res;
   }
