@@ -40,6 +40,9 @@ struct CompileOptions {
   /// Reference mode (osl-run --interpret): one point at a time with
   /// ordinary branches and no masks; implies width 1.
   bool reference = false;
+  /// The renderer's image (testshade: the -g grid), which fixes the
+  /// "screen", "NDC" and "raster" spaces.
+  mlir::osl::CameraImage camera;
 };
 
 /// One shader compiled for one width. Keeps its JIT alive.

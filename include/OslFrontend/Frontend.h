@@ -9,6 +9,8 @@
 #ifndef OSLFRONTEND_FRONTEND_H
 #define OSLFRONTEND_FRONTEND_H
 
+#include "OslTransforms/NamedSpaces.h"
+
 #include "mlir/IR/BuiltinOps.h"
 #include "mlir/IR/MLIRContext.h"
 #include "mlir/IR/OwningOpRef.h"
@@ -32,12 +34,14 @@ struct ParamOverride {
 /// with the shader, or null after printing diagnostics to `errs` as
 /// `filename:line:col: error: message`. #include searches the directory of
 /// `filename`, then `includePaths`. Loads the osl, func and arith dialects
-/// into `context` if they are not loaded yet.
+/// into `context` if they are not loaded yet. `camera` gives the image size
+/// that fixes the "screen", "NDC" and "raster" spaces.
 mlir::OwningOpRef<mlir::ModuleOp>
 parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                mlir::MLIRContext &context,
                llvm::ArrayRef<ParamOverride> overrides, llvm::raw_ostream &errs,
-               llvm::ArrayRef<std::string> includePaths = {});
+               llvm::ArrayRef<std::string> includePaths = {},
+               const mlir::osl::CameraImage &camera = {});
 
 } // namespace osl
 

@@ -56,7 +56,7 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
     mlirModule = mlir::parseSourceFile<mlir::ModuleOp>(sourceMgr, &context);
   } else {
     mlirModule = parseOslShader(source, filename, context, options.params, errs,
-                                options.includePaths);
+                                options.includePaths, options.camera);
   }
   if (!mlirModule)
     return false;

@@ -419,13 +419,13 @@ const char *const kUnsupported[] = {
     "concat", "strlen", "startswith", "endswith", "substr", "getchar", "stoi", "stof",
     "hash", "regex_search", "regex_match", "getattribute",
     "setmessage", "getmessage", "trace", "blackbody", "wavelength_color",
-    "luminance", "transformc", "transformu", "determinant", "transpose",
+    "luminance", "transformc", "transformu",
     "splineinverse", "fresnel",
     "pointcloud_search", "pointcloud_get", "pointcloud_write", "dict_find",
     "dict_next", "dict_value", "isconnected", "isconstant", "random", "emission",
-    "diffuse", "background", "matrix", "exit", "arraylength", "spline", "noise",
+    "diffuse", "background", "exit", "arraylength", "spline", "noise",
     "snoise", "cellnoise", "hashnoise", "transform", "ptransform", "vtransform",
-    "ntransform", "displace", "bump", "fmin", "fmax", "nsnoise", "getmatrix",
+    "ntransform", "displace", "bump", "fmin", "fmax", "nsnoise",
     "gabor", "pgabor", "sincos",
 };
 
@@ -616,23 +616,28 @@ std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
   auto wrong = [&]() -> std::optional<RValue> {
     g.error(call.loc, "wrong arguments to 'transform(" + argTypesText(*args) +
                           ")'; candidates: triple transform(string to, triple); "
-                          "triple transform(string from, string to, triple) "
+                          "triple transform(string from, string to, triple); "
+                          "triple transform(matrix, triple) "
                           "(triple: point, vector or normal)");
     return std::nullopt;
   };
   if (n != 2 && n != 3)
     return wrong();
-  for (size_t k = 0; k + 1 < n; ++k)
-    if (!(*args)[k].type.isString()) {
-      if ((*args)[k].type.base == BaseType::Matrix)
-        g.error(call.loc, "transform by a matrix is not supported yet");
-      else
-        return wrong();
-      return std::nullopt;
-    }
   const RValue &p = args->back();
   if (!p.type.isTriple())
     return wrong();
+  if (n == 2 && (*args)[0].type.isMatrix()) {
+    if (p.type.base == BaseType::Color) {
+      g.error(call.args.back()->loc,
+              "transform() applies to points, vectors and normals, not 'color'");
+      return std::nullopt;
+    }
+    return RValue::num(p.type,
+                       g.transformByMatrix((*args)[0].elems, p.value, p.type.base, call.loc));
+  }
+  for (size_t k = 0; k + 1 < n; ++k)
+    if (!(*args)[k].type.isString())
+      return wrong();
   if (p.type.base == BaseType::Color) {
     g.error(call.args.back()->loc,
             "transform() applies to points, vectors and normals, not 'color'");
@@ -646,6 +651,23 @@ std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
   }
   if (from == to)
     return p;
+  if (isProjectionSpace(from)) {
+    g.error(call.args[0]->loc, "the renderer knows '" + from +
+                                   "' only as a destination space");
+    return std::nullopt;
+  }
+  if (isProjectionSpace(to)) {
+    // The camera's projection depends on the image size the front end was
+    // given: a constant matrix, applied with the w divide.
+    bool known = true;
+    RValue m = g.namedMatrix(from, to, call.loc, known);
+    if (!known) {
+      g.error(call.loc, "unknown coordinate space in transform from '" + from + "' to '" +
+                            to + "'");
+      return std::nullopt;
+    }
+    return RValue::num(p.type, g.transformByMatrix(m.elems, p.value, p.type.base, call.loc));
+  }
   std::string kind = baseTypeName(p.type.base).str();
   Value v = g.builder().create<TransformOp>(g.loc(call.loc), p.value.getType(), from, to,
                                             kind, p.value);
@@ -762,10 +784,6 @@ std::optional<RValue> emitConstructor(IRGen &g, const Expr &call) {
   OslType t = call.castType;
   size_t n = call.args.size();
   std::string name = t.str();
-  if (t.base == BaseType::Matrix) {
-    g.error(call.loc, "matrices are not supported yet");
-    return std::nullopt;
-  }
   if (t.isInt() || t.isFloat() || t.isString()) {
     if (n != 1) {
       g.error(call.loc, "'" + name + "(...)' takes one argument, got " + llvm::Twine(n));
@@ -903,6 +921,8 @@ std::optional<double> lookupFloatConstant(llvm::StringRef name) {
 }
 
 bool isBuiltinName(llvm::StringRef name) {
+  if (name == "determinant" || name == "transpose" || name == "getmatrix")
+    return true;
   for (const Builtin &b : builtinTable())
     if (name == b.name)
       return true;
@@ -915,6 +935,10 @@ bool isBuiltinName(llvm::StringRef name) {
 std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
                                       const OslType *expected, bool &known) {
   known = true;
+  bool matrixBuiltin = true;
+  auto m = emitMatrixBuiltin(g, call, matrixBuiltin);
+  if (matrixBuiltin)
+    return m;
   if (call.isCtor)
     return emitConstructor(g, call);
   llvm::StringRef name = call.name;

@@ -15,7 +15,8 @@ using namespace osl::frontend;
 mlir::OwningOpRef<mlir::ModuleOp>
 osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                     mlir::MLIRContext &context, llvm::ArrayRef<ParamOverride> overrides,
-                    llvm::raw_ostream &errs, llvm::ArrayRef<std::string> includePaths) {
+                    llvm::raw_ostream &errs, llvm::ArrayRef<std::string> includePaths,
+                    const mlir::osl::CameraImage &camera) {
   context.loadDialect<mlir::osl::OslDialect, mlir::func::FuncDialect,
                       mlir::arith::ArithDialect>();
   Diagnostics diags(filename, errs);
@@ -25,7 +26,7 @@ osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
   Program program;
   if (!parseProgram(tokens, diags, program))
     return nullptr;
-  IRGen gen(context, diags, overrides);
+  IRGen gen(context, diags, overrides, camera);
   mlir::OwningOpRef<mlir::ModuleOp> module = gen.emitProgram(program);
   if (!module || diags.hadError())
     return nullptr;

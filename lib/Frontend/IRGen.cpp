@@ -40,8 +40,8 @@ const GlobalDecl kGlobals[] = {
 } // namespace
 
 IRGen::IRGen(MLIRContext &ctx, Diagnostics &diags,
-             llvm::ArrayRef<ParamOverride> overrides)
-    : ctx(ctx), diags(diags), overrides(overrides), b(&ctx) {
+             llvm::ArrayRef<ParamOverride> overrides, const CameraImage &camera)
+    : ctx(ctx), diags(diags), overrides(overrides), camera(camera), b(&ctx) {
   b.setListener(&opCounter);
 }
 
@@ -98,6 +98,8 @@ RValue IRGen::zeroValue(OslType t, SrcLoc l) {
       r.elems.push_back(zeroValue(t.element(), l).value);
     return r;
   }
+  if (t.isMatrix())
+    return scaledIdentity(constFloat(0, l), l);
   if (t.isTriple())
     return RValue::num(t, constTriple(0, 0, 0, l));
   if (t.isFloat())
@@ -214,6 +216,11 @@ int IRGen::conversionCost(OslType from, OslType to) {
   }
   if (from == to)
     return 0;
+  // A number becomes a matrix as n * identity; a matrix becomes nothing else.
+  if (to.isMatrix())
+    return from.isScalar() ? 2 : -1;
+  if (from.isMatrix())
+    return -1;
   if (from.isString() || to.isString() || from.isVoid() || to.isVoid())
     return -1;
   if (!from.isNumeric() || !to.isNumeric())
@@ -256,6 +263,8 @@ std::optional<RValue> IRGen::coerce(RValue v, OslType to, SrcLoc l,
     v.type = to;
     return v;
   }
+  if (to.isMatrix())
+    return v.type.isMatrix() ? v : scaledIdentity(v.value, l);
   Value value = convert(v.value, irType(b, to), l);
   return RValue::num(to, value);
 }
@@ -469,7 +478,9 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
     Var *v = paramScope->vars[p.name];
     if (v->type.isString())
       continue; // strings are compile-time; nothing to write
-    if (v->type.isArray()) {
+    if (v->type.hasElems()) {
+      // One output per element (a matrix: 16, row-major); the compiler
+      // merges them into one image with as many channels.
       for (size_t i = 0; i < v->val.elems.size(); ++i) {
         auto out = b.create<OutputOp>(loc(p.loc), p.name, v->val.elems[i]);
         out->setAttr("osl.index", b.getI64IntegerAttr(int64_t(i)));
@@ -513,6 +524,19 @@ std::optional<RValue> IRGen::overrideValue(const Param &p, const std::string &te
     }
     nums.push_back(d);
   }
+  if (t.isMatrix()) {
+    if (nums.size() != 1 && nums.size() != 16) {
+      error(p.loc, "parameter '" + p.name + "' of type 'matrix' takes 1 or 16 values, got '" +
+                       text + "'");
+      return std::nullopt;
+    }
+    if (nums.size() == 1)
+      return scaledIdentity(constFloat(float(nums[0]), p.loc), p.loc);
+    MatrixElems m;
+    for (double d : nums)
+      m.push_back(constFloat(float(d), p.loc));
+    return matrixValue(m);
+  }
   OslType elem = t.element();
   size_t per = elem.isTriple() ? 3 : 1;
   size_t count = t.isArray() ? size_t(t.arrayLen) : 1;
@@ -546,7 +570,8 @@ std::optional<RValue> IRGen::overrideValue(const Param &p, const std::string &te
 
 bool IRGen::emitParam(const Param &p, Scope *scope) {
   OslType t = p.type;
-  if (t.base == BaseType::Matrix || t.base == BaseType::Closure || t.isStructLike())
+  if ((t.base == BaseType::Matrix && t.isArray()) || t.base == BaseType::Closure ||
+      t.isStructLike())
     return error(p.loc, "shader parameters of type '" + t.str() + "' are not supported yet");
   if (t.isVoid())
     return error(p.loc, "parameters cannot have type 'void'");
@@ -574,7 +599,7 @@ bool IRGen::emitParam(const Param &p, Scope *scope) {
   if (!init)
     return false;
   RValue val = *init;
-  if (t.isArray()) {
+  if (t.hasElems()) {
     for (size_t i = 0; i < val.elems.size(); ++i) {
       Value d = val.elems[i];
       auto op = b.create<ParamOp>(loc(p.loc), d.getType(), p.name, d);

@@ -33,7 +33,8 @@
 namespace osl::frontend {
 
 /// A value of some OSL type: one IR value for numbers and triples, a
-/// compile-time string, or the elements of an array.
+/// compile-time string, or the elements of an array (or the 16 f32 values
+/// of a matrix, row-major).
 ///
 /// A string chosen per point (from a string array with a run-time index,
 /// or by `c ? "a" : "b"`) is one of `choices`, selected by the i32 `value`;
@@ -111,7 +112,8 @@ struct LValue {
 class IRGen {
 public:
   IRGen(mlir::MLIRContext &ctx, Diagnostics &diags,
-        llvm::ArrayRef<ParamOverride> overrides);
+        llvm::ArrayRef<ParamOverride> overrides,
+        const mlir::osl::CameraImage &camera);
 
   mlir::OwningOpRef<mlir::ModuleOp> emitProgram(const Program &program);
 
@@ -175,6 +177,48 @@ public:
 
   /// exit(): the shader stops for the lanes that reach it.
   void emitExit(SrcLoc l);
+
+  // --- matrices (IRGenMatrix.cpp) ---------------------------------------------
+  // 16 f32 values, row-major; points are row vectors (p' = p * M), as in
+  // Imath. Operations on constants fold, computing in float as the ops
+  // would, so named-space matrices and literals cost nothing at run time.
+  using MatrixElems = std::vector<mlir::Value>;
+  static RValue matrixValue(MatrixElems elems);
+  /// f (any number) on the diagonal, 0 elsewhere.
+  RValue scaledIdentity(mlir::Value f, SrcLoc l);
+  RValue constMatrix(const mlir::osl::Matrix44 &m, SrcLoc l);
+  /// The matrix from space `from` to space `to` (testshade's spaces and
+  /// its camera's); a space it does not know contributes the identity, as
+  /// in OSL, and clears `known`.
+  RValue namedMatrix(llvm::StringRef from, llvm::StringRef to, SrcLoc l, bool &known);
+  MatrixElems matrixMultiply(const MatrixElems &a, const MatrixElems &m, SrcLoc l);
+  MatrixElems matrixScale(const MatrixElems &a, mlir::Value f, SrcLoc l);
+  /// Imath's Matrix44::inverse: the affine shortcut when the last column is
+  /// (0,0,0,1), else Gauss-Jordan with partial pivoting; singular -> identity.
+  MatrixElems matrixInverse(const MatrixElems &a, SrcLoc l);
+  MatrixElems matrixTranspose(const MatrixElems &a);
+  mlir::Value matrixDeterminant(const MatrixElems &a, SrcLoc l);
+  /// transform(M, x): points divide by w (0 where w = 0), vectors ignore
+  /// the translation, normals use the inverse transpose.
+  mlir::Value transformByMatrix(const MatrixElems &m, mlir::Value x, BaseType kind,
+                                SrcLoc l);
+  /// *, /, == and != with a matrix operand (emitBinaryOp).
+  std::optional<RValue> emitMatrixBinaryOp(llvm::StringRef op, RValue lhs, RValue rhs,
+                                           SrcLoc l);
+
+  // Lane arithmetic on f32 (and i1/i32 for cmp/select) that folds constants.
+  mlir::Value fAdd(mlir::Value x, mlir::Value y, SrcLoc l);
+  mlir::Value fSub(mlir::Value x, mlir::Value y, SrcLoc l);
+  mlir::Value fMul(mlir::Value x, mlir::Value y, SrcLoc l);
+  /// Safe division, as osl.div: x/0 = 0.
+  mlir::Value fDiv(mlir::Value x, mlir::Value y, SrcLoc l);
+  mlir::Value fNeg(mlir::Value x, SrcLoc l);
+  mlir::Value fAbs(mlir::Value x, SrcLoc l);
+  mlir::Value cmp(llvm::StringRef pred, mlir::Value x, mlir::Value y, SrcLoc l);
+  mlir::Value select(mlir::Value c, mlir::Value x, mlir::Value y, SrcLoc l);
+  mlir::Value boolAnd(mlir::Value x, mlir::Value y, SrcLoc l);
+  mlir::Value boolOr(mlir::Value x, mlir::Value y, SrcLoc l);
+  mlir::Value boolNot(mlir::Value x, SrcLoc l);
 
 private:
   // --- program structure -----------------------------------------------------
@@ -281,6 +325,10 @@ private:
   mlir::MLIRContext &ctx;
   Diagnostics &diags;
   llvm::ArrayRef<ParamOverride> overrides;
+  mlir::osl::CameraImage camera;
+  /// The Index expression whose base is being emitted: a matrix may be
+  /// indexed there (its row, then the outer Index picks the column).
+  const Expr *rowAccessOK = nullptr;
   mlir::OpBuilder b;
   struct OpCounter : mlir::OpBuilder::Listener {
     size_t count = 0;
@@ -330,6 +378,10 @@ std::optional<RValue> emitBuiltinCall(IRGen &gen, const Expr &call,
                                       const OslType *expected, bool &known);
 /// Is `name` a builtin function (supported or not)?
 bool isBuiltinName(llvm::StringRef name);
+/// matrix(...) constructors and the matrix library (determinant, transpose,
+/// getmatrix, transform by a matrix or to the camera's spaces) (MatrixBuiltins.cpp);
+/// `known` is false when `call` is none of them.
+std::optional<RValue> emitMatrixBuiltin(IRGen &gen, const Expr &call, bool &known);
 
 /// The name of the hidden variable holding a function's return value.
 inline constexpr const char *kReturnVarName = "$return";

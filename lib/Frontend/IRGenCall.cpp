@@ -169,6 +169,10 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
     OslType t = p.type;
     if (t.arrayLen == 0)
       t.arrayLen = args[k].type.arrayLen;
+    if (t.base == BaseType::Matrix && t.isArray()) {
+      error(p.loc, "arrays of matrices are not supported yet");
+      return std::nullopt;
+    }
     auto v = coerce(args[k], t, call.args[k]->begin,
                     "in argument " + llvm::Twine(k + 1) + " of '" + fn.name + "'");
     if (!v)
@@ -183,7 +187,8 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
   frame.returned = declareFlag(fs, kReturnedFlag, fn.loc);
   frame.loopBase = loopStack.size();
   if (!fn.returnType.isVoid()) {
-    if (fn.returnType.base == BaseType::Matrix || fn.returnType.base == BaseType::Closure) {
+    if ((fn.returnType.base == BaseType::Matrix && fn.returnType.isArray()) ||
+        fn.returnType.base == BaseType::Closure) {
       error(fn.loc, "functions returning '" + fn.returnType.str() +
                         "' are not supported yet");
       return std::nullopt;

@@ -71,8 +71,8 @@ std::optional<RValue> IRGen::emitExpr(const Expr &e, const OslType *expected) {
     auto v = emitExpr(*e.args[0], &e.castType);
     if (!v)
       return std::nullopt;
-    if (e.castType.base == BaseType::Matrix || e.castType.base == BaseType::Closure ||
-        e.castType.isVoid()) {
+    if (e.castType.base == BaseType::Closure || e.castType.isVoid() ||
+        (e.castType.base == BaseType::Matrix && e.castType.isArray())) {
       error(e.loc, "casts to '" + e.castType.str() + "' are not supported");
       return std::nullopt;
     }
@@ -110,6 +110,14 @@ std::optional<RValue> IRGen::emitUnary(const Expr &e, const OslType *expected) {
     if (auto k = getConstBool(*c))
       return RValue::num(OslType(BaseType::Bool), constBool(!*k, e.loc));
     return RValue::num(OslType(BaseType::Bool), b.create<NotOp>(loc(e.loc), *c));
+  }
+  if (v->type.isMatrix() && (op == "-" || op == "+")) {
+    if (op == "+")
+      return v;
+    MatrixElems m;
+    for (Value x : v->elems)
+      m.push_back(fNeg(x, e.loc));
+    return matrixValue(m);
   }
   if (!v->type.isNumeric()) {
     error(e.loc, "invalid operand to unary '" + op + "': '" + v->type.str() + "'");
@@ -179,6 +187,10 @@ std::optional<RValue> IRGen::emitLogical(const Expr &e) {
 std::optional<OslType> IRGen::unify(OslType a, OslType b2) {
   if (a == b2)
     return a;
+  if (a.isMatrix() || b2.isMatrix())
+    return (a.isMatrix() || a.isScalar()) && (b2.isMatrix() || b2.isScalar())
+               ? std::optional<OslType>(OslType(BaseType::Matrix))
+               : std::nullopt;
   if (a.isTriple() && b2.isTriple())
     return a;
   if (!a.isNumeric() || !b2.isNumeric())
@@ -223,6 +235,16 @@ std::optional<RValue> IRGen::emitTernary(const Expr &e, const OslType *expected)
     return stringChoice({*a, *bv}, index, e.loc);
   }
   auto t = unify(a->type, bv->type);
+  if (t && t->isMatrix()) {
+    auto ca = coerce(*a, *t, e.args[1]->begin, "");
+    auto cbv = coerce(*bv, *t, e.args[2]->begin, "");
+    if (!ca || !cbv)
+      return std::nullopt;
+    MatrixElems m;
+    for (int k = 0; k < 16; ++k)
+      m.push_back(select(*cb, ca->elems[k], cbv->elems[k], e.loc));
+    return matrixValue(m);
+  }
   if (!t || !t->isNumeric()) {
     error(e.loc, "incompatible types in conditional expression: '" + a->type.str() +
                      "' and '" + bv->type.str() + "'");
@@ -272,6 +294,8 @@ std::optional<RValue> IRGen::emitBinaryOp(llvm::StringRef op, RValue l, RValue r
     return RValue::num(OslType(BaseType::Bool),
                        constBool((l.str == r.str) == (op == "=="), sl));
   }
+  if (l.type.isMatrix() || r.type.isMatrix())
+    return emitMatrixBinaryOp(op, l, r, sl);
   if (!l.type.isNumeric() || !r.type.isNumeric())
     return invalid();
   if (isEq && l.type.isBool() && r.type.isBool())
@@ -403,7 +427,15 @@ std::optional<Access> IRGen::makeAccess(OslType baseType, const Expr &e,
     return a;
   }
   // Index.
-  if (baseType.isArray()) {
+  if (baseType.isMatrix()) {
+    // M[i] is a row (four floats) only as the base of M[i][j].
+    if (rowAccessOK != &e) {
+      error(e.loc, "a matrix element needs two indices, as in M[row][column]");
+      return std::nullopt;
+    }
+    a.length = 4;
+    elemType = OslType(BaseType::Float, 4);
+  } else if (baseType.isArray()) {
     a.length = baseType.arrayLen;
     elemType = baseType.element();
   } else if (baseType.isTriple()) {
@@ -456,9 +488,29 @@ RValue IRGen::elementAt(const RValue &cur, const Access &a, int j, SrcLoc l) {
                      b.create<ExtractOp>(loc(l), ft, v, b.getI64IntegerAttr(j)));
 }
 
+/// Row i of a matrix, as four floats.
+static RValue matrixRow(const RValue &m, int i) {
+  RValue row;
+  row.type = OslType(BaseType::Float, 4);
+  row.elems.assign(m.elems.begin() + 4 * i, m.elems.begin() + 4 * i + 4);
+  return row;
+}
+
 RValue IRGen::readAccess(const RValue &cur, const Access &a, SrcLoc l) {
   if (a.field >= 0)
     return cur.fields[a.field];
+  if (cur.type.isMatrix()) {
+    if (a.constIndex >= 0)
+      return matrixRow(cur, int(a.constIndex));
+    // Clamped index: per column, a chain of selects from the last row up.
+    RValue row = matrixRow(cur, 3);
+    for (int k = 2; k >= 0; --k) {
+      Value c = b.create<CmpOp>(loc(l), "le", a.index, constInt(k, l));
+      for (int j = 0; j < 4; ++j)
+        row.elems[j] = b.create<SelectOp>(loc(l), c, cur.elems[4 * k + j], row.elems[j]);
+    }
+    return row;
+  }
   if (cur.type.isArray() && cur.type.base == BaseType::String) {
     if (a.constIndex >= 0)
       return cur.fields[a.constIndex];
@@ -517,6 +569,20 @@ RValue IRGen::updatePath(const RValue &cur, const std::vector<Access> &path, siz
     res.fields[f] = updatePath(cur.fields[f], rest, 0, newValue, l);
     return res;
   }
+  if (cur.type.isMatrix()) {
+    RValue res = cur;
+    for (int i = 0; i < 4; ++i) {
+      if (a.constIndex >= 0 && a.constIndex != i)
+        continue;
+      RValue old = matrixRow(cur, i);
+      RValue updated = updatePath(old, path, k + 1, newValue, l);
+      Value sel = a.constIndex >= 0 ? Value() : selectsElement(a.index, i, 4, l);
+      for (int j = 0; j < 4; ++j)
+        res.elems[4 * i + j] =
+            sel ? select(sel, updated.elems[j], old.elems[j], l) : updated.elems[j];
+    }
+    return res;
+  }
   Location ml = loc(l);
   auto insertComponent = [&](Value f, Value vec, int j) -> Value {
     bool varying = isVarying(f.getType()) || isVarying(vec.getType());
@@ -566,7 +632,10 @@ std::optional<LValue> IRGen::emitLValue(const Expr &e) {
     error(e.loc, "expression is not assignable");
     return std::nullopt;
   }
+  const Expr *savedRowAccess = rowAccessOK;
+  rowAccessOK = e.kind == ExprKind::Index ? e.args[0].get() : nullptr;
   auto base = emitLValue(*e.args[0]);
+  rowAccessOK = savedRowAccess;
   if (!base)
     return std::nullopt;
   OslType elemType;
@@ -603,7 +672,10 @@ bool IRGen::storeLValue(const LValue &lv, RValue v, SrcLoc l) {
 }
 
 std::optional<RValue> IRGen::emitIndexOrMember(const Expr &e) {
+  const Expr *savedRowAccess = rowAccessOK;
+  rowAccessOK = e.kind == ExprKind::Index ? e.args[0].get() : nullptr;
   auto base = emitExpr(*e.args[0]);
+  rowAccessOK = savedRowAccess;
   if (!base)
     return std::nullopt;
   OslType elemType;

@@ -246,11 +246,13 @@ bool IRGen::emitScoped(const std::vector<StmtPtr> &stmts, bool tail) {
 
 bool IRGen::emitDecl(const Stmt &s) {
   OslType base = s.declType;
-  if (base.base == BaseType::Matrix || base.base == BaseType::Closure)
+  if (base.base == BaseType::Closure)
     return error(s.loc, "type '" + base.str() + "' is not supported yet");
   for (const Declarator &d : s.decls) {
     OslType t = base;
     t.arrayLen = d.arrayLen;
+    if (t.base == BaseType::Matrix && t.isArray())
+      return error(d.loc, "arrays of matrices are not supported yet");
     if (!checkStructType(t, d.loc))
       return false;
     RValue init;
@@ -307,13 +309,13 @@ std::vector<Var *> IRGen::carriedVars(const llvm::StringSet<> &names) {
 }
 
 namespace {
-/// The IR values of a variable's value: one, an array's elements, or a
-/// struct's fields' values in order.
+/// The IR values of a variable's value: one, an array's (or a matrix's)
+/// elements, or a struct's fields' values in order.
 void collectLeaves(const RValue &r, std::vector<Value> &out) {
   if (r.type.isStructLike()) {
     for (const RValue &f : r.fields)
       collectLeaves(f, out);
-  } else if (r.type.isArray()) {
+  } else if (r.type.hasElems()) {
     out.insert(out.end(), r.elems.begin(), r.elems.end());
   } else {
     out.push_back(r.value);
@@ -323,7 +325,7 @@ void replaceLeaves(RValue &r, ValueRange values, size_t &k) {
   if (r.type.isStructLike()) {
     for (RValue &f : r.fields)
       replaceLeaves(f, values, k);
-  } else if (r.type.isArray()) {
+  } else if (r.type.hasElems()) {
     for (Value &e : r.elems)
       e = values[k++];
   } else {
@@ -404,9 +406,10 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
     return std::nullopt;
 
   OslType resultType;
+  size_t resultLeaves = 0;
   if (wantValue) {
     auto t = unify(tv->type, ev->type);
-    if (!t || !t->isNumeric()) {
+    if (!t || !(t->isNumeric() || t->isMatrix())) {
       error(l, "incompatible types in conditional expression: '" + tv->type.str() +
                    "' and '" + ev->type.str() + "'");
       return std::nullopt;
@@ -418,8 +421,9 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
     auto ce = coerce(*ev, resultType, l, "");
     if (!ct || !ce)
       return std::nullopt;
-    thenVals.push_back(ct->value);
-    elseVals.push_back(ce->value);
+    collectLeaves(*ct, thenVals);
+    collectLeaves(*ce, elseVals);
+    resultLeaves = thenVals.size() - init.size();
   }
   // A value both arms leave alone (the same SSA value, so defined before
   // the if) is no result: the if yields only what changes.
@@ -454,7 +458,14 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
   unflatten(carried, ArrayRef<Value>(merged).take_front(init.size()));
   if (!wantValue)
     return RValue::voidValue();
-  return RValue::num(resultType, merged.back());
+  // The value's leaves follow the carried variables' (one, or a matrix's 16).
+  RValue result;
+  result.type = resultType;
+  if (resultType.isMatrix())
+    result.elems.assign(merged.end() - resultLeaves, merged.end());
+  else
+    result.value = merged.back();
+  return result;
 }
 
 bool IRGen::emitLoop(const Stmt &s) {
@@ -643,6 +654,13 @@ void IRGen::scanAssigned(const Expr &e, llvm::StringSet<> &names) {
     if (!root.empty())
       names.insert(root);
   }
+  // Library functions with output arguments: sincos(x, s, c), getmatrix(..., M).
+  if (e.kind == ExprKind::Call && e.name == "getmatrix" && !allFunctions.count(e.name) &&
+      !e.args.empty()) {
+    llvm::StringRef root = rootName(*e.args.back());
+    if (!root.empty())
+      names.insert(root);
+  }
   if (e.kind == ExprKind::Call && e.name == "sincos" && !allFunctions.count(e.name))
     for (size_t k = 1; k < e.args.size(); ++k) {
       llvm::StringRef root = rootName(*e.args[k]);
@@ -692,7 +710,7 @@ bool IRGen::hasSideEffects(const Expr &e) {
   if (e.kind == ExprKind::Assign || e.kind == ExprKind::IncDec)
     return true;
   if (e.kind == ExprKind::Call && !e.isCtor &&
-      (allFunctions.count(e.name) || e.name == "sincos"))
+      (allFunctions.count(e.name) || e.name == "sincos" || e.name == "getmatrix"))
     return true;
   return llvm::any_of(e.args, [&](const ExprPtr &a) { return hasSideEffects(*a); });
 }

@@ -1,7 +1,8 @@
 //===- Types.h - OSL types as the front end sees them -----------*- C++ -*-===//
 //
 // The IR only knows f32, i32, i1 and vector<3xf32>; the front end keeps the
-// OSL type (point vs vector vs normal vs color, strings, arrays) itself.
+// OSL type (point vs vector vs normal vs color, strings, arrays) itself. A
+// matrix is 16 f32 values, row-major, held like an array's elements.
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLFRONTEND_TYPES_H
@@ -26,7 +27,7 @@ enum class BaseType {
   Normal,
   Color,
   String,
-  Matrix,  // parsed, not supported by the IR yet
+  Matrix,  // 4x4 floats (RValue::elems, row-major)
   Closure, // parsed, not supported by the IR yet
   Bool,    // internal: the i1 result of a comparison; OSL calls it int
   Struct,  // a user struct (OslType::structDecl)
@@ -65,6 +66,9 @@ struct OslType {
   bool isFloat() const { return !isArray() && base == BaseType::Float; }
   bool isInt() const { return !isArray() && base == BaseType::Int; }
   bool isBool() const { return !isArray() && base == BaseType::Bool; }
+  bool isMatrix() const { return !isArray() && base == BaseType::Matrix; }
+  /// Held as RValue::elems: arrays (not of structs or strings) and matrices.
+  bool hasElems() const { return isArray() || isMatrix(); }
   /// int, float or bool (a number).
   bool isScalar() const { return isInt() || isFloat() || isBool(); }
   /// Something the IR holds as one value (number or triple).

@@ -345,17 +345,20 @@ private:
 
 struct DerivativesPass : public mlir::osl::impl::DerivativesBase<DerivativesPass> {
   void runOnOperation() override {
-    SmallVector<LaneDerivOp> requests;
-    getOperation().walk([&](LaneDerivOp op) { requests.push_back(op); });
-    if (requests.empty())
-      return;
+    // Grouped by axis up front: each request is erased once resolved, so
+    // none may be looked at again afterwards.
+    const StringRef axes[3] = {"x", "y", "z"};
+    SmallVector<LaneDerivOp> requests[3];
+    getOperation().walk([&](LaneDerivOp op) {
+      for (int k = 0; k < 3; ++k)
+        if (op.getAxis() == axes[k])
+          requests[k].push_back(op);
+    });
     // One axis at a time: rebuilding a branch for one axis replaces values
     // another axis's memo would otherwise still hold.
-    for (StringRef axis : {"x", "y", "z"}) {
-      Differentiator diff(axis);
-      for (LaneDerivOp op : requests) {
-        if (op.getAxis() != axis)
-          continue;
+    for (int k = 0; k < 3; ++k) {
+      Differentiator diff(axes[k]);
+      for (LaneDerivOp op : requests[k]) {
         FailureOr<Value> d = diff.derive(op.getValue(), op);
         if (failed(d))
           return signalPassFailure();

@@ -6,8 +6,15 @@
 // translates (0,1,0); myspace->common scales by (1,2,1). Matrices are
 // composed in double and rounded to float once, when emitted.
 //
+// The camera spaces follow testshade's SimpleRenderer: common->screen is
+// a perspective projection (x/z, y/z scaled by 1/tan(fov/2), depth mapped
+// so that near -> 0 and far -> 1 after the w divide), screen->NDC maps the
+// window [-1,1]^2 to [0,1]^2, NDC->raster scales by the image size. The
+// renderer builds these entries in float; so does cameraFromCommon.
+//
 //===----------------------------------------------------------------------===//
 #include "OslTransforms/LibraryBuilders.h"
+#include "OslTransforms/NamedSpaces.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "OslTransforms/LaneMath.h"
@@ -75,7 +82,41 @@ Matrix44 inverse(Matrix44 m) {
   return inv;
 }
 
+/// common (= camera) to "screen", "NDC" or "raster".
+Matrix44 cameraFromCommon(StringRef space, const CameraImage &camera) {
+  const float fovDegrees = 90.0f, hither = 0.1f, yon = 1000.0f;
+  float tanHalfFov = std::tan(float(0.5 * fovDegrees * M_PI / 180.0));
+  float depthRange = float(double(yon) - double(hither));
+  float focal = 1.0f / tanHalfFov;
+  float depthScale = yon / depthRange;
+  float depthOffset = -(yon * hither) / depthRange;
+  Matrix44 m{focal, 0, 0, 0, 0, focal, 0, 0, 0, 0, depthScale, 1, 0, 0, depthOffset, 0};
+  if (space == "screen")
+    return m;
+  Matrix44 toNdc{0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 1, 0, 0.5, 0.5, 0, 1};
+  m = multiply(m, toNdc);
+  if (space == "NDC")
+    return m;
+  Matrix44 toRaster{double(camera.xres), 0, 0, 0, 0, double(camera.yres), 0, 0,
+                    0, 0, 1, 0, 0, 0, 0, 1};
+  return multiply(m, toRaster);
+}
+
 } // namespace
+
+bool mlir::osl::isProjectionSpace(StringRef space) {
+  return space == "screen" || space == "NDC" || space == "raster";
+}
+
+std::optional<Matrix44> mlir::osl::namedSpaceTransform(StringRef from, StringRef to,
+                                                        const CameraImage &camera) {
+  if (!isProjectionSpace(to))
+    return namedSpaceTransform(from, to);
+  auto fromCommon = toCommon(from);
+  if (!fromCommon)
+    return std::nullopt;
+  return multiply(*fromCommon, cameraFromCommon(to, camera));
+}
 
 std::optional<Matrix44> mlir::osl::namedSpaceTransform(StringRef from,
                                                         StringRef to) {

@@ -42,6 +42,7 @@ bool shade(llvm::StringRef source, llvm::StringRef path, int width, bool referen
   CompileOptions options;
   options.width = width;
   options.reference = reference;
+  options.camera = {grid.xres, grid.yres};
   llvm::raw_string_ostream errs(errors);
   ShaderCompiler compiler(options, errs);
   std::unique_ptr<CompiledShader> shader = compiler.compile(source, path);

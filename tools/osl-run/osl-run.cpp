@@ -73,6 +73,7 @@ int main(int argc, char **argv) {
     return fail("cannot read '" + options.shaderPath + "': " +
                 buffer.getError().message());
 
+  options.compile.camera = {options.grid.xres, options.grid.yres};
   Stats stats;
   Stats *statsPtr = options.stats ? &stats : nullptr;
   ShaderCompiler compiler(options.compile, llvm::errs(), statsPtr);
