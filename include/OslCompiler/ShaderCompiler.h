@@ -43,6 +43,8 @@ struct CompileOptions {
   /// The renderer's image (testshade: the -g grid), which fixes the
   /// "screen", "NDC" and "raster" spaces.
   mlir::osl::CameraImage camera;
+  /// The working RGB space of the color functions (OSL's "colorspace").
+  std::string colorSpace = "Rec709";
 };
 
 /// One shader compiled for one width. Keeps its JIT alive.

@@ -324,6 +324,55 @@ def Osl_TransformOp : Osl_Op<"transform", [Pure]> {
   let hasVerifier = 1;
 }
 
+//===----------------------------------------------------------------------===//
+// Color
+//===----------------------------------------------------------------------===//
+
+def Osl_TransformcOp : Osl_Op<"transformc", [Pure]> {
+  let summary = "transformc: convert a color between color spaces";
+  let description = [{
+    OSL's transformc(from, to, C) and color(space, ...): "rgb" (also "RGB",
+    "linear" and the working space's own name), "hsv", "hsl", "YIQ", "XYZ",
+    "xyY" and "sRGB". `colorspace` is the renderer's working RGB space
+    (Rec709, ACEScg...), which fixes the XYZ matrices.
+  }];
+  let arguments = (ins StrAttr:$from, StrAttr:$to, StrAttr:$colorspace, Osl_Triple:$value);
+  let results = (outs Osl_Triple:$result);
+  let assemblyFormat = [{
+    $from `to` $to `in` $colorspace $value attr-dict `:` type($value) `->` type($result)
+  }];
+  let hasVerifier = 1;
+}
+
+def Osl_BlackbodyOp : Osl_Op<"blackbody", [Pure]> {
+  let summary = "the color of a black body at a temperature in kelvin";
+  let description = [{
+    Planck's law integrated against the CIE 1931 observer, in the working
+    space `colorspace`; from a table below 12000 K, as OSL does. It has no
+    derivatives (as in OSL).
+  }];
+  let arguments = (ins StrAttr:$colorspace, Osl_Float:$temperature);
+  let results = (outs Osl_Triple:$result);
+  let assemblyFormat = "$colorspace $temperature attr-dict `:` type($temperature) `->` type($result)";
+  let hasVerifier = 1;
+}
+
+def Osl_WavelengthColorOp : Osl_Op<"wavelength_color", [Pure]> {
+  let summary = "the color of light of one wavelength in nanometers";
+  let arguments = (ins StrAttr:$colorspace, Osl_Float:$wavelength);
+  let results = (outs Osl_Triple:$result);
+  let assemblyFormat = "$colorspace $wavelength attr-dict `:` type($wavelength) `->` type($result)";
+  let hasVerifier = 1;
+}
+
+def Osl_LuminanceOp : Osl_Op<"luminance", [Pure]> {
+  let summary = "the luminance (CIE Y) of a color of the working space";
+  let arguments = (ins StrAttr:$colorspace, Osl_Triple:$color);
+  let results = (outs Osl_Float:$result);
+  let assemblyFormat = "$colorspace $color attr-dict `:` type($color) `->` type($result)";
+  let hasVerifier = 1;
+}
+
 def Osl_SplineOp : Osl_Op<"spline", [Pure, AttrSizedOperandSegments]> {
   let summary = "spline(basis, x, [count,] knots...) for float or triple knots";
   let description = [{

@@ -35,13 +35,15 @@ struct ParamOverride {
 /// `filename:line:col: error: message`. #include searches the directory of
 /// `filename`, then `includePaths`. Loads the osl, func and arith dialects
 /// into `context` if they are not loaded yet. `camera` gives the image size
-/// that fixes the "screen", "NDC" and "raster" spaces.
+/// that fixes the "screen", "NDC" and "raster" spaces; `colorSpace` is the
+/// working RGB space of the color functions (OSL's "colorspace" option).
 mlir::OwningOpRef<mlir::ModuleOp>
 parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                mlir::MLIRContext &context,
                llvm::ArrayRef<ParamOverride> overrides, llvm::raw_ostream &errs,
                llvm::ArrayRef<std::string> includePaths = {},
-               const mlir::osl::CameraImage &camera = {});
+               const mlir::osl::CameraImage &camera = {},
+               llvm::StringRef colorSpace = "Rec709");
 
 } // namespace osl
 

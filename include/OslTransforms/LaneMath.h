@@ -18,10 +18,12 @@ namespace mlir::osl {
 /// rather than the chain rule through it (read by osl-derivatives):
 /// kDualRuleOslAtan2 on math.atan2, kDualRuleValueOnly on a select that
 /// overrides a value in a special case without changing its derivative
-/// (the derivative is the false operand's).
+/// (the derivative is the false operand's), kDualRuleNone on an op whose
+/// result has no derivative in OSL (blackbody, wavelength_color).
 inline constexpr const char *kDualRuleAttr = "osl.dual_rule";
 inline constexpr const char *kDualRuleOslAtan2 = "osl_atan2";
 inline constexpr const char *kDualRuleValueOnly = "value_only";
+inline constexpr const char *kDualRuleNone = "none";
 
 } // namespace mlir::osl
 

@@ -56,7 +56,8 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
     mlirModule = mlir::parseSourceFile<mlir::ModuleOp>(sourceMgr, &context);
   } else {
     mlirModule = parseOslShader(source, filename, context, options.params, errs,
-                                options.includePaths, options.camera);
+                                options.includePaths, options.camera,
+                                options.colorSpace);
   }
   if (!mlirModule)
     return false;

@@ -362,6 +362,29 @@ LogicalResult TransformOp::verify() {
   return success();
 }
 
+//===----------------------------------------------------------------------===//
+// Color
+//===----------------------------------------------------------------------===//
+
+/// A color op maps one value to one result, varying exactly when its
+/// operand is, under a named working color space.
+static LogicalResult verifyColorOp(Operation *op, StringRef colorspace) {
+  if (colorspace.empty())
+    return op->emitOpError("needs a working color space name");
+  if (isVarying(op->getOperand(0).getType()) != isVarying(op->getResult(0).getType()))
+    return op->emitOpError("result must be varying exactly when the operand is");
+  return success();
+}
+
+LogicalResult TransformcOp::verify() {
+  if (getFrom().empty() || getTo().empty())
+    return emitOpError("color space names must not be empty");
+  return verifyColorOp(*this, getColorspace());
+}
+LogicalResult BlackbodyOp::verify() { return verifyColorOp(*this, getColorspace()); }
+LogicalResult WavelengthColorOp::verify() { return verifyColorOp(*this, getColorspace()); }
+LogicalResult LuminanceOp::verify() { return verifyColorOp(*this, getColorspace()); }
+
 /// Checks shared by spline and splineinverse: a known basis, enough knots,
 /// an f32 parameter and an i32 count.
 static LogicalResult verifySplineCommon(Operation *op, StringRef basis, Value x,

@@ -10,6 +10,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
+#include "OslTransforms/ColorBuilder.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "llvm/ADT/StringSwitch.h"
@@ -321,6 +322,18 @@ Value smoothLinearStep1(IRGen &g, SrcLoc l, Value e0, Value e1, Value x, Value e
   Value stepped = sel(cmp("lt", x, e0), c(0), c(1));
   return sel(cmp("ne", e0, e1), r, stepped);
 }
+/// The color functions, under the compile's working RGB space.
+Value emitLuminance(IRGen &g, SrcLoc l, Vals a, OslType) {
+  Type f32 = g.builder().getF32Type();
+  return g.builder().create<LuminanceOp>(g.loc(l), withUniformity(f32, isVarying(a[0].getType())),
+                                         g.workingColorSpace(), a[0]);
+}
+template <typename OpT>
+Value emitSpectralColor(IRGen &g, SrcLoc l, Vals a, OslType r) {
+  Type color = withUniformity(irType(g.builder(), r), isVarying(a[0].getType()));
+  return g.builder().create<OpT>(g.loc(l), color, g.workingColorSpace(), a[0]);
+}
+
 Value emitSmoothLinearStep(IRGen &g, SrcLoc l, Vals a, OslType r) {
   if (!r.isTriple())
     return smoothLinearStep1(g, l, a[0], a[1], a[2], a[3]);
@@ -407,6 +420,9 @@ const std::vector<Builtin> &builtinTable() {
       {"calculatenormal", {{"n", "p"}}, emitCalculateNormal},
       {"aastep", {{"f", "ff"}, {"f", "fff"}, {"f", "ffff"}}, emitAaStep},
       {"smooth_linearstep", {{"f", "ffff"}, {"T", "TTTT"}}, emitSmoothLinearStep},
+      {"luminance", {{"f", "c"}}, emitLuminance},
+      {"blackbody", {{"c", "f"}}, emitSpectralColor<BlackbodyOp>},
+      {"wavelength_color", {{"c", "f"}}, emitSpectralColor<WavelengthColorOp>},
   };
   return table;
 }
@@ -418,8 +434,7 @@ const char *const kUnsupported[] = {
     "environment", "gettextureinfo", "printf", "fprintf", "error", "warning", "format",
     "concat", "strlen", "startswith", "endswith", "substr", "getchar", "stoi", "stof",
     "hash", "regex_search", "regex_match", "getattribute",
-    "setmessage", "getmessage", "trace", "blackbody", "wavelength_color",
-    "luminance", "transformc", "transformu",
+    "setmessage", "getmessage", "trace", "transformu",
     "splineinverse", "fresnel",
     "pointcloud_search", "pointcloud_get", "pointcloud_write", "dict_find",
     "dict_next", "dict_value", "isconnected", "isconstant", "random", "emission",
@@ -535,6 +550,45 @@ bool stringArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
                               "per point");
   out = v.str;
   return true;
+}
+
+/// A color space name of transformc or a color constructor, known when
+/// the shader is compiled.
+bool colorSpaceArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
+                   std::string &out) {
+  if (!stringArg(g, v, e, fn, "a color space name", out))
+    return false;
+  if (isColorSpaceName(out, g.workingColorSpace()))
+    return true;
+  return g.error(e.loc, "unknown color space '" + out + "' in '" + fn +
+                            "' (known: rgb, RGB, linear, hsv, hsl, YIQ, XYZ, xyY, sRGB, " +
+                            g.workingColorSpace() + ")");
+}
+
+/// transformc([from,] to, C): from defaults to "rgb".
+std::optional<RValue> emitTransformc(IRGen &g, const Expr &call) {
+  auto args = emitArgs(g, call);
+  if (!args)
+    return std::nullopt;
+  size_t n = args->size();
+  if (n != 2 && n != 3) {
+    g.error(call.loc, "wrong arguments to 'transformc(" + argTypesText(*args) +
+                          ")'; candidates: color transformc(string to, color); "
+                          "color transformc(string from, string to, color)");
+    return std::nullopt;
+  }
+  std::string from = "rgb", to;
+  if (n == 3 && !colorSpaceArg(g, (*args)[0], *call.args[0], "transformc", from))
+    return std::nullopt;
+  if (!colorSpaceArg(g, (*args)[n - 2], *call.args[n - 2], "transformc", to))
+    return std::nullopt;
+  OslType color(BaseType::Color);
+  auto c = g.coerce((*args)[n - 1], color, call.args[n - 1]->begin, "in 'transformc'");
+  if (!c)
+    return std::nullopt;
+  Value r = g.builder().create<TransformcOp>(g.loc(call.loc), c->value.getType(), from, to,
+                                             g.workingColorSpace(), c->value);
+  return RValue::num(color, r);
 }
 
 std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expected) {
@@ -850,10 +904,11 @@ std::optional<RValue> emitConstructor(IRGen &g, const Expr &call) {
   }
   if (first == 1) {
     if (t.base == BaseType::Color) {
-      if (space != "rgb" && space != "RGB") {
-        g.error(call.args[0]->loc, "color space '" + space + "' is not supported yet");
+      std::string checked;
+      if (!colorSpaceArg(g, args[0], *call.args[0], "color", checked))
         return std::nullopt;
-      }
+      value = g.builder().create<TransformcOp>(g.loc(call.loc), value.getType(), space, "rgb",
+                                               g.workingColorSpace(), value);
     } else if (space != "common") {
       if (space.empty()) {
         g.error(call.args[0]->loc, "empty space name");
@@ -947,6 +1002,8 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
     return emitNoise(g, call, expected);
   if (name == "transform")
     return emitTransform(g, call);
+  if (name == "transformc")
+    return emitTransformc(g, call);
   if (name == "spline" || name == "splineinverse")
     return emitSpline(g, call, name == "splineinverse");
   if (name == "raytype") {

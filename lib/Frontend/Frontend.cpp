@@ -2,6 +2,7 @@
 #include "OslFrontend/Frontend.h"
 
 #include "IRGen.h"
+#include "OslTransforms/ColorBuilder.h"
 #include "Parser.h"
 #include "Preprocessor.h"
 
@@ -16,17 +17,23 @@ mlir::OwningOpRef<mlir::ModuleOp>
 osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                     mlir::MLIRContext &context, llvm::ArrayRef<ParamOverride> overrides,
                     llvm::raw_ostream &errs, llvm::ArrayRef<std::string> includePaths,
-                    const mlir::osl::CameraImage &camera) {
+                    const mlir::osl::CameraImage &camera, llvm::StringRef colorSpace) {
   context.loadDialect<mlir::osl::OslDialect, mlir::func::FuncDialect,
                       mlir::arith::ArithDialect>();
   Diagnostics diags(filename, errs);
+  if (!mlir::osl::ColorSystem::get(colorSpace)) {
+    diags.error("unknown color space '" + colorSpace.str() +
+                "' (known: Rec709, sRGB, NTSC, EBU, PAL, SECAM, SMPTE, HDTV, CIE, AdobeRGB, "
+                "XYZ, ACES2065-1, ACEScg)");
+    return nullptr;
+  }
   std::vector<Token> raw, tokens;
   if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths))
     return nullptr;
   Program program;
   if (!parseProgram(tokens, diags, program))
     return nullptr;
-  IRGen gen(context, diags, overrides, camera);
+  IRGen gen(context, diags, overrides, camera, colorSpace);
   mlir::OwningOpRef<mlir::ModuleOp> module = gen.emitProgram(program);
   if (!module || diags.hadError())
     return nullptr;

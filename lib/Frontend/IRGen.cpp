@@ -40,8 +40,10 @@ const GlobalDecl kGlobals[] = {
 } // namespace
 
 IRGen::IRGen(MLIRContext &ctx, Diagnostics &diags,
-             llvm::ArrayRef<ParamOverride> overrides, const CameraImage &camera)
-    : ctx(ctx), diags(diags), overrides(overrides), camera(camera), b(&ctx) {
+             llvm::ArrayRef<ParamOverride> overrides, const CameraImage &camera,
+             llvm::StringRef colorSpace)
+    : ctx(ctx), diags(diags), overrides(overrides), camera(camera),
+      colorSpace(colorSpace.str()), b(&ctx) {
   b.setListener(&opCounter);
 }
 

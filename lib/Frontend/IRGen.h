@@ -113,12 +113,14 @@ class IRGen {
 public:
   IRGen(mlir::MLIRContext &ctx, Diagnostics &diags,
         llvm::ArrayRef<ParamOverride> overrides,
-        const mlir::osl::CameraImage &camera);
+        const mlir::osl::CameraImage &camera, llvm::StringRef colorSpace);
 
   mlir::OwningOpRef<mlir::ModuleOp> emitProgram(const Program &program);
 
   // --- building blocks shared with Builtins.cpp -------------------------------
   mlir::OpBuilder &builder() { return b; }
+  /// The working RGB space of the color functions (a compile option).
+  llvm::StringRef workingColorSpace() const { return colorSpace; }
   Diagnostics &diagnostics() { return diags; }
   mlir::Location loc(SrcLoc l);
   bool error(SrcLoc l, const llvm::Twine &msg) {
@@ -326,6 +328,8 @@ private:
   Diagnostics &diags;
   llvm::ArrayRef<ParamOverride> overrides;
   mlir::osl::CameraImage camera;
+  /// The working RGB space of the color functions.
+  std::string colorSpace;
   /// The Index expression whose base is being emitted: a matrix may be
   /// indexed there (its row, then the outer Index picks the column).
   const Expr *rowAccessOK = nullptr;

@@ -10,6 +10,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/GlobalsLayout.h"
+#include "OslTransforms/ColorBuilder.h"
 #include "OslTransforms/LaneMath.h"
 #include "OslTransforms/LibraryBuilders.h"
 #include "OslTransforms/NoiseBuilder.h"
@@ -457,6 +458,41 @@ struct TransformLowering : public OslPattern<TransformOp> {
   }
 };
 
+/// transformc, blackbody, wavelength_color and luminance under the op's
+/// working color space.
+template <typename Op>
+struct ColorLowering : public OslPattern<Op> {
+  using OslPattern<Op>::OslPattern;
+  LogicalResult matchAndRewrite(Op op, typename Op::Adaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    const ColorSystem *cs = ColorSystem::get(op.getColorspace());
+    if (!cs)
+      return op.emitError("unknown color space '") << op.getColorspace() << "'";
+    Location loc = op.getLoc();
+    Lanes lanes{rewriter, loc, this->width};
+    SmallVector<Value> in = lanes.unpack(adaptor.getOperands()[0],
+                                         op->getOperand(0).getType(), false);
+    SmallVector<Value> out;
+    if constexpr (std::is_same_v<Op, TransformcOp>) {
+      FailureOr<LaneColor> r =
+          buildTransformc(rewriter, loc, *cs, op.getFrom(), op.getTo(), {in[0], in[1], in[2]});
+      if (failed(r))
+        return op.emitError("unknown color space in transformc from '")
+               << op.getFrom() << "' to '" << op.getTo() << "'";
+      out.assign(r->begin(), r->end());
+    } else if constexpr (std::is_same_v<Op, LuminanceOp>) {
+      out.push_back(buildLuminance(rewriter, loc, *cs, {in[0], in[1], in[2]}));
+    } else {
+      LaneColor r = std::is_same_v<Op, BlackbodyOp>
+                        ? buildBlackbody(rewriter, loc, *cs, in[0])
+                        : buildWavelengthColor(rewriter, loc, *cs, in[0]);
+      out.assign(r.begin(), r.end());
+    }
+    rewriter.replaceOp(op, lanes.pack(out, this->convert(op.getType())));
+    return success();
+  }
+};
+
 /// spline and splineinverse: x (or y) and the count take the result's
 /// shape; knots stay as they are (the builder broadcasts them).
 template <typename Op>
@@ -521,7 +557,9 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
                GeometryLowering<DistanceOp>, GeometryLowering<CrossOp>,
                GeometryLowering<NormalizeOp>, NoiseLowering, TransformLowering,
                SplineFamilyLowering<SplineOp>,
-               SplineFamilyLowering<SplineInverseOp>>(converter, ctx);
+               SplineFamilyLowering<SplineInverseOp>, ColorLowering<TransformcOp>,
+               ColorLowering<BlackbodyOp>, ColorLowering<WavelengthColorOp>,
+               ColorLowering<LuminanceOp>>(converter, ctx);
 }
 
 //===----------------------------------------------------------------------===//

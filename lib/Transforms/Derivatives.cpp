@@ -11,6 +11,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/GlobalsLayout.h"
+#include "OslTransforms/ConstantTable.h"
 #include "OslTransforms/LaneMath.h"
 #include "OslTransforms/Passes.h"
 
@@ -76,6 +77,9 @@ private:
       return Value();
     if (auto load = dyn_cast<LLVM::LoadOp>(def))
       return deriveGlobal(load, user);
+    auto rule = def->getAttrOfType<StringAttr>(kDualRuleAttr);
+    if (rule && rule.getValue() == kDualRuleNone)
+      return Value();
     if (def->getNumRegions() > 0) // loops: not yet
       return fail(user, def->getName().getStringRef());
 
@@ -95,7 +99,6 @@ private:
     OpBuilder b(def->getContext());
     b.setInsertionPointAfter(def);
     Location loc = def->getLoc();
-    auto rule = def->getAttrOfType<StringAttr>(kDualRuleAttr);
     if (rule && rule.getValue() == kDualRuleValueOnly && isa<arith::SelectOp>(def))
       return d[2];
     auto dz = [&](unsigned i) { return d[i] ? d[i] : zeroLike(b, loc, def->getOperand(i).getType()); };
@@ -289,8 +292,8 @@ private:
   /// Derivative of a load of a global's row: the matching derivative row
   /// (dPdx for P, dudy for u...); 0 for globals without derivatives.
   FailureOr<Value> deriveGlobal(LLVM::LoadOp load, Operation *user) {
-    if (load->hasAttr(kDerivativeRowAttr))
-      return Value(); // no second derivatives, as in OSL
+    if (load->hasAttr(kDerivativeRowAttr) || load->hasAttr(kConstantTableAttr))
+      return Value(); // no second derivatives, as in OSL; tables are constant
     auto rowAttr = load->getAttrOfType<IntegerAttr>(kGlobalRowAttr);
     if (!rowAttr)
       return fail(user, "a load that is not a shader global");

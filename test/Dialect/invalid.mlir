@@ -158,3 +158,19 @@ func.func @periodic_noise_without_periods(%p: vector<3xf32>, %t: f32) {
   %0 = osl.noise "perlin"(%p, %t) {periodic} : (vector<3xf32>, f32) -> f32
   return
 }
+
+// -----
+
+func.func @luminance_loses_varying(%c: !osl.varying<vector<3xf32>>) {
+  // expected-error @+1 {{result must be varying exactly when the operand is}}
+  %0 = osl.luminance "Rec709" %c : !osl.varying<vector<3xf32>> -> f32
+  return
+}
+
+// -----
+
+func.func @transformc_without_space(%c: vector<3xf32>) {
+  // expected-error @+1 {{color space names must not be empty}}
+  %0 = osl.transformc "" to "hsv" in "Rec709" %c : vector<3xf32> -> vector<3xf32>
+  return
+}

@@ -32,3 +32,16 @@ func.func @control_flow(%c: i1, %a: f32) {
   }
   return
 }
+
+// CHECK-LABEL: func.func @color_ops
+func.func @color_ops(%c: vector<3xf32>, %t: !osl.varying<f32>) {
+  // CHECK: osl.transformc "hsv" to "rgb" in "ACEScg" %{{.+}} : vector<3xf32> -> vector<3xf32>
+  %0 = osl.transformc "hsv" to "rgb" in "ACEScg" %c : vector<3xf32> -> vector<3xf32>
+  // CHECK: osl.blackbody "Rec709" %{{.+}} : !osl.varying<f32> -> !osl.varying<vector<3xf32>>
+  %1 = osl.blackbody "Rec709" %t : !osl.varying<f32> -> !osl.varying<vector<3xf32>>
+  // CHECK: osl.wavelength_color "Rec709" %{{.+}} : !osl.varying<f32> -> !osl.varying<vector<3xf32>>
+  %2 = osl.wavelength_color "Rec709" %t : !osl.varying<f32> -> !osl.varying<vector<3xf32>>
+  // CHECK: osl.luminance "Rec709" %{{.+}} : vector<3xf32> -> f32
+  %3 = osl.luminance "Rec709" %0 : vector<3xf32> -> f32
+  return
+}

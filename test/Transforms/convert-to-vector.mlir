@@ -157,3 +157,76 @@ func.func @periodic_noise() {
   osl.output "n" = %n : !osl.varying<f32>
   return
 }
+
+// -----
+
+// blackbody reads its per-space table (the 5th root of the color at
+// nonlinearly spaced temperatures) with a gather per lane; lanes at 12000 K
+// and above integrate Planck's law over the 81 CIE samples, in a loop that
+// runs only when some lane of the batch needs it. The result has no
+// derivative (as in OSL).
+// CHECK-LABEL: llvm.mlir.global internal constant @osl_planck_scale
+// CHECK: llvm.mlir.global internal constant @osl_blackbody_r_Rec709
+// CHECK-LABEL: osl.shader_name = "blackbody_varying"
+// CHECK: llvm.getelementptr %{{.+}}[%{{.+}}] : (!llvm.ptr, vector<8xi32>) -> !llvm.vec<8 x ptr>, f32
+// CHECK: llvm.intr.masked.gather %{{.+}} {alignment = 4 : i32, osl.constant_table} : (!llvm.vec<8 x ptr>, vector<8xi1>, vector<8xf32>) -> vector<8xf32>
+// CHECK: %[[HOT:.+]] = vector.reduction <or>, %{{.+}} : vector<8xi1> into i1
+// CHECK: scf.if %[[HOT]] -> (vector<8xf32>, vector<8xf32>, vector<8xf32>)
+// CHECK: scf.for %{{.+}} = %{{.+}} to %c81
+// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.constant_table} : !llvm.ptr -> f32
+// CHECK: math.expm1 %{{.+}} : vector<8xf32>
+// CHECK: arith.select %{{.+}} {osl.dual_rule = "none"} : vector<8xi1>, vector<8xf32>
+func.func @blackbody_varying() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %c = osl.blackbody "Rec709" %u : !osl.varying<f32> -> !osl.varying<vector<3xf32>>
+  osl.output "C" = %c : !osl.varying<vector<3xf32>>
+  return
+}
+
+// -----
+
+// A uniform temperature stays scalar: plain loads, and the spectrum loop
+// is guarded by the scalar condition itself.
+// CHECK-LABEL: osl.shader_name = "blackbody_uniform"
+// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.constant_table} : !llvm.ptr -> f32
+// CHECK-NOT: vector.reduction
+// CHECK: scf.if %{{.+}} -> (f32, f32, f32)
+func.func @blackbody_uniform() {
+  %t = arith.constant 15000.0 : f32
+  %c = osl.blackbody "ACEScg" %t : f32 -> vector<3xf32>
+  osl.output "C" = %c : vector<3xf32>
+  return
+}
+
+// -----
+
+// wavelength_color interpolates the CIE observer between 5 nm samples and
+// is black outside 380..780 nm.
+// CHECK-LABEL: osl.shader_name = "wavelength_color"
+// CHECK: llvm.intr.masked.gather
+// CHECK: arith.select %{{.+}} {osl.dual_rule = "none"} : vector<8xi1>, vector<8xf32>
+// CHECK-NOT: scf.if
+func.func @wavelength_color() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %c = osl.wavelength_color "Rec709" %u : !osl.varying<f32> -> !osl.varying<vector<3xf32>>
+  osl.output "C" = %c : !osl.varying<vector<3xf32>>
+  return
+}
+
+// -----
+
+// transformc and luminance are straight-line lane arithmetic: hsv picks
+// its sextant with selects, luminance is a dot with the space's Y row.
+// CHECK-LABEL: osl.shader_name = "transformc_luminance"
+// CHECK: math.floor %{{.+}} : vector<8xf32>
+// CHECK: arith.cmpf olt, %{{.+}}, %{{.+}} : vector<8xf32>
+// CHECK: arith.constant dense<0.2125{{[0-9]*}}> : vector<8xf32>
+// CHECK-NOT: scf.if
+// CHECK-NOT: llvm.intr.masked.gather
+func.func @transformc_luminance() {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %c = osl.transformc "hsv" to "rgb" in "Rec709" %P : !osl.varying<vector<3xf32>> -> !osl.varying<vector<3xf32>>
+  %l = osl.luminance "Rec709" %c : !osl.varying<vector<3xf32>> -> !osl.varying<f32>
+  osl.output "L" = %l : !osl.varying<f32>
+  return
+}

@@ -2,7 +2,7 @@
 //
 // testshade's flags, so conformance commands run unchanged: -g X Y, -o NAME
 // FILE, --param NAME VALUE (also --param:type=T NAME VALUE), --center,
-// --vary_udxdy/--vary_vdxdy/--vary_pdxdy, -t N, --iters N.
+// --vary_udxdy/--vary_vdxdy/--vary_pdxdy, --colorspace NAME, -t N, --iters N.
 //
 //===----------------------------------------------------------------------===//
 #include "RunOptions.h"
@@ -30,6 +30,10 @@ const char *const osl::kUsage =
     "  --interpret            reference mode: one point at a time, ordinary\n"
     "                         branches, no masking (what the differential\n"
     "                         tester compares the SIMD kernels with)\n"
+    "  --colorspace NAME      working RGB space of the color functions:\n"
+    "                         Rec709 (default), sRGB, ACEScg, ACES2065-1,\n"
+    "                         AdobeRGB, NTSC, EBU, PAL, SECAM, SMPTE, HDTV,\n"
+    "                         CIE, XYZ\n"
     "  --vary_udxdy, --vary_vdxdy, --vary_pdxdy\n"
     "                         testshade's varying derivatives\n"
     "  -t N                   threads (default: all cores)\n"
@@ -112,6 +116,10 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       if (a == "-I" && !need(i, 1, "-I"))
         return false;
       o.compile.includePaths.push_back(a == "-I" ? std::string(argv[++i]) : a.substr(2));
+    } else if (a == "--colorspace") {
+      if (!need(i, 1, "--colorspace"))
+        return false;
+      o.compile.colorSpace = argv[++i];
     } else if (a == "--vary_udxdy") {
       o.grid.varyUdxdy = true;
     } else if (a == "--vary_vdxdy") {

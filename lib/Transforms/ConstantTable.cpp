@@ -1,0 +1,47 @@
+//===- ConstantTable.cpp - Per-lane reads of constant tables --------------===//
+#include "OslTransforms/ConstantTable.h"
+
+#include "mlir/Dialect/Arith/IR/Arith.h"
+#include "mlir/IR/BuiltinOps.h"
+
+using namespace mlir;
+using namespace mlir::osl;
+
+LLVM::GlobalOp mlir::osl::getConstantTable(OpBuilder &b, Location loc, StringRef symbol,
+                                           ArrayRef<float> table) {
+  auto module = b.getInsertionBlock()->getParentOp()->getParentOfType<ModuleOp>();
+  if (auto existing = module.lookupSymbol<LLVM::GlobalOp>(symbol))
+    return existing;
+  OpBuilder::InsertionGuard guard(b);
+  b.setInsertionPointToStart(module.getBody());
+  auto n = int64_t(table.size());
+  auto type = LLVM::LLVMArrayType::get(b.getF32Type(), n);
+  auto value = DenseElementsAttr::get(RankedTensorType::get({n}, b.getF32Type()), table);
+  return b.create<LLVM::GlobalOp>(loc, type, /*isConstant=*/true, LLVM::Linkage::Internal,
+                                  symbol, value, /*alignment=*/64);
+}
+
+Value mlir::osl::lookupConstantTable(OpBuilder &b, Location loc, LLVM::GlobalOp global,
+                                     Value index) {
+  auto ptr = LLVM::LLVMPointerType::get(b.getContext());
+  Value base = b.create<LLVM::AddressOfOp>(loc, global);
+  Type f32 = b.getF32Type();
+  auto lanes = dyn_cast<VectorType>(index.getType());
+  if (!lanes) {
+    Value addr = b.create<LLVM::GEPOp>(loc, ptr, f32, base, ValueRange{index});
+    Operation *load = b.create<LLVM::LoadOp>(loc, f32, addr, /*alignment=*/4);
+    load->setAttr(kConstantTableAttr, b.getUnitAttr());
+    return load->getResult(0);
+  }
+  int64_t width = lanes.getNumElements();
+  Value addrs = b.create<LLVM::GEPOp>(loc, LLVM::getVectorType(ptr, width), f32, base,
+                                      ValueRange{index});
+  auto resultType = VectorType::get({width}, f32);
+  Value all = b.create<arith::ConstantOp>(
+      loc, DenseElementsAttr::get(VectorType::get({width}, b.getI1Type()), true));
+  Value zero = b.create<arith::ConstantOp>(loc, DenseElementsAttr::get(resultType, 0.0f));
+  Operation *gather = b.create<LLVM::masked_gather>(loc, resultType, addrs, all,
+                                                    ValueRange{zero}, b.getI32IntegerAttr(4));
+  gather->setAttr(kConstantTableAttr, b.getUnitAttr());
+  return gather->getResult(0);
+}
