@@ -325,6 +325,63 @@ def Osl_TransformOp : Osl_Op<"transform", [Pure]> {
 }
 
 //===----------------------------------------------------------------------===//
+// Textures
+//===----------------------------------------------------------------------===//
+
+def Osl_TextureOp : Osl_Op<"texture", [AttrSizedOperandSegments]> {
+  let summary = "texture(), texture3d() and environment() through OpenImageIO";
+  let description = [{
+    A filtered texture lookup of `nchannels` (1 or 3) channels plus alpha.
+    `kind` is "2d" (coords s, t; derivs ds/dx, dt/dx, ds/dy, dt/dy), "3d"
+    (coords P; derivs dP/dx, dP/dy, dP/dz, component by component) or
+    "environment" (coords R; derivs dR/dx, dR/dy).
+
+    `floatOptions` are the per-point options, in the order sblur, tblur,
+    rblur, swidth, twidth, rwidth, fill, missingalpha, then missingcolor's
+    three components; `firstchannel` and `subimage` are ints.
+
+    Options that OpenImageIO takes once per call are chosen among
+    compile-time strings: `choices` holds, for file, swrap, twrap, rwrap,
+    interp and subimagename in that order, an i32 index into the matching
+    list of `candidates`. A varying index is split into lane groups that
+    agree by osl-lane-group-filter; the lowering needs them uniform.
+
+    `mask` (optional) limits the lookup to some lanes; the other lanes'
+    results are undefined. Results are varying: a lookup reads per point.
+    The lookup may report an error (a missing file) once per file.
+  }];
+  let arguments = (ins StrAttr:$kind, I32Attr:$nchannels,
+                       UnitAttr:$hasMissingColor, UnitAttr:$hasMissingAlpha,
+                       ArrayAttr:$candidates,
+                       Variadic<Osl_Float>:$coords, Variadic<Osl_Float>:$derivs,
+                       Variadic<Osl_Float>:$floatOptions,
+                       Osl_Value:$firstchannel, Osl_Value:$subimage,
+                       Variadic<Osl_Value>:$choices, Optional<Osl_Bool>:$mask);
+  let results = (outs Osl_Value:$result, Osl_Float:$alpha);
+  let assemblyFormat = [{
+    $kind `(` $coords `)` `derivs` `(` $derivs `)` `options` `(` $floatOptions `)`
+    `channel` $firstchannel `subimage` $subimage `choices` `(` $choices `)`
+    (`mask` $mask^ `:` type($mask))? attr-dict `:` `(` type($coords) `)` `(` type($derivs) `)`
+    `(` type($floatOptions) `)` type($firstchannel) `,` type($subimage) `(` type($choices) `)`
+    `->` type($result) `,` type($alpha)
+  }];
+  let hasVerifier = 1;
+}
+
+def Osl_FirstLaneOp : Osl_Op<"first_lane", [Pure]> {
+  let summary = "the value of the first lane of `mask` that is set";
+  let description = [{
+    Lane-group filtering's lead: the value of the lowest lane whose mask
+    bit is set (undefined when none is). Uniform operands are their own
+    lead.
+  }];
+  let arguments = (ins Osl_Value:$value, Osl_Bool:$mask);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "$value `,` $mask attr-dict `:` type($value) `,` type($mask) `->` type($result)";
+  let hasVerifier = 1;
+}
+
+//===----------------------------------------------------------------------===//
 // Color
 //===----------------------------------------------------------------------===//
 

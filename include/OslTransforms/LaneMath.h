@@ -24,6 +24,9 @@ inline constexpr const char *kDualRuleAttr = "osl.dual_rule";
 inline constexpr const char *kDualRuleOslAtan2 = "osl_atan2";
 inline constexpr const char *kDualRuleValueOnly = "value_only";
 inline constexpr const char *kDualRuleNone = "none";
+/// Marks loads that are not shader globals (constant tables, texture
+/// results): osl-derivatives gives them no derivative.
+inline constexpr const char *kNoDerivativeAttr = "osl.no_derivative";
 
 } // namespace mlir::osl
 

@@ -49,6 +49,21 @@ def InsertMaskStack : Pass<"osl-insert-mask-stack", "::mlir::func::FuncOp"> {
   let dependentDialects = ["::mlir::scf::SCFDialect"];
 }
 
+def LaneGroupFilter : Pass<"osl-lane-group-filter", "::mlir::func::FuncOp"> {
+  let summary = "Run lookups whose per-call options vary once per group of agreeing lanes";
+  let description = [{
+    OpenImageIO takes a texture's file, wrap modes, interpolation and
+    subimage once per call. An osl.texture whose choice of one of them is
+    varying becomes a loop: the first pending lane leads, the lanes whose
+    choices equal its own form a group, the lookup runs for that group
+    (osl.texture with the lead's uniform choices and the group as mask),
+    and the group leaves the pending lanes; the loop ends when none is
+    left. Lookups whose choices are uniform stay one call, with no loop.
+    Runs after osl-insert-mask-stack; the loop's condition is uniform.
+  }];
+  let dependentDialects = ["::mlir::scf::SCFDialect", "::mlir::arith::ArithDialect"];
+}
+
 def UniformReference : Pass<"osl-uniform-reference", "::mlir::func::FuncOp"> {
   let summary = "Make every value uniform: run one point at a time (reference mode)";
   let description = [{

@@ -2,6 +2,7 @@
 #include "OslCompiler/ShaderCompiler.h"
 
 #include "OslDialect/OslDialect.h"
+#include "OslRuntime/TextureCall.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
@@ -123,6 +124,12 @@ bool ShaderCompiler::translate() {
 }
 
 std::unique_ptr<CompiledShader> ShaderCompiler::load() {
+  // The runtime entry points kernels call.
+  if (llvm::Error e = jit->defineSymbols(
+          {{"osl_rt_texture", reinterpret_cast<void *>(&osl_rt_texture)}})) {
+    errs << "error: " << llvm::toString(std::move(e)) << "\n";
+    return nullptr;
+  }
   if (llvm::Error e = jit->addModule(std::move(llvmIR), std::move(llvmContext))) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return nullptr;

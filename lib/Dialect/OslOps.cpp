@@ -363,6 +363,59 @@ LogicalResult TransformOp::verify() {
 }
 
 //===----------------------------------------------------------------------===//
+// Textures
+//===----------------------------------------------------------------------===//
+
+/// Names of the string options of osl.texture, in `choices` order.
+static constexpr const char *kTextureChoiceNames[] = {"file",  "swrap",  "twrap",
+                                                      "rwrap", "interp", "subimagename"};
+
+LogicalResult TextureOp::verify() {
+  size_t coords = 0, derivs = 0;
+  if (getKind() == "2d")
+    coords = 2, derivs = 4;
+  else if (getKind() == "3d")
+    coords = 3, derivs = 9;
+  else if (getKind() == "environment")
+    coords = 3, derivs = 6;
+  else
+    return emitOpError("kind must be 2d, 3d or environment");
+  if (getCoords().size() != coords || getDerivs().size() != derivs)
+    return emitOpError("a ") << getKind() << " lookup takes " << coords << " coordinates and "
+                             << derivs << " derivatives";
+  if (getFloatOptions().size() != 11)
+    return emitOpError("needs 11 float options (8 per-point options, then missingcolor)");
+  if (getNchannels() != 1 && getNchannels() != 3)
+    return emitOpError("nchannels must be 1 or 3");
+  Type resultType = getUniformType(getResult().getType());
+  if ((getNchannels() == 3) != isTriple(resultType) || !(resultType.isF32() || isTriple(resultType)))
+    return emitOpError("result must be f32 for 1 channel, a triple for 3");
+  if (!getUniformType(getFirstchannel().getType()).isInteger(32) ||
+      !getUniformType(getSubimage().getType()).isInteger(32))
+    return emitOpError("firstchannel and subimage must be i32");
+  size_t n = std::size(kTextureChoiceNames);
+  if (getChoices().size() != n || getCandidates().size() != n)
+    return emitOpError("needs ") << n << " string choices and candidate lists";
+  for (auto [i, c] : llvm::enumerate(getChoices())) {
+    auto list = dyn_cast<ArrayAttr>(getCandidates()[i]);
+    if (!list || list.empty() || !llvm::all_of(list, [](Attribute a) { return isa<StringAttr>(a); }))
+      return emitOpError("candidates for ") << kTextureChoiceNames[i]
+                                            << " must be a non-empty list of strings";
+    if (!getUniformType(c.getType()).isInteger(32))
+      return emitOpError("choice of ") << kTextureChoiceNames[i] << " must be i32";
+  }
+  return success();
+}
+
+LogicalResult FirstLaneOp::verify() {
+  if (isVarying(getResult().getType()))
+    return emitOpError("result must be uniform");
+  if (getUniformType(getValue().getType()) != getResult().getType())
+    return emitOpError("result must have the operand's element type");
+  return success();
+}
+
+//===----------------------------------------------------------------------===//
 // Color
 //===----------------------------------------------------------------------===//
 

@@ -430,8 +430,7 @@ const std::vector<Builtin> &builtinTable() {
 /// Every OSL library function name the front end knows: those not handled
 /// above are reported as "not supported yet" rather than unknown.
 const char *const kUnsupported[] = {
-    "smooth_linearstep", "raytype", "texture", "texture3d",
-    "environment", "gettextureinfo", "printf", "fprintf", "error", "warning", "format",
+    "smooth_linearstep", "raytype", "gettextureinfo", "printf", "fprintf", "error", "warning", "format",
     "concat", "strlen", "startswith", "endswith", "substr", "getchar", "stoi", "stof",
     "hash", "regex_search", "regex_match", "getattribute",
     "setmessage", "getmessage", "trace", "transformu",
@@ -976,7 +975,8 @@ std::optional<double> lookupFloatConstant(llvm::StringRef name) {
 }
 
 bool isBuiltinName(llvm::StringRef name) {
-  if (name == "determinant" || name == "transpose" || name == "getmatrix")
+  if (name == "determinant" || name == "transpose" || name == "getmatrix" ||
+      name == "texture" || name == "texture3d" || name == "environment")
     return true;
   for (const Builtin &b : builtinTable())
     if (name == b.name)
@@ -996,6 +996,10 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
     return m;
   if (call.isCtor)
     return emitConstructor(g, call);
+  bool textureBuiltin = true;
+  auto texture = emitTextureBuiltin(g, call, expected, textureBuiltin);
+  if (textureBuiltin)
+    return texture;
   llvm::StringRef name = call.name;
   if (name == "noise" || name == "snoise" || name == "cellnoise" || name == "hashnoise" ||
       name == "pnoise" || name == "psnoise")

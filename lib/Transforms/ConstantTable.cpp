@@ -1,5 +1,6 @@
 //===- ConstantTable.cpp - Per-lane reads of constant tables --------------===//
 #include "OslTransforms/ConstantTable.h"
+#include "OslTransforms/LaneMath.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/BuiltinOps.h"
@@ -30,7 +31,7 @@ Value mlir::osl::lookupConstantTable(OpBuilder &b, Location loc, LLVM::GlobalOp 
   if (!lanes) {
     Value addr = b.create<LLVM::GEPOp>(loc, ptr, f32, base, ValueRange{index});
     Operation *load = b.create<LLVM::LoadOp>(loc, f32, addr, /*alignment=*/4);
-    load->setAttr(kConstantTableAttr, b.getUnitAttr());
+    load->setAttr(kNoDerivativeAttr, b.getUnitAttr());
     return load->getResult(0);
   }
   int64_t width = lanes.getNumElements();
@@ -42,6 +43,29 @@ Value mlir::osl::lookupConstantTable(OpBuilder &b, Location loc, LLVM::GlobalOp 
   Value zero = b.create<arith::ConstantOp>(loc, DenseElementsAttr::get(resultType, 0.0f));
   Operation *gather = b.create<LLVM::masked_gather>(loc, resultType, addrs, all,
                                                     ValueRange{zero}, b.getI32IntegerAttr(4));
-  gather->setAttr(kConstantTableAttr, b.getUnitAttr());
+  gather->setAttr(kNoDerivativeAttr, b.getUnitAttr());
   return gather->getResult(0);
+}
+
+Value mlir::osl::constantStringAddress(OpBuilder &b, Location loc, StringRef value) {
+  auto module = b.getInsertionBlock()->getParentOp()->getParentOfType<ModuleOp>();
+  std::string contents = (value + llvm::Twine('\0')).str();
+  LLVM::GlobalOp global;
+  unsigned count = 0;
+  for (auto g : module.getOps<LLVM::GlobalOp>()) {
+    if (!g.getSymName().starts_with("osl_string_"))
+      continue;
+    ++count;
+    if (auto s = dyn_cast_or_null<StringAttr>(g.getValueOrNull()); s && s.getValue() == contents)
+      global = g;
+  }
+  if (!global) {
+    OpBuilder::InsertionGuard guard(b);
+    b.setInsertionPointToStart(module.getBody());
+    auto type = LLVM::LLVMArrayType::get(b.getI8Type(), contents.size());
+    global = b.create<LLVM::GlobalOp>(loc, type, /*isConstant=*/true, LLVM::Linkage::Internal,
+                                      "osl_string_" + std::to_string(count),
+                                      b.getStringAttr(contents));
+  }
+  return b.create<LLVM::AddressOfOp>(loc, global);
 }

@@ -10,7 +10,9 @@
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/GlobalsLayout.h"
+#include "OslRuntime/TextureCall.h"
 #include "OslTransforms/ColorBuilder.h"
+#include "OslTransforms/ConstantTable.h"
 #include "OslTransforms/LaneMath.h"
 #include "OslTransforms/LibraryBuilders.h"
 #include "OslTransforms/NoiseBuilder.h"
@@ -458,6 +460,173 @@ struct TransformLowering : public OslPattern<TransformOp> {
   }
 };
 
+/// A lane mask (i1 or vector<W x i1>) as the bits of an i32, lane i at bit i.
+Value maskBits(OpBuilder &b, Location loc, Value mask) {
+  Type i32 = b.getI32Type();
+  auto vec = dyn_cast<VectorType>(mask.getType());
+  if (!vec)
+    return b.create<arith::ExtUIOp>(loc, i32, mask);
+  Type bits = b.getIntegerType(vec.getNumElements());
+  Value packed = b.create<LLVM::BitcastOp>(loc, bits, mask);
+  if (vec.getNumElements() == 32)
+    return packed;
+  return b.create<arith::ExtUIOp>(loc, i32, packed);
+}
+
+/// osl.first_lane: the lowest set lane of the mask selects the value.
+struct FirstLaneLowering : public OslPattern<FirstLaneOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(FirstLaneOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    if (!isa<VectorType>(adaptor.getValue().getType())) {
+      rewriter.replaceOp(op, adaptor.getValue());
+      return success();
+    }
+    Location loc = op.getLoc();
+    Value mask = adaptor.getMask();
+    if (!isa<VectorType>(mask.getType()))
+      mask = lane::broadcast(rewriter, loc, mask, width);
+    Value bits = maskBits(rewriter, loc, mask);
+    Value lead = rewriter.create<LLVM::CountTrailingZerosOp>(loc, bits.getType(), bits, false);
+    rewriter.replaceOpWithNewOp<vector::ExtractElementOp>(op, adaptor.getValue(), lead);
+    return success();
+  }
+};
+
+/// osl.texture: the per-point values go to a block of rows on the stack
+/// (OslRuntime/TextureCall.h), osl_rt_texture looks the lanes up, and the
+/// results are read back. The options OpenImageIO takes once per call are
+/// compile-time candidates picked by a uniform index.
+struct TextureLowering : public OslPattern<TextureOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(TextureOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    for (Value c : op.getChoices())
+      if (isVarying(c.getType()))
+        return op.emitError("texture options chosen per point must be split into lane "
+                            "groups first (osl-lane-group-filter)");
+    bool varying = isVarying(op.getResult().getType());
+    int64_t lanes = varying ? width : 1;
+    MLIRContext *ctx = rewriter.getContext();
+    auto ptr = LLVM::LLVMPointerType::get(ctx);
+    Type f32 = rewriter.getF32Type(), i32 = rewriter.getI32Type();
+    LLVM::LLVMFuncOp callee = runtimeFunction(rewriter, op);
+
+    // The block lives in the entry block: a lookup inside a loop reuses it.
+    Value block;
+    {
+      OpBuilder::InsertionGuard guard(rewriter);
+      rewriter.setInsertionPointToStart(&op->getParentOfType<func::FuncOp>().getBody().front());
+      Value size = rewriter.create<LLVM::ConstantOp>(
+          loc, rewriter.getI64Type(), rewriter.getI64IntegerAttr(::osl::kTextureRows * lanes));
+      block = rewriter.create<LLVM::AllocaOp>(loc, ptr, f32, size, 64);
+    }
+    Lanes unpacker{rewriter, loc, width};
+    auto storeRow = [&](int64_t row, Value original, Value converted) {
+      Value v = unpacker.unpack(converted, original.getType(), varying)[0];
+      rewriter.create<LLVM::StoreOp>(loc, v, rowAddress(rewriter, loc, block, row, lanes), 4);
+    };
+    for (auto [i, v] : llvm::enumerate(op.getCoords()))
+      storeRow(::osl::kTextureCoordRow + i, v, adaptor.getCoords()[i]);
+    for (auto [i, v] : llvm::enumerate(op.getDerivs()))
+      storeRow(::osl::kTextureDerivRow + i, v, adaptor.getDerivs()[i]);
+    for (auto [i, v] : llvm::enumerate(op.getFloatOptions()))
+      storeRow(::osl::kTextureOptionRow + i, v, adaptor.getFloatOptions()[i]);
+
+    // The uniform options: a string's address, or OpenImageIO's code for it.
+    auto candidates = [&](int which) { return cast<ArrayAttr>(op.getCandidates()[which]); };
+    auto pick = [&](int which, auto valueOf) {
+      Value index = adaptor.getChoices()[which];
+      ArrayAttr names = candidates(which);
+      Value picked = valueOf(cast<StringAttr>(names[0]).getValue());
+      for (unsigned k = 1; k < names.size(); ++k) {
+        Value isK = rewriter.create<arith::CmpIOp>(
+            loc, arith::CmpIPredicate::eq, index,
+            rewriter.create<arith::ConstantIntOp>(loc, k, 32));
+        picked = rewriter.create<LLVM::SelectOp>(
+            loc, isK, valueOf(cast<StringAttr>(names[k]).getValue()), picked);
+      }
+      return picked;
+    };
+    auto stringAddress = [&](StringRef s) { return constantStringAddress(rewriter, loc, s); };
+    auto wrapCode = [&](StringRef s) -> Value {
+      return rewriter.create<arith::ConstantIntOp>(loc, ::osl::textureWrapCode(s), 32);
+    };
+    auto interpCode = [&](StringRef s) -> Value {
+      return rewriter.create<arith::ConstantIntOp>(loc, ::osl::textureInterpCode(s), 32);
+    };
+    int32_t kind = op.getKind() == "2d" ? ::osl::kTexture2D
+                   : op.getKind() == "3d" ? ::osl::kTexture3D
+                                          : ::osl::kTextureEnvironment;
+    int32_t flags = (op.getHasMissingColor() ? ::osl::kTextureHasMissingColor : 0) |
+                    (op.getHasMissingAlpha() ? ::osl::kTextureHasMissingAlpha : 0);
+    auto i32Const = [&](int64_t v) {
+      return rewriter.create<arith::ConstantIntOp>(loc, v, 32).getResult();
+    };
+    Value mask = op.getMask() ? adaptor.getMask()
+                 : varying    ? activeLanes(rewriter, loc, op, width)
+                              : rewriter.create<arith::CmpIOp>(loc, arith::CmpIPredicate::sgt,
+                                                               kernelArg(op, 2), i32Const(0))
+                                    .getResult();
+    if (varying && !isa<VectorType>(mask.getType()))
+      mask = lane::broadcast(rewriter, loc, mask, width);
+    std::string where;
+    llvm::raw_string_ostream whereText(where);
+    if (auto fileLoc = dyn_cast<FileLineColLoc>(loc))
+      whereText << fileLoc.getFilename().getValue() << ":" << fileLoc.getLine() << ":"
+                << fileLoc.getColumn();
+    else
+      whereText << "texture()";
+    SmallVector<Value> args = {stringAddress(whereText.str()),
+                               pick(0, stringAddress),
+                               pick(5, stringAddress),
+                               adaptor.getSubimage(),
+                               i32Const(kind),
+                               i32Const(op.getNchannels()),
+                               adaptor.getFirstchannel(),
+                               pick(1, wrapCode),
+                               pick(2, wrapCode),
+                               pick(3, wrapCode),
+                               pick(4, interpCode),
+                               i32Const(flags),
+                               block,
+                               i32Const(lanes),
+                               maskBits(rewriter, loc, mask)};
+    rewriter.create<LLVM::CallOp>(loc, callee, args);
+
+    Type laneType = varying ? Type(VectorType::get({lanes}, f32)) : f32;
+    auto loadRow = [&](int64_t row) {
+      auto load = rewriter.create<LLVM::LoadOp>(
+          loc, laneType, rowAddress(rewriter, loc, block, row, lanes), 4);
+      load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+      return load.getResult();
+    };
+    SmallVector<Value> channels;
+    for (uint32_t c = 0; c < op.getNchannels(); ++c)
+      channels.push_back(loadRow(::osl::kTextureResultRow + c));
+    Value result = unpacker.pack(channels, convert(op.getResult().getType()));
+    rewriter.replaceOp(op, {result, loadRow(::osl::kTextureAlphaRow)});
+    return success();
+  }
+
+  /// The declaration of osl_rt_texture in the module.
+  static LLVM::LLVMFuncOp runtimeFunction(OpBuilder &b, Operation *op) {
+    auto module = op->getParentOfType<ModuleOp>();
+    if (auto f = module.lookupSymbol<LLVM::LLVMFuncOp>("osl_rt_texture"))
+      return f;
+    MLIRContext *ctx = b.getContext();
+    auto ptr = LLVM::LLVMPointerType::get(ctx);
+    Type i32 = b.getI32Type();
+    SmallVector<Type> params = {ptr, ptr, ptr, i32, i32, i32, i32, i32, i32,
+                                i32, i32, i32, ptr, i32, i32};
+    auto type = LLVM::LLVMFunctionType::get(LLVM::LLVMVoidType::get(ctx), params);
+    OpBuilder::InsertionGuard guard(b);
+    b.setInsertionPointToStart(module.getBody());
+    return b.create<LLVM::LLVMFuncOp>(op->getLoc(), "osl_rt_texture", type);
+  }
+};
+
 /// transformc, blackbody, wavelength_color and luminance under the op's
 /// working color space.
 template <typename Op>
@@ -559,7 +728,8 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
                SplineFamilyLowering<SplineOp>,
                SplineFamilyLowering<SplineInverseOp>, ColorLowering<TransformcOp>,
                ColorLowering<BlackbodyOp>, ColorLowering<WavelengthColorOp>,
-               ColorLowering<LuminanceOp>>(converter, ctx);
+               ColorLowering<LuminanceOp>, FirstLaneLowering, TextureLowering>(converter,
+                                                                               ctx);
 }
 
 //===----------------------------------------------------------------------===//

@@ -11,7 +11,6 @@
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/GlobalsLayout.h"
-#include "OslTransforms/ConstantTable.h"
 #include "OslTransforms/LaneMath.h"
 #include "OslTransforms/Passes.h"
 
@@ -73,7 +72,7 @@ private:
       return isa<BlockArgument>(v) && isa<func::FuncOp>(v.getParentBlock()->getParentOp())
                  ? FailureOr<Value>(Value())
                  : fail(user, "a value carried around a loop");
-    if (isa<arith::ConstantOp>(def))
+    if (isa<arith::ConstantOp>(def) || def->hasAttr(kNoDerivativeAttr))
       return Value();
     if (auto load = dyn_cast<LLVM::LoadOp>(def))
       return deriveGlobal(load, user);
@@ -292,8 +291,8 @@ private:
   /// Derivative of a load of a global's row: the matching derivative row
   /// (dPdx for P, dudy for u...); 0 for globals without derivatives.
   FailureOr<Value> deriveGlobal(LLVM::LoadOp load, Operation *user) {
-    if (load->hasAttr(kDerivativeRowAttr) || load->hasAttr(kConstantTableAttr))
-      return Value(); // no second derivatives, as in OSL; tables are constant
+    if (load->hasAttr(kDerivativeRowAttr))
+      return Value(); // no second derivatives, as in OSL
     auto rowAttr = load->getAttrOfType<IntegerAttr>(kGlobalRowAttr);
     if (!rowAttr)
       return fail(user, "a load that is not a shader global");

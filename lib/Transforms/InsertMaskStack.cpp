@@ -162,7 +162,7 @@ private:
     bool expensive = false;
     arm.walk([&](Operation *nested) {
       ++count;
-      expensive |= isa<scf::WhileOp, WhileOp, NoiseOp, SplineInverseOp>(nested);
+      expensive |= isa<scf::WhileOp, WhileOp, NoiseOp, SplineInverseOp, TextureOp>(nested);
     });
     return expensive || count > skipThreshold;
   }

@@ -23,6 +23,7 @@ void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
   else
     fn.addPass(createVaryingPropagation());
   fn.addPass(createInsertMaskStack());
+  fn.addPass(createLaneGroupFilter());
   ConvertToVectorOptions vectorOptions;
   vectorOptions.width = reference ? 1 : width;
   vectorOptions.referenceMode = reference;

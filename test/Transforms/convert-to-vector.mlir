@@ -169,11 +169,11 @@ func.func @periodic_noise() {
 // CHECK: llvm.mlir.global internal constant @osl_blackbody_r_Rec709
 // CHECK-LABEL: osl.shader_name = "blackbody_varying"
 // CHECK: llvm.getelementptr %{{.+}}[%{{.+}}] : (!llvm.ptr, vector<8xi32>) -> !llvm.vec<8 x ptr>, f32
-// CHECK: llvm.intr.masked.gather %{{.+}} {alignment = 4 : i32, osl.constant_table} : (!llvm.vec<8 x ptr>, vector<8xi1>, vector<8xf32>) -> vector<8xf32>
+// CHECK: llvm.intr.masked.gather %{{.+}} {alignment = 4 : i32, osl.no_derivative} : (!llvm.vec<8 x ptr>, vector<8xi1>, vector<8xf32>) -> vector<8xf32>
 // CHECK: %[[HOT:.+]] = vector.reduction <or>, %{{.+}} : vector<8xi1> into i1
 // CHECK: scf.if %[[HOT]] -> (vector<8xf32>, vector<8xf32>, vector<8xf32>)
 // CHECK: scf.for %{{.+}} = %{{.+}} to %c81
-// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.constant_table} : !llvm.ptr -> f32
+// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> f32
 // CHECK: math.expm1 %{{.+}} : vector<8xf32>
 // CHECK: arith.select %{{.+}} {osl.dual_rule = "none"} : vector<8xi1>, vector<8xf32>
 func.func @blackbody_varying() {
@@ -188,7 +188,7 @@ func.func @blackbody_varying() {
 // A uniform temperature stays scalar: plain loads, and the spectrum loop
 // is guarded by the scalar condition itself.
 // CHECK-LABEL: osl.shader_name = "blackbody_uniform"
-// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.constant_table} : !llvm.ptr -> f32
+// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> f32
 // CHECK-NOT: vector.reduction
 // CHECK: scf.if %{{.+}} -> (f32, f32, f32)
 func.func @blackbody_uniform() {
@@ -228,5 +228,54 @@ func.func @transformc_luminance() {
   %c = osl.transformc "hsv" to "rgb" in "Rec709" %P : !osl.varying<vector<3xf32>> -> !osl.varying<vector<3xf32>>
   %l = osl.luminance "Rec709" %c : !osl.varying<vector<3xf32>> -> !osl.varying<f32>
   osl.output "L" = %l : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// osl.texture: per-point values go to rows of W floats in a block on the
+// stack (allocated once, in the entry block), the runtime looks up the
+// lanes of the mask, and the result rows are read back; the uniform
+// choices become the file's address and OpenImageIO's wrap code (clamp is
+// 2, black 1).
+// CHECK-LABEL: llvm.func @osl_rt_texture(!llvm.ptr, !llvm.ptr, !llvm.ptr, i32, i32, i32, i32, i32, i32, i32, i32, i32, !llvm.ptr, i32, i32)
+// CHECK-LABEL: osl.shader_name = "texture_lookup"
+// CHECK: %[[BLOCK:.+]] = llvm.alloca %{{.+}} x f32 {alignment = 64 : i64}
+// CHECK: llvm.store %{{.+}}, %{{.+}} {alignment = 4 : i64} : vector<8xf32>, !llvm.ptr
+// CHECK: %[[WHERE:.+]] = llvm.mlir.addressof @osl_string_{{[0-9]+}} : !llvm.ptr
+// CHECK: %[[FILE:.+]] = llvm.mlir.addressof @osl_string_{{[0-9]+}} : !llvm.ptr
+// CHECK: arith.constant 2 : i32
+// CHECK: %[[S:.+]] = llvm.select %{{.+}}, %{{.+}}, %{{.+}} : i1, i32
+// CHECK: %[[T:.+]] = llvm.select
+// CHECK: %[[R:.+]] = llvm.select
+// CHECK: %[[BITS:.+]] = llvm.bitcast %{{.+}} : vector<8xi1> to i8
+// CHECK: %[[MASK:.+]] = arith.extui %[[BITS]] : i8 to i32
+// CHECK: llvm.call @osl_rt_texture(%[[WHERE]], %[[FILE]], %{{[^,]+}}, %{{[^,]+}}, %{{[^,]+}}, %{{[^,]+}}, %{{[^,]+}}, %[[S]], %[[T]], %[[R]], %{{[^,]+}}, %{{[^,]+}}, %[[BLOCK]], %{{[^,]+}}, %[[MASK]])
+// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> vector<8xf32>
+func.func @texture_lookup() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %v = osl.global "v" : !osl.varying<f32>
+  %one = arith.constant 1.0 : f32
+  %zero = arith.constant 0.0 : f32
+  %c0 = arith.constant 0 : i32
+  %c1 = arith.constant 1 : i32
+  %r, %a = osl.texture "2d"(%u, %v) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c1, %c1, %c1, %c0, %c0) {candidates = [["ramp.tx"], ["clamp", "black"], ["clamp", "black"], ["clamp", "black"], ["smartcubic"], [""]], nchannels = 3 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<vector<3xf32>>, !osl.varying<f32>
+  osl.output "C" = %r : !osl.varying<vector<3xf32>>
+  return
+}
+
+// -----
+
+// osl.first_lane: the lowest set bit of the mask picks the lane.
+// CHECK-LABEL: osl.shader_name = "first_lane"
+// CHECK: %[[BITS:.+]] = llvm.bitcast %{{.+}} : vector<8xi1> to i8
+// CHECK: %[[WIDE:.+]] = arith.extui %[[BITS]] : i8 to i32
+// CHECK: %[[LEAD:.+]] = "llvm.intr.cttz"(%[[WIDE]]) <{is_zero_poison = false}> : (i32) -> i32
+// CHECK: vector.extractelement %{{.+}}[%[[LEAD]] : i32] : vector<8xf32>
+func.func @first_lane() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %m = osl.batch_mask : !osl.varying<i1>
+  %f = osl.first_lane %u, %m : !osl.varying<f32>, !osl.varying<i1> -> f32
+  osl.output "f" = %f : f32
   return
 }

@@ -38,6 +38,7 @@ const char *const osl::kUsage =
     "                         testshade's varying derivatives\n"
     "  -t N                   threads (default: all cores)\n"
     "  --iters N              shade the grid N times, write once\n"
+    "  --texture-cache-mb N   size of the shared texture cache\n"
     "  --stats                time of each compile stage and of shading\n"
     "  --emit=mlir|lowered|llvm|asm\n"
     "                         print the front end's osl dialect, the lowered\n"
@@ -106,6 +107,12 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
     } else if (a == "--iters") {
       if (!need(i, 1, "--iters") || !parseInt(argv[++i], o.iters) || o.iters < 1) {
         error = "--iters needs a positive count";
+        return false;
+      }
+    } else if (a == "--texture-cache-mb") {
+      if (!need(i, 1, "--texture-cache-mb") || !parseInt(argv[++i], o.textureCacheMB) ||
+          o.textureCacheMB < 1) {
+        error = "--texture-cache-mb needs a positive size in MB";
         return false;
       }
     } else if (a == "--center") {

@@ -19,6 +19,8 @@ struct RunOptions {
   std::vector<std::pair<std::string, std::string>> outputs;
   bool stats = false;
   int iters = 1;
+  /// The shared texture cache's size in MB (0: OpenImageIO's default).
+  int textureCacheMB = 0;
   std::string emit; // "", "mlir", "lowered", "llvm", "asm"
 };
 

@@ -8,6 +8,7 @@
 #include "RunOptions.h"
 
 #include "OslRuntime/ImageOutput.h"
+#include "OslRuntime/TextureCall.h"
 #include "OslRuntime/ThreadPool.h"
 
 #include "llvm/IR/Module.h"
@@ -110,6 +111,8 @@ int main(int argc, char **argv) {
   if (!resolveOutputs(options, *shader, files, error))
     return fail(error);
 
+  if (options.textureCacheMB > 0)
+    setTextureCacheMegabytes(float(options.textureCacheMB));
   options.grid.progress = true;
   ThreadPool pool(options.grid.threads);
   ShadeResult result;
@@ -141,5 +144,7 @@ int main(int argc, char **argv) {
     double points = double(options.grid.xres) * options.grid.yres * options.iters;
     llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
   }
-  return 0;
+  // The images are written, but a texture that could not be read is an
+  // error (reported once per file, where it was looked up).
+  return textureFileErrors() > 0 ? 1 : 0;
 }

@@ -1,0 +1,366 @@
+//===- TextureBuiltins.cpp - texture(), texture3d(), environment() --------===//
+//
+// A lookup is one osl.texture op: coordinates, their derivatives (the
+// explicit arguments, or Dx/Dy/Dz of the coordinates, resolved only for
+// lookups that need them), the per-point options as values, and the options
+// OpenImageIO takes once per call (file, wrap modes, interp, subimage name)
+// as choices among compile-time strings, so a string chosen per point is
+// split into lane groups later (osl-lane-group-filter).
+//
+//===----------------------------------------------------------------------===//
+#include "IRGen.h"
+
+#include "llvm/ADT/StringSwitch.h"
+
+using namespace osl::frontend;
+using namespace mlir;
+using namespace mlir::osl;
+
+namespace {
+
+/// The shape of one lookup function.
+struct TextureForm {
+  const char *kind;  // osl.texture's kind
+  bool tripleCoord;  // one triple (P, R) rather than s, t
+  int derivArgs;     // explicit derivative arguments
+  const char *usage; // its signatures, for errors
+};
+
+std::optional<TextureForm> textureForm(llvm::StringRef name) {
+  if (name == "texture")
+    return TextureForm{"2d", false, 4,
+                       "texture(string file, float s, float t, [float dsdx, float dtdx, "
+                       "float dsdy, float dtdy,] options...)"};
+  if (name == "texture3d")
+    return TextureForm{"3d", true, 3,
+                       "texture3d(string file, point p, [vector dpdx, vector dpdy, "
+                       "vector dpdz,] options...)"};
+  if (name == "environment")
+    return TextureForm{"environment", true, 2,
+                       "environment(string file, vector R, [vector dRdx, vector dRdy,] "
+                       "options...)"};
+  return std::nullopt;
+}
+
+// Indices into osl.texture's float options and string choices.
+enum FloatOption { SBlur, TBlur, RBlur, SWidth, TWidth, RWidth, Fill, MissingAlpha,
+                   MissingColorR, MissingColorG, MissingColorB, NumFloatOptions };
+enum ChoiceOption { File, SWrap, TWrap, RWrap, Interp, SubimageName, NumChoices };
+
+/// Builds one lookup from a call's arguments.
+class TextureCall {
+public:
+  TextureCall(IRGen &g, const Expr &call, TextureForm form)
+      : g(g), call(call), form(form) {}
+
+  std::optional<RValue> emit(const OslType *expected);
+
+private:
+  bool wrong() {
+    return g.error(call.loc, "wrong arguments to '" + call.name + "'; candidates: " +
+                                 form.usage);
+  }
+  SrcLoc argLoc(size_t k) const { return call.args[k]->loc; }
+  std::optional<Value> floatArg(size_t k, const char *what);
+  std::optional<Value> tripleArg(size_t k, const char *what);
+  bool stringChoice(size_t k, ChoiceOption which);
+  bool option(size_t nameArg);
+  Value component(Value triple, int64_t i) {
+    Type f32 = g.builder().getF32Type();
+    return g.builder().create<ExtractOp>(g.loc(call.loc),
+                                         withUniformity(f32, isVarying(triple.getType())),
+                                         triple, i);
+  }
+  Value deriv(Value v, const char *axis) {
+    return g.builder().create<DerivOp>(g.loc(call.loc), v.getType(), v, axis);
+  }
+
+  IRGen &g;
+  const Expr &call;
+  TextureForm form;
+  std::vector<Value> coords, derivs;
+  Value floats[NumFloatOptions];
+  Value choice[NumChoices];
+  std::vector<std::string> candidates[NumChoices];
+  Value firstChannel, subimage;
+  bool hasMissingColor = false, hasMissingAlpha = false;
+  std::optional<LValue> alphaOut;
+};
+
+std::optional<Value> TextureCall::floatArg(size_t k, const char *what) {
+  OslType f(BaseType::Float);
+  auto v = g.emitExpr(*call.args[k], &f);
+  if (!v)
+    return std::nullopt;
+  auto c = g.coerce(*v, f, call.args[k]->begin,
+                    "for " + llvm::Twine(what) + " of '" + call.name + "'");
+  if (!c)
+    return std::nullopt;
+  return c->value;
+}
+
+std::optional<Value> TextureCall::tripleArg(size_t k, const char *what) {
+  OslType t(BaseType::Vector);
+  auto v = g.emitExpr(*call.args[k], &t);
+  if (!v)
+    return std::nullopt;
+  if (!v->type.isTriple()) {
+    g.error(argLoc(k), "'" + call.name + "' needs a point or vector for " + what + ", got '" +
+                           v->type.str() + "'");
+    return std::nullopt;
+  }
+  return v->value;
+}
+
+/// A string option: a known string, or one chosen per point among several.
+bool TextureCall::stringChoice(size_t k, ChoiceOption which) {
+  auto v = g.emitExpr(*call.args[k]);
+  if (!v)
+    return false;
+  if (!v->type.isString())
+    return g.error(argLoc(k), "'" + call.name + "' expects a string here, got '" +
+                                  v->type.str() + "'");
+  if (v->isStringChoice()) {
+    candidates[which] = v->choices;
+    choice[which] = v->value;
+  } else {
+    candidates[which] = {v->str};
+    choice[which] = g.constInt(0, call.loc);
+  }
+  return true;
+}
+
+/// The option named by argument `nameArg`, with its value after it.
+bool TextureCall::option(size_t nameArg) {
+  const Expr &nameExpr = *call.args[nameArg];
+  if (nameExpr.kind != ExprKind::StringLit)
+    return g.error(nameExpr.loc, "'" + call.name +
+                                     "' expects an option name (a string literal) here");
+  std::string name = nameExpr.name;
+  if (nameArg + 1 >= call.args.size())
+    return g.error(nameExpr.loc, "texture option '" + name + "' needs a value");
+  size_t k = nameArg + 1;
+  auto setFloats = [&](std::initializer_list<FloatOption> which) {
+    auto v = floatArg(k, name.c_str());
+    if (!v)
+      return false;
+    for (FloatOption o : which)
+      floats[o] = *v;
+    return true;
+  };
+  auto setChoices = [&](std::initializer_list<ChoiceOption> which) {
+    if (!stringChoice(k, *which.begin()))
+      return false;
+    for (ChoiceOption o : which) {
+      candidates[o] = candidates[*which.begin()];
+      choice[o] = choice[*which.begin()];
+    }
+    return true;
+  };
+  auto uniformInt = [&](Value &out) {
+    OslType i(BaseType::Int);
+    auto v = g.emitExpr(*call.args[k], &i);
+    if (!v)
+      return false;
+    if (!v->type.isInt())
+      return g.error(argLoc(k), "texture option '" + name + "' needs an int, got '" +
+                                    v->type.str() + "'");
+    if (isVarying(v->value.getType()))
+      return g.error(argLoc(k), "texture option '" + name +
+                                    "' must be the same for every point (OpenImageIO takes "
+                                    "it once per lookup)");
+    out = v->value;
+    return true;
+  };
+  if (name == "blur")
+    return setFloats({SBlur, TBlur, RBlur});
+  if (name == "sblur")
+    return setFloats({SBlur});
+  if (name == "tblur")
+    return setFloats({TBlur});
+  if (name == "rblur")
+    return setFloats({RBlur});
+  if (name == "width")
+    return setFloats({SWidth, TWidth, RWidth});
+  if (name == "swidth")
+    return setFloats({SWidth});
+  if (name == "twidth")
+    return setFloats({TWidth});
+  if (name == "rwidth")
+    return setFloats({RWidth});
+  if (name == "fill")
+    return setFloats({Fill});
+  if (name == "missingalpha") {
+    hasMissingAlpha = true;
+    return setFloats({MissingAlpha});
+  }
+  if (name == "time") // motion-blurred textures: none here
+    return bool(floatArg(k, "time"));
+  if (name == "wrap")
+    return setChoices({SWrap, TWrap, RWrap});
+  if (name == "swrap")
+    return setChoices({SWrap});
+  if (name == "twrap")
+    return setChoices({TWrap});
+  if (name == "rwrap")
+    return setChoices({RWrap});
+  if (name == "interp")
+    return setChoices({Interp});
+  if (name == "firstchannel")
+    return uniformInt(firstChannel);
+  if (name == "missingcolor") {
+    OslType c(BaseType::Color);
+    auto v = g.emitExpr(*call.args[k], &c);
+    if (!v)
+      return false;
+    auto cv = g.coerce(*v, c, call.args[k]->begin, "for 'missingcolor'");
+    if (!cv)
+      return false;
+    hasMissingColor = true;
+    for (int i = 0; i < 3; ++i)
+      floats[MissingColorR + i] = component(cv->value, i);
+    return true;
+  }
+  if (name == "subimage") {
+    if (call.args[k]->kind == ExprKind::StringLit || call.args[k]->kind == ExprKind::Ident) {
+      auto v = g.emitExpr(*call.args[k]);
+      if (!v)
+        return false;
+      if (v->type.isString()) {
+        candidates[SubimageName] = v->isStringChoice() ? v->choices
+                                                       : std::vector<std::string>{v->str};
+        choice[SubimageName] = v->isStringChoice() ? v->value : g.constInt(0, call.loc);
+        return true;
+      }
+    }
+    return uniformInt(subimage);
+  }
+  if (name == "alpha") {
+    alphaOut = g.emitLValue(*call.args[k]);
+    if (!alphaOut)
+      return false;
+    if (!alphaOut->type.isFloat())
+      return g.error(argLoc(k), "texture option 'alpha' needs a float variable, got '" +
+                                    alphaOut->type.str() + "'");
+    return true;
+  }
+  if (name == "errormessage")
+    return g.error(nameExpr.loc, "texture option 'errormessage' is not supported yet");
+  return g.error(nameExpr.loc, "unknown texture option '" + name + "'");
+}
+
+std::optional<RValue> TextureCall::emit(const OslType *expected) {
+  size_t n = call.args.size();
+  size_t coordArgs = form.tripleCoord ? 1 : 2;
+  if (n < 1 + coordArgs)
+    {
+    wrong();
+    return std::nullopt;
+  }
+  // Positional arguments end at the first option name.
+  size_t firstOption = 1 + coordArgs;
+  while (firstOption < n && call.args[firstOption]->kind != ExprKind::StringLit)
+    ++firstOption;
+  size_t explicitDerivs = firstOption - 1 - coordArgs;
+  if (explicitDerivs != 0 && explicitDerivs != size_t(form.derivArgs))
+    {
+    wrong();
+    return std::nullopt;
+  }
+
+  if (!stringChoice(0, File))
+    return std::nullopt;
+  if (form.tripleCoord) {
+    auto p = tripleArg(1, "the lookup point");
+    if (!p)
+      return std::nullopt;
+    for (int i = 0; i < 3; ++i)
+      coords.push_back(component(*p, i));
+    const char *axes[3] = {"x", "y", "z"};
+    for (int d = 0; d < form.derivArgs; ++d) {
+      Value dv;
+      if (explicitDerivs) {
+        auto v = tripleArg(1 + coordArgs + d, "a derivative");
+        if (!v)
+          return std::nullopt;
+        dv = *v;
+      } else {
+        dv = deriv(*p, axes[d]);
+      }
+      for (int i = 0; i < 3; ++i)
+        derivs.push_back(component(dv, i));
+    }
+  } else {
+    for (size_t k = 1; k <= 2; ++k) {
+      auto c = floatArg(k, k == 1 ? "s" : "t");
+      if (!c)
+        return std::nullopt;
+      coords.push_back(*c);
+    }
+    if (explicitDerivs) {
+      for (int d = 0; d < 4; ++d) {
+        auto v = floatArg(3 + d, "a derivative");
+        if (!v)
+          return std::nullopt;
+        derivs.push_back(*v);
+      }
+    } else { // ds/dx, dt/dx, ds/dy, dt/dy
+      derivs = {deriv(coords[0], "x"), deriv(coords[1], "x"), deriv(coords[0], "y"),
+                deriv(coords[1], "y")};
+    }
+  }
+
+  // OpenImageIO's defaults.
+  for (int o = 0; o < NumFloatOptions; ++o)
+    floats[o] = g.constFloat(o == SWidth || o == TWidth || o == RWidth || o == MissingAlpha
+                                 ? 1.0f
+                                 : 0.0f,
+                             call.loc);
+  for (int c = 1; c < NumChoices; ++c) {
+    candidates[c] = {c == Interp ? "smartcubic" : c == SubimageName ? "" : "default"};
+    choice[c] = g.constInt(0, call.loc);
+  }
+  firstChannel = g.constInt(0, call.loc);
+  subimage = g.constInt(0, call.loc);
+  for (size_t k = firstOption; k < n; k += 2)
+    if (!option(k))
+      return std::nullopt;
+
+  OpBuilder &b = g.builder();
+  bool color = !(expected && (expected->isFloat() || expected->isInt()));
+  OslType resultType = color ? OslType(BaseType::Color) : OslType(BaseType::Float);
+  Type result = withUniformity(irType(b, resultType), true);
+  Type alpha = withUniformity(b.getF32Type(), true);
+  SmallVector<Attribute> lists;
+  SmallVector<Value> choices;
+  for (int c = 0; c < NumChoices; ++c) {
+    SmallVector<Attribute> names;
+    for (const std::string &s : candidates[c])
+      names.push_back(b.getStringAttr(s));
+    lists.push_back(b.getArrayAttr(names));
+    choices.push_back(choice[c]);
+  }
+  auto op = b.create<TextureOp>(g.loc(call.loc), result, alpha, form.kind,
+                                uint32_t(color ? 3 : 1), hasMissingColor, hasMissingAlpha,
+                                b.getArrayAttr(lists), coords, derivs,
+                                ArrayRef<Value>(floats), firstChannel, subimage, choices,
+                                /*mask=*/Value());
+  if (alphaOut)
+    g.storeLValue(*alphaOut, RValue::num(OslType(BaseType::Float), op.getAlpha()), call.loc);
+  return RValue::num(resultType, op.getResult());
+}
+
+} // namespace
+
+namespace osl::frontend {
+
+std::optional<RValue> emitTextureBuiltin(IRGen &g, const Expr &call, const OslType *expected,
+                                         bool &known) {
+  std::optional<TextureForm> form = textureForm(call.name);
+  known = form.has_value();
+  if (!form)
+    return std::nullopt;
+  return TextureCall(g, call, *form).emit(expected);
+}
+
+} // namespace osl::frontend

@@ -1,0 +1,126 @@
+//===- TextureSystem.cpp - Texture lookups through OpenImageIO ------------===//
+//
+// One TextureSystem shared by every thread and shader (OpenImageIO's shared
+// cache). Each lane is looked up with OpenImageIO's per-point API: the
+// options OSL lets vary per point (blur, width, fill, missingcolor,
+// missingalpha) vary here too, which OpenImageIO's batched options take once
+// per batch, and the results equal OSL's scalar lookups exactly.
+//
+//===----------------------------------------------------------------------===//
+#include "OslRuntime/TextureCall.h"
+
+#include <Imath/ImathVec.h>
+#include <OpenImageIO/texture.h>
+#include <OpenImageIO/ustring.h>
+
+#include <cstdio>
+#include <mutex>
+#include <set>
+#include <string>
+
+using namespace OIIO;
+
+static_assert(int(Tex::Wrap::Black) == osl::textureWrapCode("black") &&
+                  int(Tex::Wrap::Mirror) == osl::textureWrapCode("mirror") &&
+                  int(Tex::Wrap::PeriodicSharedBorder) ==
+                      osl::textureWrapCode("periodic_sharedborder"),
+              "wrap codes must be OpenImageIO's");
+static_assert(int(Tex::InterpMode::Closest) == osl::textureInterpCode("closest") &&
+                  int(Tex::InterpMode::SmartBicubic) == osl::textureInterpCode("smartcubic"),
+              "interp codes must be OpenImageIO's");
+
+namespace {
+
+TextureSystem &sharedTextureSystem() {
+  static TextureSystem *ts = TextureSystem::create(/*shared=*/true);
+  return *ts;
+}
+
+std::mutex missingMutex;
+std::set<std::string> missingFiles;
+
+/// Reports a file that cannot be read once, not once per point.
+void reportMissing(const char *where, const char *file, const std::string &why) {
+  std::lock_guard<std::mutex> lock(missingMutex);
+  if (!missingFiles.insert(file).second)
+    return;
+  std::fprintf(stderr, "%s: error: texture '%s' could not be read%s%s\n", where, file,
+               why.empty() ? "" : ": ", why.c_str());
+}
+
+} // namespace
+
+int osl::textureFileErrors() {
+  std::lock_guard<std::mutex> lock(missingMutex);
+  return int(missingFiles.size());
+}
+
+void osl::setTextureCacheMegabytes(float megabytes) {
+  sharedTextureSystem().attribute("max_memory_MB", megabytes);
+}
+
+extern "C" void osl_rt_texture(const char *where, const char *file,
+                               const char *subimageName,
+                               int32_t subimage, int32_t kind, int32_t nchannels,
+                               int32_t firstchannel, int32_t swrap, int32_t twrap,
+                               int32_t rwrap, int32_t interp, int32_t flags, float *rows,
+                               int32_t width, uint32_t laneMask) {
+  using namespace osl;
+  TextureSystem &ts = sharedTextureSystem();
+  TextureSystem::Perthread *thread = ts.get_perthread_info();
+  TextureSystem::TextureHandle *handle = ts.get_texture_handle(ustring(file), thread);
+  auto row = [&](int r) { return rows + size_t(r) * size_t(width); };
+  TextureOpt opt;
+  opt.firstchannel = firstchannel;
+  opt.subimage = subimage;
+  if (subimageName && *subimageName)
+    opt.subimagename = ustring(subimageName);
+  opt.swrap = TextureOpt::Wrap(swrap);
+  opt.twrap = TextureOpt::Wrap(twrap);
+  opt.rwrap = TextureOpt::Wrap(rwrap);
+  opt.interpmode = TextureOpt::InterpMode(interp);
+  bool missingGiven = flags & (kTextureHasMissingColor | kTextureHasMissingAlpha);
+  int channels = nchannels + 1; // and alpha
+  for (int lane = 0; lane < width; ++lane) {
+    if (!(laneMask >> lane & 1u))
+      continue;
+    auto at = [&](int r) { return row(r)[lane]; };
+    const int o = kTextureOptionRow;
+    opt.sblur = at(o + 0);
+    opt.tblur = at(o + 1);
+    opt.rblur = at(o + 2);
+    opt.swidth = at(o + 3);
+    opt.twidth = at(o + 4);
+    opt.rwidth = at(o + 5);
+    opt.fill = at(o + 6);
+    // missingcolor's channels line up with the result's: the color, then
+    // alpha.
+    float missing[4] = {0, 0, 0, 0};
+    for (int c = 0; c < nchannels; ++c)
+      missing[c] = (flags & kTextureHasMissingColor) ? at(o + 8 + c) : 0.0f;
+    missing[nchannels] = (flags & kTextureHasMissingAlpha) ? at(o + 7) : 1.0f;
+    opt.missingcolor = missingGiven ? missing : nullptr;
+    float result[4] = {0, 0, 0, 0};
+    const int d = kTextureDerivRow;
+    bool ok = false;
+    if (kind == kTexture2D) {
+      ok = ts.texture(handle, thread, opt, at(kTextureCoordRow), at(kTextureCoordRow + 1),
+                      at(d), at(d + 1), at(d + 2), at(d + 3), channels, result);
+    } else {
+      Imath::V3f p(at(kTextureCoordRow), at(kTextureCoordRow + 1), at(kTextureCoordRow + 2));
+      Imath::V3f dx(at(d), at(d + 1), at(d + 2)), dy(at(d + 3), at(d + 4), at(d + 5));
+      if (kind == kTexture3D) {
+        Imath::V3f dz(at(d + 6), at(d + 7), at(d + 8));
+        ok = ts.texture3d(handle, thread, opt, p, dx, dy, dz, channels, result);
+      } else {
+        ok = ts.environment(handle, thread, opt, p, dx, dy, channels, result);
+      }
+    }
+    if (!ok && !missingGiven)
+      reportMissing(where, file, ts.geterror());
+    for (int c = 0; c < channels; ++c)
+      row(kTextureResultRow + c)[lane] = result[c];
+    if (nchannels == 1)
+      row(kTextureAlphaRow)[lane] = result[1];
+  }
+}
