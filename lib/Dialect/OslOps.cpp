@@ -355,7 +355,8 @@ static LogicalResult verifyNoiseOptions(NoiseOp op, ArrayRef<Type> domain) {
       return op.emitOpError("noise option '")
              << o.name << "' has the wrong type " << o.value.getType();
     if (o.value && isVarying(o.value.getType()))
-      return op.emitOpError("noise option '") << o.name << "' must be uniform";
+      return op.emitOpError("noise option '")
+             << o.name << "' must be uniform (the same at every point)";
   }
   if (op.getDerivs().empty())
     return success();

@@ -401,15 +401,11 @@ struct GeometryLowering : public OslPattern<OpTy> {
 };
 
 /// Gabor noise: the point (and its derivatives and period) made 3D, the
-/// options read as uniform scalars.
-LogicalResult lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Lanes &lanes,
-                         Type resultType, ConversionPatternRewriter &rewriter) {
+/// options read as scalars (the verifier keeps them uniform).
+void lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Lanes &lanes, Type resultType,
+                ConversionPatternRewriter &rewriter) {
   Location loc = op.getLoc();
   bool varying = isVarying(op.getType());
-  for (Value option : {op.getAnisotropic(), op.getDirection(), op.getBandwidth(),
-                       op.getImpulses(), op.getDoFilter()})
-    if (option && isVarying(option.getType()))
-      return op.emitError("gabor noise options must be uniform (the same at every point)");
   SmallVector<Value> flat;
   for (auto &c : lanes.unpackAll(adaptor.getCoords(), op.getCoords(), varying))
     llvm::append_range(flat, c);
@@ -456,7 +452,6 @@ LogicalResult lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Lanes &lanes,
   } else {
     rewriter.replaceOp(op, buildGaborFloat(rewriter, loc, point, options));
   }
-  return success();
 }
 
 struct NoiseLowering : public OslPattern<NoiseOp> {
@@ -465,7 +460,8 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
                                 ConversionPatternRewriter &rewriter) const override {
     if (op.getKind() == "gabor") {
       Lanes lanes{rewriter, op.getLoc(), width};
-      return lowerGabor(op, adaptor, lanes, convert(op.getType()), rewriter);
+      lowerGabor(op, adaptor, lanes, convert(op.getType()), rewriter);
+      return success();
     }
     std::optional<NoiseKind> kind = parseNoiseName(op.getKind());
     if (!kind)
