@@ -493,7 +493,8 @@ Value impulseValue(Lanes &l, const Params &p, const Filter *fl,
 // Cells and the grid
 //===----------------------------------------------------------------------===//
 
-/// Imath-style wrap of a cell coordinate by floor(period) (at least 1).
+/// pnoise's wrap of a cell coordinate: s - p floor(s / p), p = floor(period)
+/// raised to at least 1.
 Value wrapCoord(Lanes &l, Value s, Value period) {
   Value q = l.floor(period);
   q = l.select(l.cmp(FP::OLT, q, l.f(1.0f)), l.f(1.0f), q);
