@@ -302,17 +302,45 @@ def Osl_InsertOp : Osl_Op<"insert", [Pure]> {
 // Library calls
 //===----------------------------------------------------------------------===//
 
-def Osl_NoiseOp : Osl_Op<"noise", [Pure]> {
+def Osl_NoiseOp : Osl_Op<"noise", [Pure, AttrSizedOperandSegments]> {
   let summary = "noise(name, p [, t]) with a float or triple result";
   let description = [{
     `kind` is OSL's noise type name ("perlin", "uperlin", "cell", "hash"...).
     Domains: (f32), (f32, f32), (triple), (triple, f32). With `periodic`
     (OSL's pnoise) the coordinates are followed by one period of the same
     type per coordinate.
+
+    Gabor noise ("gabor") also takes OSL's noise options as uniform
+    operands, each optional (OSL's default when absent): `anisotropic`
+    (i32: 0 isotropic, 1 anisotropic, 2 hybrid), `direction` (triple),
+    `bandwidth` and `impulses` (f32), `do_filter` (i32). `derivs` holds
+    Dx then Dy of the lookup point's coordinates (the first one or two
+    coordinates, not a 4th one or the periods), for the filter; without
+    them the noise is not filtered.
   }];
-  let arguments = (ins StrAttr:$kind, Variadic<Osl_Value>:$coords, UnitAttr:$periodic);
+  let arguments = (ins StrAttr:$kind, Variadic<Osl_Value>:$coords, UnitAttr:$periodic,
+                       Variadic<Osl_Value>:$derivs,
+                       Optional<Osl_Value>:$anisotropic, Optional<Osl_Value>:$direction,
+                       Optional<Osl_Value>:$bandwidth, Optional<Osl_Value>:$impulses,
+                       Optional<Osl_Value>:$do_filter);
   let results = (outs Osl_Value:$result);
-  let assemblyFormat = "$kind `(` $coords `)` attr-dict `:` functional-type($coords, $result)";
+  let assemblyFormat = [{
+    $kind `(` $coords `)`
+    (`derivs` `(` $derivs^ `:` type($derivs) `)`)?
+    (`anisotropic` `(` $anisotropic^ `:` type($anisotropic) `)`)?
+    (`direction` `(` $direction^ `:` type($direction) `)`)?
+    (`bandwidth` `(` $bandwidth^ `:` type($bandwidth) `)`)?
+    (`impulses` `(` $impulses^ `:` type($impulses) `)`)?
+    (`do_filter` `(` $do_filter^ `:` type($do_filter) `)`)?
+    attr-dict `:` functional-type($coords, $result)
+  }];
+  let builders = [
+    OpBuilder<(ins "Type":$result, "StringRef":$kind, "ValueRange":$coords,
+                   "bool":$periodic), [{
+      build($_builder, $_state, result, kind, coords, periodic, ValueRange(),
+            Value(), Value(), Value(), Value(), Value());
+    }]>
+  ];
   let hasVerifier = 1;
 }
 

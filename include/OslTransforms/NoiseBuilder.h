@@ -14,6 +14,7 @@
 #include "mlir/IR/Location.h"
 #include "mlir/IR/Value.h"
 #include "mlir/IR/ValueRange.h"
+#include "llvm/ADT/ArrayRef.h"
 #include "llvm/ADT/StringRef.h"
 
 #include <array>
@@ -53,9 +54,14 @@ buildPeriodicNoiseTriple(mlir::OpBuilder &b, mlir::Location loc,
                          NoiseKind kind, mlir::ValueRange coords,
                          mlir::ValueRange periods);
 
+/// OSL's inthash (Bob Jenkins' lookup3) of 1 to 5 keys, all i32 or all
+/// vector<W x i32>; the cell seeds of Gabor noise use it like cellnoise.
+mlir::Value buildIntHash(mlir::OpBuilder &b, mlir::Location loc,
+                         llvm::ArrayRef<mlir::Value> keys);
+
 /// Parses an OSL noise type name: "perlin"/"snoise", "uperlin"/"noise",
 /// "cell"/"cellnoise", "hash"/"hashnoise", "simplex", "usimplex".
-/// ("gabor" and unknown names give std::nullopt.)
+/// ("gabor", built by GaborBuilder.h, and unknown names give std::nullopt.)
 std::optional<NoiseKind> parseNoiseName(llvm::StringRef name);
 
 } // namespace mlir::osl

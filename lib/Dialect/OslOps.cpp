@@ -330,6 +330,47 @@ bool mlir::osl::isKnownNoiseName(StringRef name) {
       .Default(false);
 }
 
+/// Gabor's options and filter derivatives (see the op's description).
+/// `domain` holds the uniform types of the coordinates, without periods.
+static LogicalResult verifyNoiseOptions(NoiseOp op, ArrayRef<Type> domain) {
+  bool gabor = op.getKind() == "gabor";
+  bool anyOption = op.getAnisotropic() || op.getDirection() || op.getBandwidth() ||
+                   op.getImpulses() || op.getDoFilter();
+  if (!gabor && (anyOption || !op.getDerivs().empty()))
+    return op.emitOpError("only gabor noise takes options and derivatives");
+  struct Option {
+    Value value;
+    StringRef name;
+    bool ok;
+  };
+  auto is = [](Value v, auto pred) { return !v || pred(getUniformType(v.getType())); };
+  Option options[] = {
+      {op.getAnisotropic(), "anisotropic", is(op.getAnisotropic(), [](Type t) { return t.isInteger(32); })},
+      {op.getDirection(), "direction", is(op.getDirection(), [](Type t) { return isTriple(t); })},
+      {op.getBandwidth(), "bandwidth", is(op.getBandwidth(), [](Type t) { return t.isF32(); })},
+      {op.getImpulses(), "impulses", is(op.getImpulses(), [](Type t) { return t.isF32(); })},
+      {op.getDoFilter(), "do_filter", is(op.getDoFilter(), [](Type t) { return t.isInteger(32); })}};
+  for (const Option &o : options) {
+    if (!o.ok)
+      return op.emitOpError("noise option '")
+             << o.name << "' has the wrong type " << o.value.getType();
+    if (o.value && isVarying(o.value.getType()))
+      return op.emitOpError("noise option '")
+             << o.name << "' must be uniform (the same at every point)";
+  }
+  if (op.getDerivs().empty())
+    return success();
+  // Derivatives of the point: the triple, or each float coordinate.
+  ArrayRef<Type> point = isTriple(domain[0]) ? domain.take_front(1) : domain;
+  auto derivs = op.getDerivs();
+  if (derivs.size() != 2 * point.size())
+    return op.emitOpError("derivs must be Dx then Dy of each point coordinate");
+  for (auto [k, d] : llvm::enumerate(derivs))
+    if (getUniformType(d.getType()) != point[k % point.size()])
+      return op.emitOpError("derivs must be Dx then Dy of each point coordinate");
+  return success();
+}
+
 LogicalResult NoiseOp::verify() {
   if (!isKnownNoiseName(getKind()))
     return emitOpError("unknown noise type '") << getKind() << "'";
@@ -351,7 +392,7 @@ LogicalResult NoiseOp::verify() {
                        "(triple, float)");
   if (!isFloatLike(getUniformType(getType())))
     return emitOpError("result must be f32 or a triple");
-  return success();
+  return verifyNoiseOptions(*this, bases);
 }
 
 LogicalResult TransformOp::verify() {

@@ -13,6 +13,7 @@
 #include "OslTransforms/ColorBuilder.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
+#include "mlir/IR/Matchers.h"
 #include "llvm/ADT/StringSwitch.h"
 
 #include <cmath>
@@ -590,6 +591,79 @@ std::optional<RValue> emitTransformc(IRGen &g, const Expr &call) {
   return RValue::num(color, r);
 }
 
+/// The values of noise("gabor", ..., "name", value, ...)'s options (null
+/// where not given).
+struct NoiseOptionValues {
+  Value anisotropic, direction, bandwidth, impulses, doFilter;
+};
+
+/// Reads (name, value) option pairs from args[at] on: names are constant
+/// strings, values uniform; anisotropic and do_filter are ints, direction a
+/// triple, bandwidth and impulses an int or a float (made float).
+std::optional<NoiseOptionValues> parseNoiseOptions(IRGen &g, const Expr &call,
+                                                   const std::vector<RValue> &args,
+                                                   size_t at) {
+  NoiseOptionValues out;
+  for (size_t k = at; k < args.size(); k += 2) {
+    const RValue &name = args[k];
+    SrcLoc nameLoc = call.args[k]->loc;
+    if (!name.type.isString() || name.isStringChoice()) {
+      g.error(nameLoc, "expected a constant noise option name here (anisotropic, direction, "
+                       "bandwidth, impulses, do_filter)");
+      return std::nullopt;
+    }
+    if (k + 1 >= args.size()) {
+      g.error(nameLoc, "noise option '" + name.str + "' has no value");
+      return std::nullopt;
+    }
+    const RValue &v = args[k + 1];
+    SrcLoc valueLoc = call.args[k + 1]->loc;
+    auto bad = [&](const char *what) -> std::optional<NoiseOptionValues> {
+      g.error(valueLoc, "noise option '" + name.str + "' takes " + what);
+      return std::nullopt;
+    };
+    if (v.type.isNumeric() && isVarying(v.value.getType()))
+      return bad("a uniform value (the same at every point)");
+    if (name.str == "anisotropic" || name.str == "do_filter") {
+      if (!v.type.isInt())
+        return bad("an int");
+      (name.str == "anisotropic" ? out.anisotropic : out.doFilter) = v.value;
+    } else if (name.str == "direction") {
+      if (!v.type.isTriple())
+        return bad("a vector");
+      out.direction = v.value;
+    } else if (name.str == "bandwidth" || name.str == "impulses") {
+      if (!v.type.isInt() && !v.type.isFloat())
+        return bad("a float");
+      (name.str == "bandwidth" ? out.bandwidth : out.impulses) =
+          g.convert(v.value, g.builder().getF32Type(), valueLoc);
+    } else {
+      g.error(nameLoc, "unknown noise option '" + name.str +
+                           "' (known: anisotropic, direction, bandwidth, impulses, do_filter)");
+      return std::nullopt;
+    }
+  }
+  return out;
+}
+
+/// Dx then Dy of Gabor's lookup point for its filter: the triple, or the
+/// float coordinates of a 2D domain. None for a 1D domain (its derivatives
+/// span no area, so OSL never filters it) or when do_filter is a constant 0.
+std::vector<Value> gaborFilterDerivs(IRGen &g, SrcLoc l, llvm::ArrayRef<Value> point,
+                                     const NoiseOptionValues &options) {
+  APInt doFilter;
+  if (options.doFilter && matchPattern(options.doFilter, m_ConstantInt(&doFilter)) &&
+      doFilter.isZero())
+    return {};
+  if (point.size() == 1 && !isTriple(getUniformType(point[0].getType())))
+    return {};
+  std::vector<Value> derivs;
+  for (char axis : {'x', 'y'})
+    for (Value c : point)
+      derivs.push_back(derivOf(g, l, c, axis));
+  return derivs;
+}
+
 std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expected) {
   llvm::StringRef name = call.name;
   auto args = emitArgs(g, call);
@@ -619,14 +693,16 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
         return std::nullopt;
       }
   }
+  // Trailing (string, value) pairs are noise options (Gabor's parameters).
+  size_t optionsAt = first;
+  while (optionsAt < args->size() && !(*args)[optionsAt].type.isString())
+    ++optionsAt;
+  std::optional<NoiseOptionValues> options =
+      parseNoiseOptions(g, call, *args, optionsAt);
+  if (!options)
+    return std::nullopt;
+  args->resize(optionsAt);
   size_t n = args->size() - first;
-  // Trailing (string, value) pairs are noise options (Gabor parameters).
-  for (size_t k = first; k < args->size(); ++k)
-    if ((*args)[k].type.isString()) {
-      g.error(call.args[k]->loc, "noise options (\"" + (*args)[k].str +
-                                     "\") are not supported yet");
-      return std::nullopt;
-    }
   auto wrong = [&]() -> std::optional<RValue> {
     std::string prefix = name == "noise" ? "[string name, ]" : "";
     g.error(call.loc, "wrong arguments to '" + name + "(" + argTypesText(*args) +
@@ -651,12 +727,23 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
       return wrong();
     coords.push_back(g.convert(a.value, g.builder().getF32Type(), call.args[k]->loc));
   }
+  // The lookup point: a triple or the float coordinates (not w, not periods).
+  llvm::ArrayRef<Value> pointCoords(coords);
+  pointCoords = isTriple(getUniformType(coords[0].getType())) ? pointCoords.take_front(1)
+                                                              : pointCoords.take_front(ncoords);
   bool triple = expected && expected->isTriple();
   OslType resultType = triple ? OslType(expected->base) : OslType(BaseType::Float);
   bool varying = llvm::any_of(coords, [](Value v) { return isVarying(v.getType()); });
   Type t = withUniformity(irType(g.builder(), resultType), varying);
   return g.forEachStringChoice(kindName, call.loc, [&](const std::string &k) {
-    Value v = g.builder().create<NoiseOp>(g.loc(call.loc), t, k, coords, periodic);
+    if (k != "gabor") { // other noises ignore the options, as in OSL
+      Value v = g.builder().create<NoiseOp>(g.loc(call.loc), t, k, coords, periodic);
+      return std::optional<RValue>(RValue::num(resultType, v));
+    }
+    Value v = g.builder().create<NoiseOp>(
+        g.loc(call.loc), t, k, coords, periodic,
+        gaborFilterDerivs(g, call.loc, pointCoords, *options), options->anisotropic,
+        options->direction, options->bandwidth, options->impulses, options->doFilter);
     return std::optional<RValue>(RValue::num(resultType, v));
   });
 }

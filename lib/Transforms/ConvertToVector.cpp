@@ -13,6 +13,7 @@
 #include "OslRuntime/TextureCall.h"
 #include "OslTransforms/ColorBuilder.h"
 #include "OslTransforms/ConstantTable.h"
+#include "OslTransforms/GaborBuilder.h"
 #include "OslTransforms/LaneMath.h"
 #include "OslTransforms/LibraryBuilders.h"
 #include "OslTransforms/NoiseBuilder.h"
@@ -401,10 +402,69 @@ struct GeometryLowering : public OslPattern<OpTy> {
   }
 };
 
+/// Gabor noise: the point (and its derivatives and period) made 3D, the
+/// options read as scalars (the verifier keeps them uniform).
+void lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Lanes &lanes, Type resultType,
+                ConversionPatternRewriter &rewriter) {
+  Location loc = op.getLoc();
+  bool varying = isVarying(op.getType());
+  SmallVector<Value> flat;
+  for (auto &c : lanes.unpackAll(adaptor.getCoords(), op.getCoords(), varying))
+    llvm::append_range(flat, c);
+  // A triple point has 3 values, a float domain 1 or 2 (a 4th coordinate
+  // and its period are ignored, as OSL does).
+  size_t ncoords = op.getPeriodic() ? op.getCoords().size() / 2 : op.getCoords().size();
+  bool triple = isTriple(getUniformType(op.getCoords()[0].getType()));
+  size_t pointSize = triple ? 3 : ncoords;
+  size_t domainSize = triple ? (ncoords == 2 ? 4 : 3) : ncoords;
+  Type laneType = flat[0].getType();
+  auto point3 = [&](ArrayRef<Value> v) {
+    std::array<Value, 3> p;
+    for (size_t k = 0; k < 3; ++k)
+      p[k] = k < v.size() ? v[k] : lane::constant(rewriter, loc, laneType, 0.0);
+    return p;
+  };
+  ArrayRef<Value> all(flat);
+  GaborPoint point;
+  point.p = point3(all.take_front(pointSize));
+  if (op.getPeriodic())
+    point.period = point3(all.drop_front(domainSize).take_front(pointSize));
+  if (!op.getDerivs().empty()) {
+    SmallVector<Value> d;
+    for (auto &c : lanes.unpackAll(adaptor.getDerivs(), op.getDerivs(), varying))
+      llvm::append_range(d, c);
+    point.dPdx = point3(ArrayRef<Value>(d).take_front(pointSize));
+    point.dPdy = point3(ArrayRef<Value>(d).drop_front(pointSize));
+  }
+  GaborOptions options;
+  auto scalar = [&](Value converted, Value original) {
+    return converted ? lanes.unpack(converted, original.getType(), false)[0] : Value();
+  };
+  options.anisotropic = scalar(adaptor.getAnisotropic(), op.getAnisotropic());
+  options.bandwidth = scalar(adaptor.getBandwidth(), op.getBandwidth());
+  options.impulses = scalar(adaptor.getImpulses(), op.getImpulses());
+  options.doFilter = scalar(adaptor.getDoFilter(), op.getDoFilter());
+  if (op.getDirection()) {
+    SmallVector<Value> dir = lanes.unpack(adaptor.getDirection(), op.getDirection().getType(), false);
+    options.direction = {dir[0], dir[1], dir[2]};
+  }
+  if (isTriple(getUniformType(op.getType()))) {
+    std::array<Value, 3> r = buildGaborTriple(rewriter, loc, point, options);
+    rewriter.replaceOp(op, lanes.pack(r, resultType));
+  } else {
+    rewriter.replaceOp(op, buildGaborFloat(rewriter, loc, point, options));
+  }
+}
+
 struct NoiseLowering : public OslPattern<NoiseOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(NoiseOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
+    if (op.getKind() == "gabor") {
+      Lanes lanes{rewriter, op.getLoc(), width};
+      lowerGabor(op, adaptor, lanes, convert(op.getType()), rewriter);
+      return success();
+    }
     std::optional<NoiseKind> kind = parseNoiseName(op.getKind());
     if (!kind)
       return op.emitError("noise type '") << op.getKind() << "' is not supported yet";

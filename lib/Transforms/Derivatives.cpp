@@ -74,6 +74,12 @@ private:
                  : fail(user, "a value carried around a loop");
     if (isa<arith::ConstantOp>(def) || def->hasAttr(kNoDerivativeAttr))
       return Value();
+    // A scalar spread over the lanes is a uniform value meeting a varying
+    // one: it is the same at every point, so its derivative is 0 (even when
+    // it is carried around a loop, e.g. an fbm's frequency).
+    if (auto splat = dyn_cast<vector::BroadcastOp>(def))
+      if (!isa<VectorType>(splat.getSource().getType()))
+        return Value();
     if (auto load = dyn_cast<LLVM::LoadOp>(def))
       return deriveGlobal(load, user);
     auto rule = def->getAttrOfType<StringAttr>(kDualRuleAttr);

@@ -836,6 +836,16 @@ std::array<Value, 3> buildPeriodicNoiseTriple(OpBuilder &b, Location loc,
   return toTriple(periodicResults(e, kind, coords, periods, 3));
 }
 
+Value buildIntHash(OpBuilder &b, Location loc, ArrayRef<Value> keys) {
+  assert(!keys.empty() && "inthash needs a key");
+  Type keyType = keys.front().getType();
+  Type floatType = b.getF32Type();
+  if (auto vt = dyn_cast<VectorType>(keyType))
+    floatType = VectorType::get(vt.getShape(), floatType);
+  Emitter e(b, loc, floatType);
+  return e.inthash(keys);
+}
+
 std::optional<NoiseKind> parseNoiseName(llvm::StringRef name) {
   return llvm::StringSwitch<std::optional<NoiseKind>>(name)
       .Cases("perlin", "snoise", NoiseKind::Perlin)

@@ -174,3 +174,43 @@ func.func @transformc_without_space(%c: vector<3xf32>) {
   %0 = osl.transformc "" to "hsv" in "Rec709" %c : vector<3xf32> -> vector<3xf32>
   return
 }
+
+// -----
+
+func.func @options_on_perlin(%p: vector<3xf32>, %b: f32) {
+  // expected-error @+1 {{only gabor noise takes options and derivatives}}
+  %0 = osl.noise "perlin"(%p) bandwidth(%b : f32) : (vector<3xf32>) -> f32
+  return
+}
+
+// -----
+
+func.func @gabor_float_anisotropic(%p: vector<3xf32>, %m: f32) {
+  // expected-error @+1 {{noise option 'anisotropic' has the wrong type 'f32'}}
+  %0 = osl.noise "gabor"(%p) anisotropic(%m : f32) : (vector<3xf32>) -> f32
+  return
+}
+
+// -----
+
+func.func @gabor_varying_bandwidth(%p: vector<3xf32>, %b: !osl.varying<f32>) {
+  // expected-error @+1 {{noise option 'bandwidth' must be uniform}}
+  %0 = osl.noise "gabor"(%p) bandwidth(%b : !osl.varying<f32>) : (vector<3xf32>) -> f32
+  return
+}
+
+// -----
+
+func.func @gabor_one_deriv(%x: f32, %y: f32) {
+  // expected-error @+1 {{derivs must be Dx then Dy of each point coordinate}}
+  %0 = osl.noise "gabor"(%x, %y) derivs(%x, %y : f32, f32) : (f32, f32) -> f32
+  return
+}
+
+// -----
+
+func.func @gabor_deriv_of_wrong_type(%p: vector<3xf32>, %d: f32) {
+  // expected-error @+1 {{derivs must be Dx then Dy of each point coordinate}}
+  %0 = osl.noise "gabor"(%p) derivs(%d, %d : f32, f32) : (vector<3xf32>) -> f32
+  return
+}

@@ -45,3 +45,17 @@ func.func @color_ops(%c: vector<3xf32>, %t: !osl.varying<f32>) {
   %3 = osl.luminance "Rec709" %0 : vector<3xf32> -> f32
   return
 }
+
+// Gabor noise: the filter's derivatives of the point and the options.
+// CHECK-LABEL: func.func @gabor_options
+func.func @gabor_options(%bw: f32) {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %dx = osl.deriv "x" %P : !osl.varying<vector<3xf32>>
+  %dy = osl.deriv "y" %P : !osl.varying<vector<3xf32>>
+  %one = arith.constant 1 : i32
+  %dir = arith.constant dense<[0.0, 1.0, 0.0]> : vector<3xf32>
+  // CHECK: osl.noise "gabor"(%{{.+}}) derivs(%{{.+}}, %{{.+}} : !osl.varying<vector<3xf32>>, !osl.varying<vector<3xf32>>) anisotropic(%{{.+}} : i32) direction(%{{.+}} : vector<3xf32>) bandwidth(%{{.+}} : f32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  %n = osl.noise "gabor"(%P) derivs(%dx, %dy : !osl.varying<vector<3xf32>>, !osl.varying<vector<3xf32>>) anisotropic(%one : i32) direction(%dir : vector<3xf32>) bandwidth(%bw : f32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  osl.output "n" = %n : !osl.varying<f32>
+  return
+}

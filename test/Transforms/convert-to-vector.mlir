@@ -266,6 +266,33 @@ func.func @texture_lookup() {
 
 // -----
 
+// Gabor noise: the 27 cells around the point are one loop; each cell's
+// Poisson count and then its impulses are while loops that run until no
+// lane has work left (counts differ per lane). The cell's generator
+// multiplies by 3039177861 (-1255789435 as i32). Without derivatives of the
+// point nothing of the filter is built (no 1e-6 test of |Dx P x Dy P|^2).
+// CHECK-LABEL: osl.shader_name = "gabor_noise"
+// CHECK-NOT: osl.noise
+// CHECK-NOT: 9.99999997E-7
+// CHECK: scf.for %{{.+}} = %{{.+}} to %{{.+}} step %{{.+}} iter_args(%{{.+}} = %{{.+}}) -> (vector<8xf32>)
+// CHECK: %[[M:.+]] = arith.constant dense<-1255789435> : vector<8xi32>
+// CHECK: arith.muli %{{.+}}, %[[M]] : vector<8xi32>
+// CHECK: scf.while
+// CHECK: %[[ANY:.+]] = vector.reduction <or>, %{{.+}} : vector<8xi1> into i1
+// CHECK: scf.condition(%[[ANY]])
+// CHECK: scf.while
+// CHECK: vector.reduction <or>
+// CHECK-NOT: 9.99999997E-7
+// W16: scf.while {{.+}} -> (vector<16xi32>, vector<16xf32>, vector<16xi32>, vector<16xi1>)
+func.func @gabor_noise() {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %n = osl.noise "gabor"(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  osl.output "n" = %n : !osl.varying<f32>
+  return
+}
+
+// -----
+
 // osl.first_lane: the lowest set bit of the mask picks the lane.
 // CHECK-LABEL: osl.shader_name = "first_lane"
 // CHECK: %[[BITS:.+]] = llvm.bitcast %{{.+}} : vector<8xi1> to i8
@@ -277,5 +304,26 @@ func.func @first_lane() {
   %m = osl.batch_mask : !osl.varying<i1>
   %f = osl.first_lane %u, %m : !osl.varying<f32>, !osl.varying<i1> -> f32
   osl.output "f" = %f : f32
+  return
+}
+
+// -----
+
+// With Dx/Dy of the point, lanes where |Dx P x Dy P|^2 >= 1e-6 (and
+// do_filter != 0, uniform) filter their kernels. A color result evaluates
+// three times (seeds 0, 1, 2: three cell loops).
+// CHECK-LABEL: osl.shader_name = "gabor_filtered_color"
+// CHECK: arith.cmpi ne, %{{.+}}, %{{.+}} : i32
+// CHECK: %[[TINY:.+]] = arith.constant dense<9.99999997E-7> : vector<8xf32>
+// CHECK: arith.cmpf uge, %{{.+}}, %[[TINY]] : vector<8xf32>
+// CHECK-COUNT-3: scf.for
+// CHECK-NOT: scf.for
+func.func @gabor_filtered_color() {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %filter = arith.constant 1 : i32
+  %dx = osl.deriv "x" %P : !osl.varying<vector<3xf32>>
+  %dy = osl.deriv "y" %P : !osl.varying<vector<3xf32>>
+  %c = osl.noise "gabor"(%P) derivs(%dx, %dy : !osl.varying<vector<3xf32>>, !osl.varying<vector<3xf32>>) do_filter(%filter : i32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<vector<3xf32>>
+  osl.output "c" = %c : !osl.varying<vector<3xf32>>
   return
 }

@@ -110,6 +110,39 @@ func.func @loop_carried(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
 
 // -----
 
+// A uniform (scalar) value carried around a loop, like an fbm's frequency,
+// meets the varying u through a broadcast: the same at every point, so its
+// derivative is 0 and d(u * freq)/dx is dudx * freq (row 35: 140 floats in).
+// CHECK-LABEL: func.func @uniform_loop_carried
+// CHECK: %[[ROW:.+]] = llvm.getelementptr %arg0[140]
+// CHECK: %[[DU:.+]] = llvm.load %[[ROW]]
+// CHECK: scf.for %{{.+}} iter_args(%[[F:.+]] = %{{.+}}) -> (f32)
+// CHECK: %[[B:.+]] = vector.broadcast %[[F]] : f32 to vector<4xf32>
+// CHECK: %[[D:.+]] = arith.mulf %[[DU]], %[[B]] : vector<4xf32>
+// CHECK: llvm.intr.masked.store %[[D]]
+// CHECK-NOT: osl.lane_deriv
+func.func @uniform_loop_carried(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %c0 = arith.constant 0 : index
+  %c4 = arith.constant 4 : index
+  %c1 = arith.constant 1 : index
+  %one = arith.constant 1.0 : f32
+  %two = arith.constant 2.0 : f32
+  %r = scf.for %i = %c0 to %c4 step %c1 iter_args(%freq = %one) -> (f32) {
+    %b = vector.broadcast %freq : f32 to vector<4xf32>
+    %p = arith.mulf %u, %b : vector<4xf32>
+    %d = osl.lane_deriv "x" %p : vector<4xf32>
+    %m = arith.constant dense<true> : vector<4xi1>
+    llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+    %next = arith.mulf %freq, %two : f32
+    scf.yield %next : f32
+  }
+  return
+}
+
+// -----
+
 // A value chosen by a uniform branch: the branch is rebuilt to also yield
 // the derivative of what each arm yields.
 // CHECK-LABEL: func.func @uniform_branch
