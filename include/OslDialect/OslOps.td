@@ -396,6 +396,21 @@ def Osl_TextureOp : Osl_Op<"texture", [AttrSizedOperandSegments]> {
   let hasVerifier = 1;
 }
 
+def Osl_GetTextureInfoOp : Osl_Op<"gettextureinfo", [Pure]> {
+  let summary = "gettextureinfo(): a fact about a texture file";
+  let description = [{
+    OpenImageIO's answer for `name` ("resolution", "channels", "exists",
+    "averagecolor", ...) about `file`, as ints or floats (`floats`
+    set): `found` is 1 when the texture system knew the answer, else 0 and
+    the values are undefined. One answer per shader: the results are
+    uniform.
+  }];
+  let arguments = (ins StrAttr:$file, StrAttr:$name, UnitAttr:$floats);
+  let results = (outs I32:$found, Variadic<AnyTypeOf<[F32, I32]>>:$values);
+  let assemblyFormat = "$file `,` $name attr-dict `:` type($values)";
+  let hasVerifier = 1;
+}
+
 def Osl_FirstLaneOp : Osl_Op<"first_lane", [Pure]> {
   let summary = "the value of the first lane of `mask` that is set";
   let description = [{

@@ -126,7 +126,8 @@ bool ShaderCompiler::translate() {
 std::unique_ptr<CompiledShader> ShaderCompiler::load() {
   // The runtime entry points kernels call.
   if (llvm::Error e = jit->defineSymbols(
-          {{"osl_rt_texture", reinterpret_cast<void *>(&osl_rt_texture)}})) {
+          {{"osl_rt_texture", reinterpret_cast<void *>(&osl_rt_texture)},
+           {"osl_rt_gettextureinfo", reinterpret_cast<void *>(&osl_rt_gettextureinfo)}})) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return nullptr;
   }

@@ -448,6 +448,17 @@ LogicalResult TextureOp::verify() {
   return success();
 }
 
+LogicalResult GetTextureInfoOp::verify() {
+  if (getValues().empty())
+    return emitOpError("needs at least one value");
+  Type want = getFloats() ? Type(Float32Type::get(getContext()))
+                         : Type(IntegerType::get(getContext(), 32));
+  for (Value v : getValues())
+    if (v.getType() != want)
+      return emitOpError("values must all be ") << want;
+  return success();
+}
+
 LogicalResult FirstLaneOp::verify() {
   if (isVarying(getResult().getType()))
     return emitOpError("result must be uniform");

@@ -431,7 +431,7 @@ const std::vector<Builtin> &builtinTable() {
 /// Every OSL library function name the front end knows: those not handled
 /// above are reported as "not supported yet" rather than unknown.
 const char *const kUnsupported[] = {
-    "smooth_linearstep", "raytype", "gettextureinfo", "printf", "fprintf", "error", "warning", "format",
+    "smooth_linearstep", "raytype", "printf", "fprintf", "error", "warning", "format",
     "concat", "strlen", "startswith", "endswith", "substr", "getchar", "stoi", "stof",
     "hash", "regex_search", "regex_match", "getattribute",
     "setmessage", "getmessage", "trace", "transformu",
@@ -1063,7 +1063,8 @@ std::optional<double> lookupFloatConstant(llvm::StringRef name) {
 
 bool isBuiltinName(llvm::StringRef name) {
   if (name == "determinant" || name == "transpose" || name == "getmatrix" ||
-      name == "texture" || name == "texture3d" || name == "environment")
+      name == "texture" || name == "texture3d" || name == "environment" ||
+      name == "gettextureinfo")
     return true;
   for (const Builtin &b : builtinTable())
     if (name == b.name)

@@ -386,7 +386,8 @@ bool isBuiltinName(llvm::StringRef name);
 /// getmatrix, transform by a matrix or to the camera's spaces) (MatrixBuiltins.cpp);
 /// `known` is false when `call` is none of them.
 std::optional<RValue> emitMatrixBuiltin(IRGen &gen, const Expr &call, bool &known);
-/// texture(), texture3d() and environment() (TextureBuiltins.cpp); `known`
+/// texture(), texture3d(), environment() and gettextureinfo()
+/// (TextureBuiltins.cpp); `known`
 /// is false when `call` is none of them.
 std::optional<RValue> emitTextureBuiltin(IRGen &gen, const Expr &call,
                                          const OslType *expected, bool &known);

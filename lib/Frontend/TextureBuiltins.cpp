@@ -350,12 +350,80 @@ std::optional<RValue> TextureCall::emit(const OslType *expected) {
   return RValue::num(resultType, op.getResult());
 }
 
+/// gettextureinfo(file, name, output dest): the destination's type says
+/// what to ask for; it is left unchanged when the texture system does not
+/// know the answer, as in OSL.
+std::optional<RValue> emitGetTextureInfo(IRGen &g, const Expr &call) {
+  const char *usage = "wrong arguments to 'gettextureinfo'; candidates: int gettextureinfo("
+                      "string file, string name, output int|float|triple|int[]|float[] "
+                      "dest)";
+  if (call.args.size() != 3) {
+    g.error(call.loc, usage);
+    return std::nullopt;
+  }
+  std::string names[2];
+  for (int k = 0; k < 2; ++k) {
+    auto v = g.emitExpr(*call.args[k]);
+    if (!v)
+      return std::nullopt;
+    if (!v->type.isString()) {
+      g.error(call.args[k]->loc, usage);
+      return std::nullopt;
+    }
+    if (v->isStringChoice()) {
+      g.error(call.args[k]->loc, "'gettextureinfo' needs a string known when the shader is "
+                                 "compiled; this one is chosen per point");
+      return std::nullopt;
+    }
+    names[k] = v->str;
+  }
+  auto dest = g.emitLValue(*call.args[2]);
+  if (!dest)
+    return std::nullopt;
+  OslType t = dest->type;
+  OslType element = t.isArray() ? t.element() : t;
+  bool isFloat = element.isFloat() || element.isTriple();
+  int perElement = element.isTriple() ? 3 : 1;
+  if (!(element.isInt() || isFloat) || (t.isArray() && element.isTriple())) {
+    g.error(call.args[2]->loc, "'gettextureinfo' cannot answer into a '" + t.str() + "' yet");
+    return std::nullopt;
+  }
+  int count = (t.isArray() ? t.arrayLen : 1) * perElement;
+  OpBuilder &b = g.builder();
+  Location loc = g.loc(call.loc);
+  Type scalar = isFloat ? Type(b.getF32Type()) : Type(b.getI32Type());
+  auto op = b.create<GetTextureInfoOp>(loc, b.getI32Type(),
+                                       SmallVector<Type>(size_t(count), scalar), names[0],
+                                       names[1], isFloat);
+  Value found = b.create<CmpOp>(loc, "ne", op.getFound(), g.constInt(0, call.loc));
+  RValue old = g.loadLValue(*dest, call.loc);
+  auto answer = [&](int k) -> Value {
+    ValueRange v = op.getValues();
+    if (perElement == 3)
+      return b.create<ConstructOp>(loc, v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+    return v[k];
+  };
+  RValue updated = old;
+  if (t.isArray()) {
+    for (int k = 0; k < t.arrayLen; ++k)
+      updated.elems[k] = b.create<SelectOp>(loc, found, answer(k), old.elems[k]);
+  } else {
+    updated.value = b.create<SelectOp>(loc, found, answer(0), old.value);
+  }
+  g.storeLValue(*dest, updated, call.loc);
+  return RValue::num(OslType(BaseType::Int), op.getFound());
+}
+
 } // namespace
 
 namespace osl::frontend {
 
 std::optional<RValue> emitTextureBuiltin(IRGen &g, const Expr &call, const OslType *expected,
                                          bool &known) {
+  if (call.name == "gettextureinfo") {
+    known = true;
+    return emitGetTextureInfo(g, call);
+  }
   std::optional<TextureForm> form = textureForm(call.name);
   known = form.has_value();
   if (!form)

@@ -124,3 +124,13 @@ extern "C" void osl_rt_texture(const char *where, const char *file,
       row(kTextureAlphaRow)[lane] = result[1];
   }
 }
+
+extern "C" int32_t osl_rt_gettextureinfo(const char *file, const char *name, int32_t isFloat,
+                                         int32_t count, void *data) {
+  TypeDesc type(isFloat ? TypeDesc::FLOAT : TypeDesc::INT);
+  if (count > 1)
+    type.arraylen = count;
+  return sharedTextureSystem().get_texture_info(ustring(file), 0, ustring(name), type, data)
+             ? 1
+             : 0;
+}

@@ -687,6 +687,58 @@ struct TextureLowering : public OslPattern<TextureOp> {
   }
 };
 
+/// gettextureinfo: a uniform runtime call that writes its answer to the
+/// stack.
+struct GetTextureInfoLowering : public OslPattern<GetTextureInfoOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(GetTextureInfoOp op, OpAdaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    MLIRContext *ctx = rewriter.getContext();
+    auto ptr = LLVM::LLVMPointerType::get(ctx);
+    Type i32 = rewriter.getI32Type();
+    Type element = op.getFloats() ? Type(rewriter.getF32Type()) : i32;
+    int64_t count = op.getValues().size();
+    Value data;
+    {
+      OpBuilder::InsertionGuard guard(rewriter);
+      rewriter.setInsertionPointToStart(&op->getParentOfType<func::FuncOp>().getBody().front());
+      Value size = rewriter.create<LLVM::ConstantOp>(loc, rewriter.getI64Type(),
+                                                     rewriter.getI64IntegerAttr(count));
+      data = rewriter.create<LLVM::AllocaOp>(loc, ptr, element, size, 4);
+    }
+    auto module = op->getParentOfType<ModuleOp>();
+    auto callee = module.lookupSymbol<LLVM::LLVMFuncOp>("osl_rt_gettextureinfo");
+    if (!callee) {
+      OpBuilder::InsertionGuard guard(rewriter);
+      rewriter.setInsertionPointToStart(module.getBody());
+      callee = rewriter.create<LLVM::LLVMFuncOp>(
+          loc, "osl_rt_gettextureinfo",
+          LLVM::LLVMFunctionType::get(i32, {ptr, ptr, i32, i32, ptr}));
+    }
+    auto i32Const = [&](int64_t v) {
+      return rewriter.create<arith::ConstantIntOp>(loc, v, 32).getResult();
+    };
+    Value found = rewriter
+                      .create<LLVM::CallOp>(loc, callee,
+                                            ValueRange{constantStringAddress(rewriter, loc, op.getFile()),
+                                                       constantStringAddress(rewriter, loc, op.getName()),
+                                                       i32Const(op.getFloats() ? 1 : 0),
+                                                       i32Const(count), data})
+                      .getResult();
+    SmallVector<Value> results = {found};
+    for (int64_t k = 0; k < count; ++k) {
+      Value addr = rewriter.create<LLVM::GEPOp>(loc, ptr, element, data,
+                                                ArrayRef<LLVM::GEPArg>{int32_t(k)});
+      auto load = rewriter.create<LLVM::LoadOp>(loc, element, addr, 4);
+      load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+      results.push_back(load);
+    }
+    rewriter.replaceOp(op, results);
+    return success();
+  }
+};
+
 /// transformc, blackbody, wavelength_color and luminance under the op's
 /// working color space.
 template <typename Op>
@@ -788,7 +840,8 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
                SplineFamilyLowering<SplineOp>,
                SplineFamilyLowering<SplineInverseOp>, ColorLowering<TransformcOp>,
                ColorLowering<BlackbodyOp>, ColorLowering<WavelengthColorOp>,
-               ColorLowering<LuminanceOp>, FirstLaneLowering, TextureLowering>(converter,
+               ColorLowering<LuminanceOp>, FirstLaneLowering, TextureLowering,
+               GetTextureInfoLowering>(converter,
                                                                                ctx);
 }
 

@@ -214,3 +214,21 @@ func.func @gabor_deriv_of_wrong_type(%p: vector<3xf32>, %d: f32) {
   %0 = osl.noise "gabor"(%p) derivs(%d, %d : f32, f32) : (vector<3xf32>) -> f32
   return
 }
+
+// -----
+
+func.func @texture_bad_kind(%s: !osl.varying<f32>) {
+  %zero = arith.constant 0.0 : f32
+  %c0 = arith.constant 0 : i32
+  // expected-error @+1 {{kind must be 2d, 3d or environment}}
+  %r, %a = osl.texture "4d"(%s, %s) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c0, %c0, %c0, %c0, %c0) {candidates = [["a.tx"], ["default"], ["default"], ["default"], ["smartcubic"], [""]], nchannels = 1 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<f32>, !osl.varying<f32>
+  return
+}
+
+// -----
+
+func.func @gettextureinfo_mixed_types() {
+  // expected-error @+1 {{values must all be 'f32'}}
+  %found, %v:2 = osl.gettextureinfo "a.tx", "averagecolor" {floats} : f32, i32
+  return
+}
