@@ -348,25 +348,24 @@ void IRGen::unflatten(const std::vector<Var *> &vs, ValueRange values) {
 }
 
 /// String variables the region may assign, with their values before it.
-std::vector<std::pair<Var *, std::string>>
-IRGen::stringSnapshot(const llvm::StringSet<> &names) {
-  std::vector<std::pair<Var *, std::string>> snap;
+std::vector<std::pair<Var *, RValue>> IRGen::stringSnapshot(const llvm::StringSet<> &names) {
+  std::vector<std::pair<Var *, RValue>> snap;
   for (const auto &entry : names)
     if (Var *v = lookupVar(entry.getKey()))
       if (v->type.isString())
-        snap.push_back({v, v->val.str});
+        snap.push_back({v, v->val});
   return snap;
 }
 
-bool IRGen::checkStrings(const std::vector<std::pair<Var *, std::string>> &snap,
-                         SrcLoc l, llvm::StringRef what) {
-  for (auto &[v, s] : snap)
-    if (v->val.str != s)
+bool IRGen::checkStrings(const std::vector<std::pair<Var *, RValue>> &snap, SrcLoc l,
+                         llvm::StringRef what) {
+  for (auto &[v, before] : snap)
+    if (v->val.str != before.str || v->val.value != before.value ||
+        v->val.choices != before.choices)
       return error(l, (v->name == kReturnVarName ? std::string("the string returned")
                                                  : "string variable '" + v->name + "'") +
                           " is changed inside " + what +
-                          "; strings are compile-time values and cannot depend on "
-                          "control flow yet");
+                          "; strings cannot depend on control flow yet");
   return true;
 }
 
