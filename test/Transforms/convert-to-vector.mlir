@@ -334,17 +334,27 @@ func.func @gabor_filtered_color() {
 // block on the stack (a uniform operand is broadcast), the runtime runs
 // the active lanes and the result row is read back. A compile-time string
 // is interned once per batch; a call on uniform operands is one lane.
+// CHECK-LABEL: llvm.func @osl_rt_string_call(!llvm.ptr, i32, !llvm.ptr, !llvm.ptr, i32, i32)
 // CHECK-LABEL: osl.shader_name = "string_call"
-// CHECK: %[[BLOCK:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
+// CHECK: %[[STOF:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
+// CHECK: %[[FORMAT:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
+// CHECK: %[[STRLEN:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
 // CHECK: %[[PRE:.+]] = llvm.call @osl_rt_string_intern(%{{.+}}) : (!llvm.ptr) -> i32
-// CHECK: llvm.call @osl_rt_string_call(%{{.+}}, %{{.+}}, %{{.+}}, %{{.+}}, %{{.+}}, %{{.+}}) : (!llvm.ptr, i32, !llvm.ptr, !llvm.ptr, i32, i32) -> ()
+// CHECK: llvm.store %[[PRE]], %{{.+}} {alignment = 4 : i64} : i32, !llvm.ptr
+// CHECK: %[[ONE:.+]] = arith.constant 1 : i32
+// CHECK: llvm.call @osl_rt_string_call(%{{.+}}, %{{.+}}, %{{.+}}, %[[STRLEN]], %[[ONE]], %{{.+}})
 // CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> i32
-// CHECK: llvm.store %{{.+}}, %{{.+}} {alignment = 4 : i64} : vector<8xi32>, !llvm.ptr
+// CHECK: %[[PRES:.+]] = vector.broadcast %[[PRE]] : i32 to vector<8xi32>
+// CHECK: llvm.store %[[PRES]], %{{.+}} {alignment = 4 : i64} : vector<8xi32>, !llvm.ptr
+// CHECK: llvm.store %{{.+}}, %{{.+}} {alignment = 4 : i64} : vector<8xf32>, !llvm.ptr
 // CHECK: %[[BITS:.+]] = llvm.bitcast %{{.+}} : vector<8xi1> to i8
 // CHECK: %[[MASK:.+]] = arith.extui %[[BITS]] : i8 to i32
-// CHECK: llvm.call @osl_rt_string_call(%{{.+}}, %{{.+}}, %{{.+}}, %[[BLOCK]], %{{.+}}, %[[MASK]])
+// CHECK: llvm.call @osl_rt_string_call(%{{.+}}, %{{.+}}, %{{.+}}, %[[FORMAT]], %{{.+}}, %[[MASK]])
+// CHECK: %[[S:.+]] = llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> vector<8xi32>
+// CHECK: llvm.store %[[S]]
+// CHECK: llvm.call @osl_rt_string_call(%{{.+}}, %{{.+}}, %{{.+}}, %[[STOF]],
 // CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> vector<8xf32>
-// W16: llvm.load %{{.+}} : !llvm.ptr -> vector<16xf32>
+// W16: llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> vector<16xf32>
 func.func @string_call() {
   %u = osl.global "u" : !osl.varying<f32>
   %pre = osl.string_constant "tile" : i32
