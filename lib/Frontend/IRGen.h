@@ -5,7 +5,9 @@
 // (osl.if, osl.while) carries the variables its regions assign, found by a
 // syntactic scan (scanAssigned). User functions are inlined at each call.
 // Strings are compile-time constants, strings chosen per point among
-// them, or strings computed at run time (i32 handles, see RValue).
+// them, or strings computed at run time (i32 handles, see RValue). A string
+// variable an `if` changes leaves it as a choice or a handle (the if yields
+// an i32); loops cannot change strings yet.
 //
 // break, continue, return and exit() set hidden boolean flags ("$break",
 // "$continue", "$returned", "$exit"); the statements after one that may
@@ -300,6 +302,23 @@ private:
   std::vector<std::pair<Var *, RValue>> stringSnapshot(const llvm::StringSet<> &names);
   bool checkStrings(const std::vector<std::pair<Var *, RValue>> &snap, SrcLoc l,
                     llvm::StringRef what);
+  /// The snapshot's variables' current values; restores the snapshot.
+  std::vector<RValue> takeStrings(const std::vector<std::pair<Var *, RValue>> &snap);
+  /// A string variable the arms of an `if` leave different: what each arm
+  /// yields (an index into `choices` when both arms' strings are known at
+  /// compile time, else a run-time handle).
+  struct StringArms {
+    Var *var = nullptr;
+    mlir::Value thenValue, elseValue;
+    std::vector<std::string> choices;
+  };
+  /// Sets the variables both arms leave equal; returns the others, whose
+  /// yielded values it emits at the ends of the arms' blocks.
+  std::vector<StringArms>
+  mergeStringArms(const std::vector<std::pair<Var *, RValue>> &snap,
+                  const std::vector<RValue> &thenStrings,
+                  const std::vector<RValue> &elseStrings, mlir::Block *thenBlock,
+                  mlir::Block *elseBlock, SrcLoc l);
   /// An osl.if on `cond` carrying the variables in `assigned`; with
   /// `wantValue`, the arms' values (unified) are an extra result.
   std::optional<RValue> emitIfRegion(mlir::Value cond, SrcLoc l,
