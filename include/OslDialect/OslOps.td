@@ -425,6 +425,40 @@ def Osl_FirstLaneOp : Osl_Op<"first_lane", [Pure]> {
 }
 
 //===----------------------------------------------------------------------===//
+// Strings computed at run time
+//===----------------------------------------------------------------------===//
+
+def Osl_StringConstantOp : Osl_Op<"string_constant", [Pure]> {
+  let summary = "the run-time handle (i32) of a compile-time string";
+  let description = [{
+    Strings computed at run time are i32 handles into the runtime's intern
+    table (OslRuntime/StringCall.h); equal strings have equal handles. This
+    op interns a compile-time string where it meets such strings.
+  }];
+  let arguments = (ins StrAttr:$value);
+  let results = (outs I32:$result);
+  let assemblyFormat = "$value attr-dict `:` type($result)";
+}
+
+def Osl_StringCallOp : Osl_Op<"string_call", [Pure]> {
+  let summary = "an OSL string function on run-time strings";
+  let description = [{
+    Calls string function `callee` (concat, format, strlen, hash,
+    startswith, endswith, getchar, substr, stoi, stof, regex_search,
+    regex_match; see kStringFunctions) lane by lane. `kinds` has one letter
+    per operand: `s` a string handle (i32), `i` an int (i32), `f` a float,
+    `t` a triple. String results are handles; int results i32; stof's f32.
+    The result is varying when an operand is.
+  }];
+  let arguments = (ins StrAttr:$callee, StrAttr:$kinds, Variadic<Osl_Value>:$args);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = [{
+    $callee $kinds `(` $args `)` attr-dict `:` functional-type($args, $result)
+  }];
+  let hasVerifier = 1;
+}
+
+//===----------------------------------------------------------------------===//
 // Color
 //===----------------------------------------------------------------------===//
 

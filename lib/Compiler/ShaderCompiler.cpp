@@ -2,6 +2,7 @@
 #include "OslCompiler/ShaderCompiler.h"
 
 #include "OslDialect/OslDialect.h"
+#include "OslRuntime/StringCall.h"
 #include "OslRuntime/TextureCall.h"
 #include "OslTransforms/Passes.h"
 
@@ -127,7 +128,9 @@ std::unique_ptr<CompiledShader> ShaderCompiler::load() {
   // The runtime entry points kernels call.
   if (llvm::Error e = jit->defineSymbols(
           {{"osl_rt_texture", reinterpret_cast<void *>(&osl_rt_texture)},
-           {"osl_rt_gettextureinfo", reinterpret_cast<void *>(&osl_rt_gettextureinfo)}})) {
+           {"osl_rt_gettextureinfo", reinterpret_cast<void *>(&osl_rt_gettextureinfo)},
+           {"osl_rt_string_intern", reinterpret_cast<void *>(&osl_rt_string_intern)},
+           {"osl_rt_string_call", reinterpret_cast<void *>(&osl_rt_string_call)}})) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return nullptr;
   }

@@ -8,6 +8,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/GlobalsLayout.h"
+#include "OslRuntime/StringCall.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/Builders.h"
@@ -456,6 +457,46 @@ LogicalResult GetTextureInfoOp::verify() {
   for (Value v : getValues())
     if (v.getType() != want)
       return emitOpError("values must all be ") << want;
+  return success();
+}
+
+//===----------------------------------------------------------------------===//
+// Strings
+//===----------------------------------------------------------------------===//
+
+/// The base type an operand or result of string kind `kind` has.
+static Type stringKindType(Builder &b, char kind) {
+  switch (kind) {
+  case 's':
+  case 'i':
+    return b.getI32Type();
+  case 'f':
+    return b.getF32Type();
+  default:
+    return VectorType::get({3}, b.getF32Type());
+  }
+}
+
+LogicalResult StringCallOp::verify() {
+  int32_t code = ::osl::stringFunctionCode(getCallee());
+  if (code < 0)
+    return emitOpError("unknown string function '") << getCallee() << "'";
+  StringRef kinds = getKinds();
+  if (kinds.size() != getArgs().size())
+    return emitOpError("needs one kind letter per operand, got '") << kinds << "' for "
+                                                                   << getArgs().size();
+  if (!::osl::stringOperandsMatch(code, kinds))
+    return emitOpError("operand kinds '")
+           << kinds << "' do not fit " << getCallee() << "'s '"
+           << ::osl::kStringFunctions[code].operands << "'";
+  Builder b(getContext());
+  for (auto [i, arg] : llvm::enumerate(getArgs()))
+    if (getUniformType(arg.getType()) != stringKindType(b, kinds[i]))
+      return emitOpError("operand ") << i << " of kind '" << kinds[i] << "' must be "
+                                     << stringKindType(b, kinds[i]);
+  Type result = stringKindType(b, ::osl::kStringFunctions[code].result);
+  if (getUniformType(getResult().getType()) != result)
+    return emitOpError("result must be ") << result;
   return success();
 }
 

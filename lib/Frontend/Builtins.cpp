@@ -10,6 +10,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
+#include "OslRuntime/StringCall.h"
 #include "OslTransforms/ColorBuilder.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
@@ -431,9 +432,8 @@ const std::vector<Builtin> &builtinTable() {
 /// Every OSL library function name the front end knows: those not handled
 /// above are reported as "not supported yet" rather than unknown.
 const char *const kUnsupported[] = {
-    "smooth_linearstep", "raytype", "printf", "fprintf", "error", "warning", "format",
-    "concat", "strlen", "startswith", "endswith", "substr", "getchar", "stoi", "stof",
-    "hash", "regex_search", "regex_match", "getattribute",
+    "smooth_linearstep", "raytype", "printf", "fprintf", "error", "warning",
+    "getattribute",
     "setmessage", "getmessage", "trace", "transformu",
     "splineinverse", "fresnel",
     "pointcloud_search", "pointcloud_get", "pointcloud_write", "dict_find",
@@ -548,6 +548,8 @@ bool stringArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
     return g.error(e.loc, "'" + fn + "' needs " + what +
                               " known when the shader is compiled; this string is chosen "
                               "per point");
+  if (!g.compileTimeStrings(v, e.loc, llvm::Twine(what) + " of '" + fn + "'"))
+    return false;
   out = v.str;
   return true;
 }
@@ -685,8 +687,10 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
     }
     kindName = (*args)[0];
     first = 1;
-    std::vector<std::string> names =
-        kindName.isStringChoice() ? kindName.choices : std::vector<std::string>{kindName.str};
+    auto known = g.compileTimeStrings(kindName, call.args[0]->loc, "the noise type");
+    if (!known)
+      return std::nullopt;
+    std::vector<std::string> names = *known;
     for (const std::string &k : names)
       if (!isKnownNoiseName(k)) {
         g.error(call.args[0]->loc, "unknown noise type '" + k + "'");
@@ -775,9 +779,13 @@ std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
     return RValue::num(p.type,
                        g.transformByMatrix((*args)[0].elems, p.value, p.type.base, call.loc));
   }
-  for (size_t k = 0; k + 1 < n; ++k)
+  for (size_t k = 0; k + 1 < n; ++k) {
     if (!(*args)[k].type.isString())
       return wrong();
+    std::string name;
+    if (!stringArg(g, (*args)[k], *call.args[k], "transform", "a space name", name))
+      return std::nullopt;
+  }
   if (p.type.base == BaseType::Color) {
     g.error(call.args.back()->loc,
             "transform() applies to points, vectors and normals, not 'color'");
@@ -838,9 +846,10 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
                                    basisName.type.str() + "'");
     return std::nullopt;
   }
-  std::vector<std::string> bases = basisName.isStringChoice()
-                                       ? basisName.choices
-                                       : std::vector<std::string>{basisName.str};
+  auto knownBases = g.compileTimeStrings(basisName, call.args[0]->loc, "the spline basis");
+  if (!knownBases)
+    return std::nullopt;
+  std::vector<std::string> bases = *knownBases;
   for (const std::string &basis : bases) {
     bool known = llvm::is_contained(
         {"catmull-rom", "bezier", "bspline", "hermite", "linear", "constant"}, basis);
@@ -954,7 +963,8 @@ std::optional<RValue> emitConstructor(IRGen &g, const Expr &call) {
   std::string space;
   size_t first = 0;
   if (!args.empty() && args[0].type.isString()) {
-    space = args[0].str;
+    if (!stringArg(g, args[0], *call.args[0], name, "the space name", space))
+      return std::nullopt;
     first = 1;
   }
   Value value;
@@ -1064,7 +1074,7 @@ std::optional<double> lookupFloatConstant(llvm::StringRef name) {
 bool isBuiltinName(llvm::StringRef name) {
   if (name == "determinant" || name == "transpose" || name == "getmatrix" ||
       name == "texture" || name == "texture3d" || name == "environment" ||
-      name == "gettextureinfo")
+      name == "gettextureinfo" || ::osl::stringFunctionCode(name) >= 0)
     return true;
   for (const Builtin &b : builtinTable())
     if (name == b.name)
@@ -1088,6 +1098,10 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
   auto texture = emitTextureBuiltin(g, call, expected, textureBuiltin);
   if (textureBuiltin)
     return texture;
+  bool stringBuiltin = true;
+  auto string = emitStringBuiltin(g, call, stringBuiltin);
+  if (stringBuiltin)
+    return string;
   llvm::StringRef name = call.name;
   if (name == "noise" || name == "snoise" || name == "cellnoise" || name == "hashnoise" ||
       name == "pnoise" || name == "psnoise")

@@ -301,6 +301,15 @@ std::optional<Value> IRGen::toBool(const RValue &v, SrcLoc l) {
 }
 
 RValue IRGen::stringChoice(std::vector<RValue> strings, Value index, SrcLoc l) {
+  // A run-time string among them: select among handles.
+  if (llvm::any_of(strings, [](const RValue &s) { return s.isRuntimeString(); })) {
+    Value handle = stringHandle(strings[0], l);
+    for (size_t k = 1; k < strings.size(); ++k) {
+      Value isK = b.create<CmpOp>(loc(l), "eq", index, constInt(int(k), l));
+      handle = b.create<SelectOp>(loc(l), isK, stringHandle(strings[k], l), handle);
+    }
+    return RValue::runtimeString(handle);
+  }
   // Flatten nested choices: each choice becomes its own entry.
   RValue r = RValue::string("");
   Value flat = constInt(0, l);
@@ -319,6 +328,34 @@ RValue IRGen::stringChoice(std::vector<RValue> strings, Value index, SrcLoc l) {
   }
   r.value = flat;
   return r;
+}
+
+Value IRGen::stringHandle(const RValue &s, SrcLoc l) {
+  if (s.isRuntimeString())
+    return s.value;
+  auto intern = [&](const std::string &text) -> Value {
+    return b.create<mlir::osl::StringConstantOp>(loc(l), b.getI32Type(), text);
+  };
+  if (!s.isStringChoice())
+    return intern(s.str);
+  Value handle = intern(s.choices[0]);
+  for (size_t k = 1; k < s.choices.size(); ++k) {
+    Value isK = b.create<CmpOp>(loc(l), "eq", s.value, constInt(int(k), l));
+    handle = b.create<SelectOp>(loc(l), isK, intern(s.choices[k]), handle);
+  }
+  return handle;
+}
+
+std::optional<std::vector<std::string>>
+IRGen::compileTimeStrings(const RValue &s, SrcLoc l, const llvm::Twine &what) {
+  if (s.isRuntimeString()) {
+    error(l, what + " must be known when the shader is compiled; this string is computed "
+                    "at run time");
+    return std::nullopt;
+  }
+  if (s.isStringChoice())
+    return s.choices;
+  return std::vector<std::string>{s.str};
 }
 
 std::optional<RValue>

@@ -4,7 +4,10 @@
 // (Var::val) and is replaced on assignment. Structured control flow
 // (osl.if, osl.while) carries the variables its regions assign, found by a
 // syntactic scan (scanAssigned). User functions are inlined at each call.
-// Strings are compile-time constants.
+// Strings are compile-time constants, strings chosen per point among
+// them, or strings computed at run time (i32 handles, see RValue). A string
+// variable an `if` changes leaves it as a choice or a handle (the if yields
+// an i32); loops cannot change strings yet.
 //
 // break, continue, return and exit() set hidden boolean flags ("$break",
 // "$continue", "$returned", "$exit"); the statements after one that may
@@ -51,6 +54,11 @@ struct RValue {
 
   /// A string chosen per point (see above).
   bool isStringChoice() const { return type.isString() && !choices.empty(); }
+  /// A string computed at run time (format, concat, substr...): `value` is
+  /// its i32 handle in the runtime's intern table (OslRuntime/StringCall.h).
+  bool isRuntimeString() const { return type.isString() && value && choices.empty(); }
+  /// A string known when the shader is compiled (one string, no choice).
+  bool isKnownString() const { return type.isString() && !value; }
 
   static RValue num(OslType t, mlir::Value v) {
     RValue r;
@@ -62,6 +70,12 @@ struct RValue {
     RValue r;
     r.type = OslType(BaseType::String);
     r.str = std::move(s);
+    return r;
+  }
+  static RValue runtimeString(mlir::Value handle) {
+    RValue r;
+    r.type = OslType(BaseType::String);
+    r.value = handle;
     return r;
   }
   static RValue voidValue() { return RValue(); }
@@ -173,6 +187,14 @@ public:
                       llvm::function_ref<std::optional<RValue>(const std::string &)> emitOne);
   /// A string chosen by `index` (i32) among `strings`.
   RValue stringChoice(std::vector<RValue> strings, mlir::Value index, SrcLoc l);
+  /// The run-time handle (i32) of any string: compile-time strings are
+  /// interned (osl.string_constant), a choice selects among its handles.
+  mlir::Value stringHandle(const RValue &s, SrcLoc l);
+  /// The strings `s` may be when the shader is compiled (one, or its
+  /// choices); reports that `what` must be known then for a string
+  /// computed at run time.
+  std::optional<std::vector<std::string>> compileTimeStrings(const RValue &s, SrcLoc l,
+                                                             const llvm::Twine &what);
 
   /// The value of a shader global (emitted once, at the top of the shader).
   mlir::Value getGlobal(llvm::StringRef name, mlir::Type base, SrcLoc l);
@@ -277,10 +299,26 @@ private:
   std::vector<Var *> carriedVars(const llvm::StringSet<> &names);
   std::vector<mlir::Value> flatten(const std::vector<Var *> &vars, SrcLoc l);
   void unflatten(const std::vector<Var *> &vars, mlir::ValueRange values);
-  std::vector<std::pair<Var *, std::string>>
-  stringSnapshot(const llvm::StringSet<> &names);
-  bool checkStrings(const std::vector<std::pair<Var *, std::string>> &snap, SrcLoc l,
+  std::vector<std::pair<Var *, RValue>> stringSnapshot(const llvm::StringSet<> &names);
+  bool checkStrings(const std::vector<std::pair<Var *, RValue>> &snap, SrcLoc l,
                     llvm::StringRef what);
+  /// The snapshot's variables' current values; restores the snapshot.
+  std::vector<RValue> takeStrings(const std::vector<std::pair<Var *, RValue>> &snap);
+  /// A string variable the arms of an `if` leave different: what each arm
+  /// yields (an index into `choices` when both arms' strings are known at
+  /// compile time, else a run-time handle).
+  struct StringArms {
+    Var *var = nullptr;
+    mlir::Value thenValue, elseValue;
+    std::vector<std::string> choices;
+  };
+  /// Sets the variables both arms leave equal; returns the others, whose
+  /// yielded values it emits at the ends of the arms' blocks.
+  std::vector<StringArms>
+  mergeStringArms(const std::vector<std::pair<Var *, RValue>> &snap,
+                  const std::vector<RValue> &thenStrings,
+                  const std::vector<RValue> &elseStrings, mlir::Block *thenBlock,
+                  mlir::Block *elseBlock, SrcLoc l);
   /// An osl.if on `cond` carrying the variables in `assigned`; with
   /// `wantValue`, the arms' values (unified) are an extra result.
   std::optional<RValue> emitIfRegion(mlir::Value cond, SrcLoc l,
@@ -386,6 +424,11 @@ bool isBuiltinName(llvm::StringRef name);
 /// getmatrix, transform by a matrix or to the camera's spaces) (MatrixBuiltins.cpp);
 /// `known` is false when `call` is none of them.
 std::optional<RValue> emitMatrixBuiltin(IRGen &gen, const Expr &call, bool &known);
+/// The string functions on strings computed at run time: format, concat,
+/// strlen, hash, startswith, endswith, getchar, substr, stoi, stof,
+/// regex_search, regex_match (StringBuiltins.cpp); `known` is false when
+/// `call` is none of them.
+std::optional<RValue> emitStringBuiltin(IRGen &gen, const Expr &call, bool &known);
 /// texture(), texture3d(), environment() and gettextureinfo()
 /// (TextureBuiltins.cpp); `known`
 /// is false when `call` is none of them.

@@ -228,6 +228,9 @@ std::optional<RValue> IRGen::emitTernary(const Expr &e, const OslType *expected)
   if (a->type.isString() && bv->type.isString()) {
     if (auto k = getConstBool(*cb))
       return *k ? a : bv;
+    if (a->isRuntimeString() || bv->isRuntimeString())
+      return RValue::runtimeString(b.create<SelectOp>(
+          loc(e.loc), *cb, stringHandle(*a, e.loc), stringHandle(*bv, e.loc)));
     if (!a->isStringChoice() && !bv->isStringChoice() && a->str == bv->str)
       return a;
     // choice 0 is the then-string, 1 the else-string
@@ -269,6 +272,12 @@ std::optional<RValue> IRGen::emitBinaryOp(llvm::StringRef op, RValue l, RValue r
   if (l.type.isString() || r.type.isString()) {
     if (!isEq || !l.type.isString() || !r.type.isString())
       return invalid();
+    if (l.isRuntimeString() || r.isRuntimeString()) {
+      // Interned: equal strings have equal handles.
+      Value eq = b.create<CmpOp>(ml, op == "==" ? "eq" : "ne", stringHandle(l, sl),
+                                 stringHandle(r, sl));
+      return RValue::num(OslType(BaseType::Bool), eq);
+    }
     if (l.isStringChoice() || r.isStringChoice()) {
       // Equal where the chosen strings are: compare per pair of choices.
       const RValue &c = l.isStringChoice() ? l : r, &o = l.isStringChoice() ? r : l;

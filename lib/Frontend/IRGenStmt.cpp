@@ -348,26 +348,84 @@ void IRGen::unflatten(const std::vector<Var *> &vs, ValueRange values) {
 }
 
 /// String variables the region may assign, with their values before it.
-std::vector<std::pair<Var *, std::string>>
-IRGen::stringSnapshot(const llvm::StringSet<> &names) {
-  std::vector<std::pair<Var *, std::string>> snap;
+std::vector<std::pair<Var *, RValue>> IRGen::stringSnapshot(const llvm::StringSet<> &names) {
+  std::vector<std::pair<Var *, RValue>> snap;
   for (const auto &entry : names)
     if (Var *v = lookupVar(entry.getKey()))
       if (v->type.isString())
-        snap.push_back({v, v->val.str});
+        snap.push_back({v, v->val});
   return snap;
 }
 
-bool IRGen::checkStrings(const std::vector<std::pair<Var *, std::string>> &snap,
-                         SrcLoc l, llvm::StringRef what) {
-  for (auto &[v, s] : snap)
-    if (v->val.str != s)
+bool IRGen::checkStrings(const std::vector<std::pair<Var *, RValue>> &snap, SrcLoc l,
+                         llvm::StringRef what) {
+  for (auto &[v, before] : snap)
+    if (v->val.str != before.str || v->val.value != before.value ||
+        v->val.choices != before.choices)
       return error(l, (v->name == kReturnVarName ? std::string("the string returned")
                                                  : "string variable '" + v->name + "'") +
                           " is changed inside " + what +
-                          "; strings are compile-time values and cannot depend on "
-                          "control flow yet");
+                          "; strings cannot depend on control flow yet");
   return true;
+}
+
+namespace {
+bool sameString(const RValue &a, const RValue &b) {
+  return a.str == b.str && a.value == b.value && a.choices == b.choices;
+}
+/// The compile-time strings a string may be (one, or its choices).
+std::vector<std::string> candidateStrings(const RValue &s) {
+  return s.isStringChoice() ? s.choices : std::vector<std::string>{s.str};
+}
+} // namespace
+
+std::vector<RValue>
+IRGen::takeStrings(const std::vector<std::pair<Var *, RValue>> &snap) {
+  std::vector<RValue> now;
+  for (auto &[v, before] : snap) {
+    now.push_back(v->val);
+    v->val = before;
+  }
+  return now;
+}
+
+std::vector<IRGen::StringArms>
+IRGen::mergeStringArms(const std::vector<std::pair<Var *, RValue>> &snap,
+                       const std::vector<RValue> &thenStrings,
+                       const std::vector<RValue> &elseStrings, Block *thenBlock,
+                       Block *elseBlock, SrcLoc l) {
+  std::vector<StringArms> merges;
+  OpBuilder::InsertionGuard guard(b);
+  for (size_t i = 0; i < snap.size(); ++i) {
+    const RValue &t = thenStrings[i], &e = elseStrings[i];
+    if (sameString(t, e)) {
+      snap[i].first->val = t;
+      continue;
+    }
+    StringArms m;
+    m.var = snap[i].first;
+    if (t.isRuntimeString() || e.isRuntimeString()) {
+      // A string computed at run time in either arm: both yield handles.
+      b.setInsertionPointToEnd(thenBlock);
+      m.thenValue = stringHandle(t, l);
+      b.setInsertionPointToEnd(elseBlock);
+      m.elseValue = stringHandle(e, l);
+    } else {
+      // Compile-time strings: a choice among both arms' candidates.
+      m.choices = candidateStrings(t);
+      std::vector<std::string> elseChoices = candidateStrings(e);
+      int offset = int(m.choices.size());
+      m.choices.insert(m.choices.end(), elseChoices.begin(), elseChoices.end());
+      b.setInsertionPointToEnd(thenBlock);
+      m.thenValue = t.isStringChoice() ? t.value : constInt(0, l);
+      b.setInsertionPointToEnd(elseBlock);
+      m.elseValue = e.isStringChoice()
+                        ? b.create<AddOp>(loc(l), e.value, constInt(offset, l)).getResult()
+                        : constInt(offset, l);
+    }
+    merges.push_back(m);
+  }
+  return merges;
 }
 
 std::optional<RValue>
@@ -393,8 +451,7 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
   if (!tv)
     return std::nullopt;
   std::vector<Value> thenVals = flatten(carried, l);
-  if (!checkStrings(strings, l, "'if'"))
-    return std::nullopt;
+  std::vector<RValue> thenStrings = takeStrings(strings);
   unflatten(carried, init);
 
   Block *elseBlock = b.createBlock(&tmp.getElseRegion());
@@ -402,8 +459,7 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
   if (!ev)
     return std::nullopt;
   std::vector<Value> elseVals = flatten(carried, l);
-  if (!checkStrings(strings, l, "'if'"))
-    return std::nullopt;
+  std::vector<RValue> elseStrings = takeStrings(strings);
 
   OslType resultType;
   size_t resultLeaves = 0;
@@ -441,6 +497,15 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
     bool varying = isVarying(thenVals[i].getType()) || isVarying(elseVals[i].getType());
     types.push_back(withUniformity(base, varying));
   }
+  size_t numericResults = types.size();
+  std::vector<StringArms> stringMerges =
+      mergeStringArms(strings, thenStrings, elseStrings, thenBlock, elseBlock, l);
+  for (StringArms &m : stringMerges) {
+    thenYield.push_back(m.thenValue);
+    elseYield.push_back(m.elseValue);
+    bool varying = isVarying(m.thenValue.getType()) || isVarying(m.elseValue.getType());
+    types.push_back(withUniformity(b.getI32Type(), varying));
+  }
   b.setInsertionPointToEnd(thenBlock);
   b.create<YieldOp>(mloc, thenYield);
   b.setInsertionPointToEnd(elseBlock);
@@ -456,6 +521,13 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
     if (!merged[i])
       merged[i] = ifOp.getResult(r++);
   unflatten(carried, ArrayRef<Value>(merged).take_front(init.size()));
+  for (auto [k, m] : llvm::enumerate(stringMerges)) {
+    Value index = ifOp.getResult(numericResults + k);
+    m.var->val = m.choices.empty() ? RValue::runtimeString(index) : RValue::string("");
+    m.var->val.choices = m.choices;
+    if (!m.choices.empty())
+      m.var->val.value = index;
+  }
   if (!wantValue)
     return RValue::voidValue();
   // The value's leaves follow the carried variables' (one, or a matrix's 16).

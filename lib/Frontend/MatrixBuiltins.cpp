@@ -26,6 +26,8 @@ bool spaceName(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
   if (v.isStringChoice())
     return g.error(e.loc, "'" + fn + "' needs space names known when the shader is "
                                      "compiled; this string is chosen per point");
+  if (!g.compileTimeStrings(v, e.loc, "the space names of '" + fn.str() + "'"))
+    return false;
   if (v.str.empty())
     return g.error(e.loc, "empty space name");
   out = v.str;

@@ -120,6 +120,8 @@ bool TextureCall::stringChoice(size_t k, ChoiceOption which) {
   if (!v->type.isString())
     return g.error(argLoc(k), "'" + call.name + "' expects a string here, got '" +
                                   v->type.str() + "'");
+  if (!g.compileTimeStrings(*v, argLoc(k), "a texture's file name or string option"))
+    return false;
   if (v->isStringChoice()) {
     candidates[which] = v->choices;
     choice[which] = v->value;
@@ -227,6 +229,8 @@ bool TextureCall::option(size_t nameArg) {
       if (!v)
         return false;
       if (v->type.isString()) {
+        if (!g.compileTimeStrings(*v, argLoc(k), "the subimage name"))
+          return false;
         candidates[SubimageName] = v->isStringChoice() ? v->choices
                                                        : std::vector<std::string>{v->str};
         choice[SubimageName] = v->isStringChoice() ? v->value : g.constInt(0, call.loc);

@@ -10,6 +10,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/GlobalsLayout.h"
+#include "OslRuntime/StringCall.h"
 #include "OslRuntime/TextureCall.h"
 #include "OslTransforms/ColorBuilder.h"
 #include "OslTransforms/ConstantTable.h"
@@ -533,6 +534,107 @@ Value maskBits(OpBuilder &b, Location loc, Value mask) {
   return b.create<arith::ExtUIOp>(loc, i32, packed);
 }
 
+/// A call's file:line:col for run-time errors, or `fallback`.
+std::string callSiteText(Location loc, StringRef fallback) {
+  auto fileLoc = dyn_cast<FileLineColLoc>(loc);
+  if (!fileLoc)
+    return fallback.str();
+  return (fileLoc.getFilename().getValue() + ":" + llvm::Twine(fileLoc.getLine()) + ":" +
+          llvm::Twine(fileLoc.getColumn()))
+      .str();
+}
+
+/// Declares runtime function `name` in the module once.
+LLVM::LLVMFuncOp runtimeDeclaration(OpBuilder &b, Operation *op, StringRef name,
+                                    Type result, ArrayRef<Type> params) {
+  auto module = op->getParentOfType<ModuleOp>();
+  if (auto f = module.lookupSymbol<LLVM::LLVMFuncOp>(name))
+    return f;
+  OpBuilder::InsertionGuard guard(b);
+  b.setInsertionPointToStart(module.getBody());
+  return b.create<LLVM::LLVMFuncOp>(op->getLoc(), name,
+                                    LLVM::LLVMFunctionType::get(result, params));
+}
+
+/// A stack block of `count` 32-bit values in the function's entry block,
+/// so a call inside a loop reuses it.
+Value entryBlockRows(OpBuilder &b, Location loc, Operation *op, int64_t count) {
+  OpBuilder::InsertionGuard guard(b);
+  b.setInsertionPointToStart(&op->getParentOfType<func::FuncOp>().getBody().front());
+  Value size = b.create<LLVM::ConstantOp>(loc, b.getI64Type(), b.getI64IntegerAttr(count));
+  return b.create<LLVM::AllocaOp>(loc, LLVM::LLVMPointerType::get(b.getContext()),
+                                  b.getI32Type(), size, 64);
+}
+
+/// osl.string_constant: the handle the runtime's intern table gives the
+/// text (looked up once per batch).
+struct StringConstantLowering : public OslPattern<StringConstantOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(StringConstantOp op, OpAdaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_string_intern",
+                                                 rewriter.getI32Type(), {ptr});
+    Value text = constantStringAddress(rewriter, loc, op.getValue());
+    rewriter.replaceOpWithNewOp<LLVM::CallOp>(op, callee, ValueRange{text});
+    return success();
+  }
+};
+
+/// osl.string_call: the operands' lanes go to a block of 32-bit rows
+/// (OslRuntime/StringCall.h), osl_rt_string_call runs the active lanes and
+/// the result row is read back. Uniform operands and result: one lane.
+struct StringCallLowering : public OslPattern<StringCallOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(StringCallOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    bool varying = isVarying(op.getType());
+    int64_t lanes = varying ? width : 1;
+    StringRef kinds = op.getKinds();
+    int64_t rows = 1;
+    for (char k : kinds)
+      rows += ::osl::stringOperandRows(k);
+    Value block = entryBlockRows(rewriter, loc, op, rows * lanes);
+
+    Lanes unpacker{rewriter, loc, width};
+    int64_t row = 0;
+    for (auto [original, converted] : llvm::zip(op.getArgs(), adaptor.getArgs()))
+      for (Value comp : unpacker.unpack(converted, original.getType(), varying))
+        rewriter.create<LLVM::StoreOp>(loc, comp, rowAddress(rewriter, loc, block, row++, lanes),
+                                       4);
+
+    auto i32Const = [&](int64_t v) {
+      return rewriter.create<arith::ConstantIntOp>(loc, v, 32).getResult();
+    };
+    Value mask = varying ? activeLanes(rewriter, loc, op, width)
+                         : rewriter.create<arith::ConstantIntOp>(loc, 1, 1).getResult();
+    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
+    Type i32 = rewriter.getI32Type();
+    LLVM::LLVMFuncOp callee =
+        runtimeDeclaration(rewriter, op, "osl_rt_string_call",
+                           LLVM::LLVMVoidType::get(rewriter.getContext()),
+                           {ptr, i32, ptr, ptr, i32, i32});
+    SmallVector<Value> args = {
+        constantStringAddress(rewriter, loc, callSiteText(loc, op.getCallee())),
+        i32Const(::osl::stringFunctionCode(op.getCallee())),
+        constantStringAddress(rewriter, loc, kinds),
+        block,
+        i32Const(lanes),
+        maskBits(rewriter, loc, mask)};
+    rewriter.create<LLVM::CallOp>(loc, callee, args);
+
+    Type base = getUniformType(op.getType());
+    Type laneType = varying ? Type(VectorType::get({lanes}, base)) : base;
+    auto load = rewriter.create<LLVM::LoadOp>(
+        loc, laneType, rowAddress(rewriter, loc, block, row, lanes), 4);
+    load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+    rewriter.replaceOp(op, load.getResult());
+    return success();
+  }
+};
+
 /// osl.first_lane: the lowest set lane of the mask selects the value.
 struct FirstLaneLowering : public OslPattern<FirstLaneOp> {
   using OslPattern::OslPattern;
@@ -631,14 +733,7 @@ struct TextureLowering : public OslPattern<TextureOp> {
                                     .getResult();
     if (varying && !isa<VectorType>(mask.getType()))
       mask = lane::broadcast(rewriter, loc, mask, width);
-    std::string where;
-    llvm::raw_string_ostream whereText(where);
-    if (auto fileLoc = dyn_cast<FileLineColLoc>(loc))
-      whereText << fileLoc.getFilename().getValue() << ":" << fileLoc.getLine() << ":"
-                << fileLoc.getColumn();
-    else
-      whereText << "texture()";
-    SmallVector<Value> args = {stringAddress(whereText.str()),
+    SmallVector<Value> args = {stringAddress(callSiteText(loc, "texture()")),
                                pick(0, stringAddress),
                                pick(5, stringAddress),
                                adaptor.getSubimage(),
@@ -841,8 +936,8 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
                SplineFamilyLowering<SplineInverseOp>, ColorLowering<TransformcOp>,
                ColorLowering<BlackbodyOp>, ColorLowering<WavelengthColorOp>,
                ColorLowering<LuminanceOp>, FirstLaneLowering, TextureLowering,
-               GetTextureInfoLowering>(converter,
-                                                                               ctx);
+               GetTextureInfoLowering, StringConstantLowering, StringCallLowering>(converter,
+                                                                                   ctx);
 }
 
 //===----------------------------------------------------------------------===//

@@ -155,14 +155,16 @@ private:
     return values;
   }
 
-  /// Loops and the library calls that expand to hundreds of operations
-  /// (noise, splineinverse) always pay for the test.
+  /// Loops, the library calls that expand to hundreds of operations
+  /// (noise, splineinverse) and calls into the runtime (texture, string
+  /// functions) always pay for the test.
   bool worthSkipping(Block &arm) {
     int64_t count = 0;
     bool expensive = false;
     arm.walk([&](Operation *nested) {
       ++count;
-      expensive |= isa<scf::WhileOp, WhileOp, NoiseOp, SplineInverseOp, TextureOp>(nested);
+      expensive |= isa<scf::WhileOp, WhileOp, NoiseOp, SplineInverseOp, TextureOp,
+                      StringCallOp>(nested);
     });
     return expensive || count > skipThreshold;
   }

@@ -227,8 +227,48 @@ func.func @texture_bad_kind(%s: !osl.varying<f32>) {
 
 // -----
 
+func.func @string_call_unknown_function(%s: i32) {
+  // expected-error @+1 {{unknown string function 'reverse'}}
+  %0 = osl.string_call "reverse" "s"(%s) : (i32) -> i32
+  return
+}
+
+// -----
+
 func.func @gettextureinfo_mixed_types() {
   // expected-error @+1 {{values must all be 'f32'}}
   %found, %v:2 = osl.gettextureinfo "a.tx", "averagecolor" {floats} : f32, i32
+  return
+}
+
+// -----
+
+func.func @string_call_kinds_count(%s: i32) {
+  // expected-error @+1 {{needs one kind letter per operand, got 'ss' for 1}}
+  %0 = osl.string_call "strlen" "ss"(%s) : (i32) -> i32
+  return
+}
+
+// -----
+
+func.func @string_call_kinds_signature(%s: i32) {
+  // expected-error @+1 {{operand kinds 'si' do not fit startswith's 'ss'}}
+  %0 = osl.string_call "startswith" "si"(%s, %s) : (i32, i32) -> i32
+  return
+}
+
+// -----
+
+func.func @string_call_operand_type(%s: i32, %f: f32) {
+  // expected-error @+1 {{operand 1 of kind 'i' must be 'i32'}}
+  %0 = osl.string_call "getchar" "si"(%s, %f) : (i32, f32) -> i32
+  return
+}
+
+// -----
+
+func.func @string_call_result_type(%s: i32) {
+  // expected-error @+1 {{result must be 'f32'}}
+  %0 = osl.string_call "stof" "s"(%s) : (i32) -> i32
   return
 }

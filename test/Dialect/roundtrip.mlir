@@ -73,3 +73,19 @@ func.func @texture_ops(%s: !osl.varying<f32>, %m: !osl.varying<i1>) {
   %found, %res:2 = osl.gettextureinfo "a.tx", "resolution" : i32, i32
   return
 }
+
+// CHECK-LABEL: func.func @string_calls
+func.func @string_calls(%i: !osl.varying<i32>, %f: f32, %c: vector<3xf32>) {
+  // CHECK: %[[FMT:.+]] = osl.string_constant "%s_%02d %g %g" : i32
+  %fmt = osl.string_constant "%s_%02d %g %g" : i32
+  %pre = osl.string_constant "tile" : i32
+  // CHECK: %[[S:.+]] = osl.string_call "format" "sisft"(%[[FMT]], %{{.+}}, %{{.+}}, %{{.+}}, %{{.+}}) : (i32, i32, i32, f32, vector<3xf32>) -> i32
+  %s = osl.string_call "format" "sisft"(%fmt, %pre, %pre, %f, %c) : (i32, i32, i32, f32, vector<3xf32>) -> i32
+  // CHECK: osl.string_call "substr" "sii"(%[[S]], %{{.+}}, %{{.+}}) : (i32, !osl.varying<i32>, !osl.varying<i32>) -> !osl.varying<i32>
+  %sub = osl.string_call "substr" "sii"(%s, %i, %i) : (i32, !osl.varying<i32>, !osl.varying<i32>) -> !osl.varying<i32>
+  // CHECK: osl.string_call "stof" "s"(%{{.+}}) : (!osl.varying<i32>) -> !osl.varying<f32>
+  %x = osl.string_call "stof" "s"(%sub) : (!osl.varying<i32>) -> !osl.varying<f32>
+  // CHECK: osl.string_call "concat" ""() : () -> i32
+  %empty = osl.string_call "concat" ""() : () -> i32
+  return
+}

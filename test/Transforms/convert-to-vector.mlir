@@ -327,3 +327,41 @@ func.func @gabor_filtered_color() {
   osl.output "c" = %c : !osl.varying<vector<3xf32>>
   return
 }
+
+// -----
+
+// osl.string_call: each operand's lanes are a row of 32-bit values in a
+// block on the stack (a uniform operand is broadcast), the runtime runs
+// the active lanes and the result row is read back. A compile-time string
+// is interned once per batch; a call on uniform operands is one lane.
+// CHECK-LABEL: llvm.func @osl_rt_string_call(!llvm.ptr, i32, !llvm.ptr, !llvm.ptr, i32, i32)
+// CHECK-LABEL: osl.shader_name = "string_call"
+// CHECK: %[[STOF:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
+// CHECK: %[[FORMAT:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
+// CHECK: %[[STRLEN:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
+// CHECK: %[[PRE:.+]] = llvm.call @osl_rt_string_intern(%{{.+}}) : (!llvm.ptr) -> i32
+// CHECK: llvm.store %[[PRE]], %{{.+}} {alignment = 4 : i64} : i32, !llvm.ptr
+// CHECK: %[[ONE:.+]] = arith.constant 1 : i32
+// CHECK: llvm.call @osl_rt_string_call(%{{.+}}, %{{.+}}, %{{.+}}, %[[STRLEN]], %[[ONE]], %{{.+}})
+// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> i32
+// CHECK: %[[PRES:.+]] = vector.broadcast %[[PRE]] : i32 to vector<8xi32>
+// CHECK: llvm.store %[[PRES]], %{{.+}} {alignment = 4 : i64} : vector<8xi32>, !llvm.ptr
+// CHECK: llvm.store %{{.+}}, %{{.+}} {alignment = 4 : i64} : vector<8xf32>, !llvm.ptr
+// CHECK: %[[BITS:.+]] = llvm.bitcast %{{.+}} : vector<8xi1> to i8
+// CHECK: %[[MASK:.+]] = arith.extui %[[BITS]] : i8 to i32
+// CHECK: llvm.call @osl_rt_string_call(%{{.+}}, %{{.+}}, %{{.+}}, %[[FORMAT]], %{{.+}}, %[[MASK]])
+// CHECK: %[[S:.+]] = llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> vector<8xi32>
+// CHECK: llvm.store %[[S]]
+// CHECK: llvm.call @osl_rt_string_call(%{{.+}}, %{{.+}}, %{{.+}}, %[[STOF]],
+// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> vector<8xf32>
+// W16: llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> vector<16xf32>
+func.func @string_call() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %pre = osl.string_constant "tile" : i32
+  %n = osl.string_call "strlen" "s"(%pre) : (i32) -> i32
+  %s = osl.string_call "format" "sf"(%pre, %u) : (i32, !osl.varying<f32>) -> !osl.varying<i32>
+  %f = osl.string_call "stof" "s"(%s) : (!osl.varying<i32>) -> !osl.varying<f32>
+  osl.output "f" = %f : !osl.varying<f32>
+  osl.output "n" = %n : i32
+  return
+}

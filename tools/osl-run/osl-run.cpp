@@ -8,6 +8,7 @@
 #include "RunOptions.h"
 
 #include "OslRuntime/ImageOutput.h"
+#include "OslRuntime/StringCall.h"
 #include "OslRuntime/TextureCall.h"
 #include "OslRuntime/ThreadPool.h"
 
@@ -144,7 +145,8 @@ int main(int argc, char **argv) {
     double points = double(options.grid.xres) * options.grid.yres * options.iters;
     llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
   }
-  // The images are written, but a texture that could not be read is an
-  // error (reported once per file, where it was looked up).
-  return textureFileErrors() > 0 ? 1 : 0;
+  // The images are written, but a texture that could not be read or a
+  // string call that failed (a bad regex) is an error (reported once, where
+  // it happened).
+  return textureFileErrors() > 0 || stringErrors() > 0 ? 1 : 0;
 }

@@ -1,0 +1,114 @@
+//===- StringCall.h - Strings computed at run time: the ABI ------*- C++ -*-===//
+//
+// A string computed at run time is an i32 handle into one process-wide,
+// thread-safe, append-only intern table (like OpenImageIO's ustring): equal
+// strings have equal handles, so == and != compare handles, and a handle
+// stays valid for the life of the process. Handle 0 is "".
+//
+// Kernels call one entry point per osl.string_call and batch: each operand
+// is one row of W 32-bit values (an int, a handle, or a float's bits; a
+// triple takes three rows), followed by the result row. The compiler
+// (osl-convert-to-vector, the dialect's verifier) and the runtime both read
+// this header.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLRUNTIME_STRINGCALL_H
+#define OSLRUNTIME_STRINGCALL_H
+
+#include <cstdint>
+#include <iterator>
+#include <string>
+#include <string_view>
+
+namespace osl {
+
+/// The string functions, with their operand and result kinds: s a string
+/// handle, i an int, f a float, t a triple, `*` any number (possibly none)
+/// of the previous kind, `?` an optional last operand, `.` any number of
+/// any kinds (format's values).
+struct StringFunction {
+  const char *name;
+  const char *operands;
+  char result;
+};
+
+inline constexpr StringFunction kStringFunctions[] = {
+    {"concat", "s*", 's'},        {"format", "s.", 's'},       {"strlen", "s", 'i'},
+    {"hash", "s", 'i'},           {"startswith", "ss", 'i'},   {"endswith", "ss", 'i'},
+    {"getchar", "si", 'i'},       {"substr", "sii?", 's'},     {"stoi", "s", 'i'},
+    {"stof", "s", 'f'},           {"regex_search", "ss", 'i'}, {"regex_match", "ss", 'i'},
+};
+
+/// The index of a string function in kStringFunctions, or -1.
+constexpr int32_t stringFunctionCode(std::string_view name) {
+  for (int32_t i = 0; i < int32_t(std::size(kStringFunctions)); ++i)
+    if (name == kStringFunctions[i].name)
+      return i;
+  return -1;
+}
+
+/// Do `kinds` (one letter per operand: s, i, f, t) fit the operand pattern
+/// of function `code`?
+constexpr bool stringOperandsMatch(int32_t code, std::string_view kinds) {
+  std::string_view pattern = kStringFunctions[code].operands;
+  size_t k = 0;
+  for (size_t p = 0; p < pattern.size(); ++p) {
+    char want = pattern[p];
+    bool last = p + 1 == pattern.size();
+    char next = last ? 0 : pattern[p + 1];
+    if (want == '.') { // any kinds to the end
+      for (; k < kinds.size(); ++k)
+        if (kinds[k] != 's' && kinds[k] != 'i' && kinds[k] != 'f' && kinds[k] != 't')
+          return false;
+      return true;
+    }
+    if (next == '*') {
+      while (k < kinds.size() && kinds[k] == want)
+        ++k;
+      ++p;
+      continue;
+    }
+    if (next == '?') {
+      if (k < kinds.size() && kinds[k] == want)
+        ++k;
+      ++p;
+      continue;
+    }
+    if (k >= kinds.size() || kinds[k] != want)
+      return false;
+    ++k;
+  }
+  return k == kinds.size();
+}
+
+/// The rows one operand of kind `kind` takes.
+constexpr int32_t stringOperandRows(char kind) { return kind == 't' ? 3 : 1; }
+
+/// Why `pattern` is not a valid regular expression (std::regex,
+/// ECMAScript), or "" when it is.
+std::string regexError(const std::string &pattern);
+
+/// Why format string `format` does not fit `valueKinds` (the kinds of the
+/// values after it), or "" when it does.
+std::string formatError(std::string_view format, std::string_view valueKinds);
+
+/// How many errors string calls have reported at run time (each once per
+/// call site and cause), for a tool's exit status.
+int stringErrors();
+
+} // namespace osl
+
+/// The handle of `text` (NUL-terminated), interned on first use.
+extern "C" int32_t osl_rt_string_intern(const char *text);
+
+/// Calls string function `function` (an index into kStringFunctions) for
+/// the lanes set in `laneMask` (bit i = lane i) of a batch of `width`
+/// lanes. `kinds` names the operands' kinds (s, i, f, t; NUL-terminated);
+/// `rows` holds their rows then the result row, W 32-bit values each.
+/// Lanes not in the mask get 0. An error (a bad regular expression or
+/// format) is reported once at `where`, the call's file:line:col, and its
+/// lanes get OSL's 0 or "".
+extern "C" void osl_rt_string_call(const char *where, int32_t function, const char *kinds,
+                                   int32_t *rows, int32_t width, uint32_t laneMask);
+
+#endif // OSLRUNTIME_STRINGCALL_H

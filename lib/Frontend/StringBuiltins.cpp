@@ -1,0 +1,181 @@
+//===- StringBuiltins.cpp - String functions on run-time strings ---------===//
+//
+// format, concat, substr and the functions that read strings (strlen,
+// hash, startswith, endswith, getchar, stoi, stof, regex_search,
+// regex_match) become one osl.string_call each, on string handles: any
+// compile-time string or string choice among the operands is interned
+// (IRGen::stringHandle). The call is uniform when its operands are, so a
+// function of compile-time strings runs once per batch.
+//
+// A format string or regular expression known when the shader is compiled
+// is checked then, so its errors point at the call.
+//
+//===----------------------------------------------------------------------===//
+#include "IRGen.h"
+#include "OslRuntime/StringCall.h"
+
+#include "llvm/ADT/StringSwitch.h"
+
+using namespace osl::frontend;
+using namespace mlir;
+using namespace mlir::osl;
+
+namespace {
+
+/// Signatures, for errors.
+const char *usage(llvm::StringRef name) {
+  return llvm::StringSwitch<const char *>(name)
+      .Case("concat", "string concat(string, ...)")
+      .Case("format", "string format(string fmt, ...)")
+      .Case("strlen", "int strlen(string)")
+      .Case("hash", "int hash(string)")
+      .Case("startswith", "int startswith(string, string prefix)")
+      .Case("endswith", "int endswith(string, string suffix)")
+      .Case("getchar", "int getchar(string, int index)")
+      .Case("substr", "string substr(string, int start [, int length])")
+      .Case("stoi", "int stoi(string)")
+      .Case("stof", "float stof(string)")
+      .Case("regex_search", "int regex_search(string subject, string regex)")
+      .Case("regex_match", "int regex_match(string subject, string regex)")
+      .Default("");
+}
+
+/// Builds one string call from a call's arguments.
+class StringCall {
+public:
+  StringCall(IRGen &g, const Expr &call) : g(g), call(call) {}
+
+  std::optional<RValue> emit();
+
+private:
+  bool wrong() {
+    return g.error(call.loc, "wrong arguments to '" + call.name + "'; candidates: " +
+                                 usage(call.name));
+  }
+  /// Adds argument `k` as an operand of kind `kind` (s, i, or for
+  /// format's values whatever it is).
+  bool addOperand(size_t k, char kind);
+  bool addFormatValue(size_t k);
+  bool checkConstantOperands();
+
+  IRGen &g;
+  const Expr &call;
+  std::vector<RValue> args;
+  SmallVector<Value> operands;
+  std::string kinds;
+};
+
+bool StringCall::addOperand(size_t k, char kind) {
+  const RValue &v = args[k];
+  SrcLoc l = call.args[k]->begin;
+  if (kind == 's') {
+    if (!v.type.isString())
+      return g.error(l, "'" + call.name + "' expects a string here, got '" + v.type.str() +
+                            "'");
+    operands.push_back(g.stringHandle(v, l));
+  } else {
+    auto c = g.coerce(v, OslType(BaseType::Int), l, "for '" + call.name + "'");
+    if (!c)
+      return false;
+    operands.push_back(c->value);
+  }
+  kinds += kind;
+  return true;
+}
+
+/// One value to format: a string, an int, a float or a triple.
+bool StringCall::addFormatValue(size_t k) {
+  const RValue &v = args[k];
+  SrcLoc l = call.args[k]->begin;
+  if (v.type.isString())
+    return addOperand(k, 's');
+  if (v.type.isArray() || !(v.type.isNumeric() || v.type.base == BaseType::Bool))
+    return g.error(l, "'" + call.name + "' cannot format a value of type '" + v.type.str() +
+                          "' yet");
+  OslType as = v.type.isTriple() ? v.type
+               : v.type.isFloat() ? OslType(BaseType::Float)
+                                  : OslType(BaseType::Int);
+  auto c = g.coerce(v, as, l, "for '" + call.name + "'");
+  if (!c)
+    return false;
+  operands.push_back(c->value);
+  kinds += as.isTriple() ? 't' : as.isFloat() ? 'f' : 'i';
+  return true;
+}
+
+/// Format strings and regular expressions known now are checked now.
+bool StringCall::checkConstantOperands() {
+  if (call.name == "format" && args[0].isKnownString()) {
+    std::string why = ::osl::formatError(args[0].str, llvm::StringRef(kinds).drop_front());
+    if (!why.empty())
+      return g.error(call.args[0]->begin, why);
+  }
+  if ((call.name == "regex_search" || call.name == "regex_match") && args[1].isKnownString()) {
+    std::string why = ::osl::regexError(args[1].str);
+    if (!why.empty())
+      return g.error(call.args[1]->begin, why);
+  }
+  return true;
+}
+
+std::optional<RValue> StringCall::emit() {
+  for (const auto &a : call.args) {
+    auto v = g.emitExpr(*a);
+    if (!v)
+      return std::nullopt;
+    args.push_back(*v);
+  }
+  int32_t code = ::osl::stringFunctionCode(call.name);
+  llvm::StringRef name = call.name;
+  // Operand kinds by position; format's values take their own kinds.
+  std::string pattern = ::osl::kStringFunctions[code].operands;
+  bool ok = true;
+  if (name == "format") {
+    if (args.empty())
+      ok = wrong();
+    else
+      ok = addOperand(0, 's');
+    for (size_t k = 1; ok && k < args.size(); ++k)
+      ok = addFormatValue(k);
+  } else if (name == "concat") {
+    for (size_t k = 0; ok && k < args.size(); ++k)
+      ok = addOperand(k, 's');
+  } else {
+    size_t required = 0, optional = 0;
+    for (char c : pattern) {
+      if (c != '?') {
+        ++required;
+        continue;
+      }
+      --required; // the letter before it is optional
+      ++optional;
+    }
+    if (args.size() < required || args.size() > required + optional)
+      ok = wrong();
+    for (size_t k = 0; ok && k < args.size(); ++k)
+      ok = addOperand(k, pattern[k]);
+  }
+  if (!ok || !checkConstantOperands())
+    return std::nullopt;
+
+  OpBuilder &b = g.builder();
+  char result = ::osl::kStringFunctions[code].result;
+  Type type = result == 'f' ? Type(b.getF32Type()) : Type(b.getI32Type());
+  Value v = b.create<StringCallOp>(g.loc(call.loc), type, name, kinds, operands);
+  if (result == 's')
+    return RValue::runtimeString(v);
+  return RValue::num(OslType(result == 'f' ? BaseType::Float : BaseType::Int), v);
+}
+
+} // namespace
+
+namespace osl::frontend {
+
+std::optional<RValue> emitStringBuiltin(IRGen &g, const Expr &call, bool &known) {
+  known = ::osl::stringFunctionCode(call.name) >= 0;
+  if (!known)
+    return std::nullopt;
+  return StringCall(g, call).emit();
+}
+
+} // namespace osl::frontend

@@ -1,0 +1,381 @@
+//===- Strings.cpp - OSL's string functions at run time -------------------===//
+//
+// The intern table behind string handles and the lane loop of
+// osl_rt_string_call (OslRuntime/StringCall.h). Each function follows OSL
+// 1.13's semantics: format is C printf applied value by value, hash is
+// OpenImageIO's ustring hash, the regex functions use std::regex
+// (ECMAScript), substr counts a negative start from the end, getchar out
+// of range is 0, stoi/stof parse a prefix as atoi/atof do.
+//
+// Compiled with exceptions in OslImageIO: std::regex reports a bad pattern
+// by throwing.
+//
+//===----------------------------------------------------------------------===//
+#include "OslRuntime/StringCall.h"
+
+#include <OpenImageIO/ustring.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <regex>
+#include <set>
+#include <shared_mutex>
+#include <unordered_map>
+#include <vector>
+
+namespace {
+
+//===----------------------------------------------------------------------===//
+// The intern table
+//===----------------------------------------------------------------------===//
+
+/// Strings by handle and handles by string. Append-only, as OSL's ustrings
+/// are: a handle is never invalidated, so lanes and threads can keep them.
+class InternTable {
+public:
+  InternTable() { intern(""); }
+
+  int32_t intern(std::string_view s) {
+    {
+      std::shared_lock<std::shared_mutex> lock(mutex);
+      if (auto it = handles.find(s); it != handles.end())
+        return it->second;
+    }
+    std::unique_lock<std::shared_mutex> lock(mutex);
+    if (auto it = handles.find(s); it != handles.end())
+      return it->second;
+    int32_t handle = int32_t(strings.size());
+    strings.emplace_back(s); // deque: earlier elements never move
+    handles.emplace(strings.back(), handle);
+    return handle;
+  }
+
+  /// The text of a handle; "" for one that was never issued (lanes that
+  /// were off when it was computed).
+  std::string_view text(int32_t handle) {
+    std::shared_lock<std::shared_mutex> lock(mutex);
+    if (handle < 0 || size_t(handle) >= strings.size())
+      return {};
+    return strings[size_t(handle)];
+  }
+
+private:
+  std::shared_mutex mutex;
+  std::deque<std::string> strings;
+  std::unordered_map<std::string_view, int32_t> handles;
+};
+
+InternTable &internTable() {
+  static InternTable *table = new InternTable(); // lives as long as kernels may run
+  return *table;
+}
+
+//===----------------------------------------------------------------------===//
+// Errors, once per call site and message
+//===----------------------------------------------------------------------===//
+
+std::mutex errorMutex;
+std::set<std::string> reportedErrors;
+
+void reportOnce(const char *where, const std::string &message) {
+  std::lock_guard<std::mutex> lock(errorMutex);
+  if (!reportedErrors.insert(std::string(where) + "\n" + message).second)
+    return;
+  std::fprintf(stderr, "%s: error: %s\n", where, message.c_str());
+}
+
+//===----------------------------------------------------------------------===//
+// One lane's operands
+//===----------------------------------------------------------------------===//
+
+struct Operand {
+  char kind;
+  int32_t i = 0;       // an int, or a string's handle
+  float f[3] = {0, 0, 0};
+  std::string_view s;  // a string's text
+};
+
+float floatBits(int32_t bits) {
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
+
+int32_t bitsOf(float f) {
+  int32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  return bits;
+}
+
+//===----------------------------------------------------------------------===//
+// format
+//===----------------------------------------------------------------------===//
+
+/// One conversion of a format string: its text up to the conversion
+/// letter, e.g. "%-05.2" and 'f'.
+struct Conversion {
+  std::string spec;
+  char letter;
+};
+
+bool isIntLetter(char c) { return std::strchr("diouxXc", c) != nullptr; }
+bool isFloatLetter(char c) { return std::strchr("eEfFgGaA", c) != nullptr; }
+
+/// Parses the conversion starting at format[pos] == '%' (not "%%"); on
+/// success `pos` is past it.
+bool parseConversion(std::string_view format, size_t &pos, Conversion &out) {
+  size_t start = pos++;
+  while (pos < format.size() && std::strchr("-+ #0", format[pos]))
+    ++pos;
+  while (pos < format.size() && std::isdigit((unsigned char)format[pos]))
+    ++pos;
+  if (pos < format.size() && format[pos] == '.') {
+    ++pos;
+    while (pos < format.size() && std::isdigit((unsigned char)format[pos]))
+      ++pos;
+  }
+  // Length modifiers mean nothing for OSL's types; C's are skipped.
+  std::string spec(format.substr(start, pos - start));
+  while (pos < format.size() && std::strchr("hlLqjzt", format[pos]))
+    ++pos;
+  if (pos >= format.size())
+    return false;
+  char letter = format[pos++];
+  if (letter != 's' && !isIntLetter(letter) && !isFloatLetter(letter))
+    return false;
+  out = {spec, letter};
+  return true;
+}
+
+template <typename T>
+std::string printfText(const std::string &spec, char letter, T value) {
+  std::string fmt = spec + letter;
+  int n = std::snprintf(nullptr, 0, fmt.c_str(), value);
+  std::string text(size_t(n > 0 ? n : 0), '\0');
+  std::snprintf(text.data(), text.size() + 1, fmt.c_str(), value);
+  return text;
+}
+
+std::string formatNumber(const Conversion &c, double value, bool isInt) {
+  if (c.letter == 's') // a number printed as text: its usual form
+    return isInt ? printfText(c.spec, 'd', int(value)) : printfText(c.spec, 'g', value);
+  if (isIntLetter(c.letter))
+    return printfText(c.spec, c.letter, int(value));
+  return printfText(c.spec, c.letter, value);
+}
+
+/// One value under one conversion; triples print their components
+/// separated by spaces, as OSL does.
+std::string formatValue(const Conversion &c, const Operand &v) {
+  switch (v.kind) {
+  case 's':
+    return printfText(c.spec, 's', std::string(v.s).c_str());
+  case 'i':
+    return formatNumber(c, double(v.i), true);
+  case 'f':
+    return formatNumber(c, double(v.f[0]), false);
+  default:
+    return formatNumber(c, v.f[0], false) + " " + formatNumber(c, v.f[1], false) + " " +
+           formatNumber(c, v.f[2], false);
+  }
+}
+
+/// Walks `format`, calling `onConversion` for each conversion in order;
+/// returns an error, or "".
+template <typename Fn>
+std::string walkFormat(std::string_view format, std::string &literal, Fn onConversion) {
+  for (size_t pos = 0; pos < format.size();) {
+    if (format[pos] != '%') {
+      literal += format[pos++];
+      continue;
+    }
+    if (pos + 1 < format.size() && format[pos + 1] == '%') {
+      literal += '%';
+      pos += 2;
+      continue;
+    }
+    Conversion c;
+    size_t at = pos;
+    if (!parseConversion(format, pos, c))
+      return "malformed conversion '" + std::string(format.substr(at, pos - at)) +
+             "' in format string \"" + std::string(format) + "\"";
+    std::string error = onConversion(c);
+    if (!error.empty())
+      return error;
+  }
+  return "";
+}
+
+std::string formatLane(std::string_view format, const std::vector<Operand> &values,
+                       std::string &error) {
+  std::string out;
+  size_t next = 0;
+  error = walkFormat(format, out, [&](const Conversion &c) -> std::string {
+    if (next >= values.size())
+      return "format string \"" + std::string(format) + "\" needs more values than the " +
+             std::to_string(values.size()) + " given";
+    out += formatValue(c, values[next++]);
+    return "";
+  });
+  return error.empty() ? out : std::string();
+}
+
+//===----------------------------------------------------------------------===//
+// Regular expressions
+//===----------------------------------------------------------------------===//
+
+/// Compiled patterns by handle, per thread (std::regex is not meant to be
+/// shared while matching); null for a bad pattern.
+const std::regex *compiledRegex(int32_t handle, std::string_view pattern, std::string &error) {
+  thread_local std::unordered_map<int32_t, std::unique_ptr<std::regex>> cache;
+  auto it = cache.find(handle);
+  if (it == cache.end()) {
+    std::unique_ptr<std::regex> re;
+    try {
+      re = std::make_unique<std::regex>(std::string(pattern), std::regex::ECMAScript);
+    } catch (const std::regex_error &) {
+    }
+    it = cache.emplace(handle, std::move(re)).first;
+  }
+  if (!it->second)
+    error = osl::regexError(std::string(pattern));
+  return it->second.get();
+}
+
+//===----------------------------------------------------------------------===//
+// The functions, one lane at a time
+//===----------------------------------------------------------------------===//
+
+enum : int32_t {
+  kConcat, kFormat, kStrlen, kHash, kStartswith, kEndswith, kGetchar, kSubstr,
+  kStoi, kStof, kRegexSearch, kRegexMatch,
+};
+
+int32_t intern(std::string_view s) { return internTable().intern(s); }
+
+/// substr(s, start, length): a negative start counts from the end; both
+/// are clamped to the string.
+std::string_view substring(std::string_view s, int32_t start, int32_t length) {
+  int32_t n = int32_t(s.size());
+  int32_t b = start < 0 ? start + n : start;
+  b = std::clamp(b, 0, n);
+  return s.substr(size_t(b), size_t(std::clamp(length, 0, n)));
+}
+
+/// The result's 32 bits for one lane.
+int32_t callLane(int32_t function, const std::vector<Operand> &a, std::string &error) {
+  switch (function) {
+  case kConcat: {
+    std::string s;
+    for (const Operand &o : a)
+      s += o.s;
+    return intern(s);
+  }
+  case kFormat:
+    return intern(formatLane(a[0].s, std::vector<Operand>(a.begin() + 1, a.end()), error));
+  case kStrlen:
+    return int32_t(a[0].s.size());
+  case kHash: // OSL's hash(string) is the ustring hash, as an int
+    return int32_t(OIIO::ustring(a[0].s).hash());
+  case kStartswith:
+    return a[0].s.substr(0, a[1].s.size()) == a[1].s;
+  case kEndswith:
+    return a[0].s.size() >= a[1].s.size() &&
+           a[0].s.substr(a[0].s.size() - a[1].s.size()) == a[1].s;
+  case kGetchar:
+    return a[1].i >= 0 && size_t(a[1].i) < a[0].s.size() ? int32_t(a[0].s[size_t(a[1].i)])
+                                                          : 0;
+  case kSubstr:
+    return intern(substring(a[0].s, a[1].i,
+                            a.size() > 2 ? a[2].i : int32_t(a[0].s.size())));
+  case kStoi:
+    return int32_t(std::atoi(std::string(a[0].s).c_str()));
+  case kStof:
+    return bitsOf(float(std::atof(std::string(a[0].s).c_str())));
+  case kRegexSearch:
+  case kRegexMatch: {
+    const std::regex *re = compiledRegex(a[1].i, a[1].s, error);
+    if (!re)
+      return 0;
+    const char *begin = a[0].s.data(), *end = begin + a[0].s.size();
+    return function == kRegexSearch ? std::regex_search(begin, end, *re)
+                                    : std::regex_match(begin, end, *re);
+  }
+  }
+  return 0;
+}
+
+} // namespace
+
+//===----------------------------------------------------------------------===//
+// Entry points
+//===----------------------------------------------------------------------===//
+
+std::string osl::regexError(const std::string &pattern) {
+  try {
+    std::regex re(pattern, std::regex::ECMAScript);
+  } catch (const std::regex_error &e) {
+    return "invalid regular expression \"" + pattern + "\": " + e.what();
+  }
+  return "";
+}
+
+std::string osl::formatError(std::string_view format, std::string_view valueKinds) {
+  std::string literal;
+  size_t next = 0;
+  return walkFormat(format, literal, [&](const Conversion &c) -> std::string {
+    if (next >= valueKinds.size())
+      return "format string \"" + std::string(format) + "\" needs more values than the " +
+             std::to_string(valueKinds.size()) + " given";
+    if (valueKinds[next++] == 's' && c.letter != 's')
+      return "format string \"" + std::string(format) + "\" prints a string with '%" +
+             c.letter + "'";
+    return "";
+  });
+}
+
+int osl::stringErrors() {
+  std::lock_guard<std::mutex> lock(errorMutex);
+  return int(reportedErrors.size());
+}
+
+extern "C" int32_t osl_rt_string_intern(const char *text) { return intern(text); }
+
+extern "C" void osl_rt_string_call(const char *where, int32_t function, const char *kinds,
+                                   int32_t *rows, int32_t width, uint32_t laneMask) {
+  size_t nkinds = std::strlen(kinds);
+  int32_t resultRow = 0;
+  for (size_t k = 0; k < nkinds; ++k)
+    resultRow += osl::stringOperandRows(kinds[k]);
+  int32_t *result = rows + size_t(resultRow) * size_t(width);
+  std::vector<Operand> operands(nkinds);
+  for (int32_t lane = 0; lane < width; ++lane) {
+    result[lane] = 0;
+    if (!(laneMask >> lane & 1))
+      continue;
+    int32_t row = 0;
+    for (size_t k = 0; k < nkinds; ++k) {
+      Operand &o = operands[k];
+      o.kind = kinds[k];
+      for (int32_t c = 0; c < osl::stringOperandRows(o.kind); ++c) {
+        int32_t bits = rows[size_t(row++) * size_t(width) + size_t(lane)];
+        o.i = bits;
+        o.f[c] = floatBits(bits);
+      }
+      o.s = o.kind == 's' ? internTable().text(o.i) : std::string_view();
+    }
+    std::string error;
+    int32_t value = callLane(function, operands, error);
+    if (!error.empty()) {
+      reportOnce(where, error);
+      value = osl::kStringFunctions[function].result == 's' ? intern("") : 0;
+    }
+    result[lane] = value;
+  }
+}
