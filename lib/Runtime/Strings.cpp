@@ -340,6 +340,8 @@ std::string osl::formatError(std::string_view format, std::string_view valueKind
   });
 }
 
+std::string osl::stringText(int32_t handle) { return std::string(internTable().text(handle)); }
+
 int osl::stringErrors() {
   std::lock_guard<std::mutex> lock(errorMutex);
   return int(reportedErrors.size());
