@@ -207,6 +207,9 @@ std::optional<RValue> StringCall::emit() {
   } else if (name == "concat") {
     for (size_t k = 0; ok && k < args.size(); ++k)
       ok = addOperand(k, 's');
+  } else if (name == "hash" && args.size() == 1 && !args[0].type.isString()) {
+    // OSL also hashes numbers and triples; only strings are here yet.
+    ok = g.error(call.loc, "hash() of a '" + args[0].type.str() + "' is not supported yet");
   } else {
     size_t required = 0, optional = 0;
     for (char c : pattern) {
