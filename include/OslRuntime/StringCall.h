@@ -84,6 +84,9 @@ constexpr bool stringOperandsMatch(int32_t code, std::string_view kinds) {
 /// The rows one operand of kind `kind` takes.
 constexpr int32_t stringOperandRows(char kind) { return kind == 't' ? 3 : 1; }
 
+/// The text of a string handle ("" for one never issued).
+std::string stringText(int32_t handle);
+
 /// Why `pattern` is not a valid regular expression (std::regex,
 /// ECMAScript), or "" when it is.
 std::string regexError(const std::string &pattern);

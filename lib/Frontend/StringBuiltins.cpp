@@ -8,13 +8,18 @@
 // function of compile-time strings runs once per batch.
 //
 // A format string or regular expression known when the shader is compiled
-// is checked then, so its errors point at the call.
+// is checked then, so its errors point at the call. A call whose operands
+// are all known then (concat of string parameters, format of constants) is
+// folded by running the runtime's own implementation, so its result is a
+// compile-time string that can name a texture, a noise or a space.
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
 #include "OslRuntime/StringCall.h"
 
 #include "llvm/ADT/StringSwitch.h"
+
+#include <cstring>
 
 using namespace osl::frontend;
 using namespace mlir;
@@ -57,11 +62,18 @@ private:
   bool addOperand(size_t k, char kind);
   bool addFormatValue(size_t k);
   bool checkConstantOperands();
+  /// The operands' 32-bit rows when every operand is known now.
+  std::optional<std::vector<int32_t>> knownRows();
+  RValue fold(std::vector<int32_t> rows, int32_t code);
+  /// The operands as IR values (strings as handles).
+  SmallVector<Value> materialize();
 
   IRGen &g;
   const Expr &call;
   std::vector<RValue> args;
-  SmallVector<Value> operands;
+  /// One per operand (coerced); `kinds` says how each is passed.
+  std::vector<RValue> operands;
+  std::vector<SrcLoc> operandLocs;
   std::string kinds;
 };
 
@@ -72,13 +84,14 @@ bool StringCall::addOperand(size_t k, char kind) {
     if (!v.type.isString())
       return g.error(l, "'" + call.name + "' expects a string here, got '" + v.type.str() +
                             "'");
-    operands.push_back(g.stringHandle(v, l));
+    operands.push_back(v);
   } else {
     auto c = g.coerce(v, OslType(BaseType::Int), l, "for '" + call.name + "'");
     if (!c)
       return false;
-    operands.push_back(c->value);
+    operands.push_back(*c);
   }
+  operandLocs.push_back(l);
   kinds += kind;
   return true;
 }
@@ -98,9 +111,63 @@ bool StringCall::addFormatValue(size_t k) {
   auto c = g.coerce(v, as, l, "for '" + call.name + "'");
   if (!c)
     return false;
-  operands.push_back(c->value);
+  operands.push_back(*c);
+  operandLocs.push_back(l);
   kinds += as.isTriple() ? 't' : as.isFloat() ? 'f' : 'i';
   return true;
+}
+
+std::optional<std::vector<int32_t>> StringCall::knownRows() {
+  std::vector<int32_t> rows;
+  for (auto [v, kind] : llvm::zip(operands, kinds)) {
+    if (kind == 's') {
+      if (!v.isKnownString())
+        return std::nullopt;
+      rows.push_back(osl_rt_string_intern(v.str.c_str()));
+    } else if (kind == 'i') {
+      auto k = IRGen::getConstInt(v.value);
+      if (!k)
+        return std::nullopt;
+      rows.push_back(int32_t(*k));
+    } else if (kind == 'f') {
+      auto k = IRGen::getConstScalar(v.value);
+      if (!k)
+        return std::nullopt;
+      float f = float(*k);
+      int32_t bits;
+      std::memcpy(&bits, &f, sizeof bits);
+      rows.push_back(bits);
+    } else {
+      return std::nullopt; // triples are not folded
+    }
+  }
+  return rows;
+}
+
+/// Runs the call now, on one lane. Its errors (format, regex) were
+/// reported by checkConstantOperands, so it cannot fail here.
+RValue StringCall::fold(std::vector<int32_t> rows, int32_t code) {
+  rows.push_back(0); // the result row
+  osl_rt_string_call(call.name.c_str(), code, kinds.c_str(), rows.data(), 1, 1);
+  int32_t result = rows.back();
+  switch (::osl::kStringFunctions[code].result) {
+  case 's':
+    return RValue::string(::osl::stringText(result));
+  case 'f': {
+    float f;
+    std::memcpy(&f, &result, sizeof f);
+    return RValue::num(OslType(BaseType::Float), g.constFloat(f, call.loc));
+  }
+  default:
+    return RValue::num(OslType(BaseType::Int), g.constInt(result, call.loc));
+  }
+}
+
+SmallVector<Value> StringCall::materialize() {
+  SmallVector<Value> values;
+  for (auto [v, kind, l] : llvm::zip(operands, kinds, operandLocs))
+    values.push_back(kind == 's' ? g.stringHandle(v, l) : v.value);
+  return values;
 }
 
 /// Format strings and regular expressions known now are checked now.
@@ -140,6 +207,9 @@ std::optional<RValue> StringCall::emit() {
   } else if (name == "concat") {
     for (size_t k = 0; ok && k < args.size(); ++k)
       ok = addOperand(k, 's');
+  } else if (name == "hash" && args.size() == 1 && !args[0].type.isString()) {
+    // OSL also hashes numbers and triples; only strings are here yet.
+    ok = g.error(call.loc, "hash() of a '" + args[0].type.str() + "' is not supported yet");
   } else {
     size_t required = 0, optional = 0;
     for (char c : pattern) {
@@ -157,11 +227,13 @@ std::optional<RValue> StringCall::emit() {
   }
   if (!ok || !checkConstantOperands())
     return std::nullopt;
+  if (auto rows = knownRows())
+    return fold(std::move(*rows), code);
 
   OpBuilder &b = g.builder();
   char result = ::osl::kStringFunctions[code].result;
   Type type = result == 'f' ? Type(b.getF32Type()) : Type(b.getI32Type());
-  Value v = b.create<StringCallOp>(g.loc(call.loc), type, name, kinds, operands);
+  Value v = b.create<StringCallOp>(g.loc(call.loc), type, name, kinds, materialize());
   if (result == 's')
     return RValue::runtimeString(v);
   return RValue::num(OslType(result == 'f' ? BaseType::Float : BaseType::Int), v);

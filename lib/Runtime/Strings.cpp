@@ -16,11 +16,12 @@
 #include <OpenImageIO/ustring.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <deque>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <regex>
@@ -37,6 +38,9 @@ namespace {
 
 /// Strings by handle and handles by string. Append-only, as OSL's ustrings
 /// are: a handle is never invalidated, so lanes and threads can keep them.
+/// Reading a handle's text takes no lock (lanes read far more strings than
+/// they make): strings live in fixed chunks that never move, and a handle
+/// is published only after its string is written.
 class InternTable {
 public:
   InternTable() { intern(""); }
@@ -50,24 +54,36 @@ public:
     std::unique_lock<std::shared_mutex> lock(mutex);
     if (auto it = handles.find(s); it != handles.end())
       return it->second;
-    int32_t handle = int32_t(strings.size());
-    strings.emplace_back(s); // deque: earlier elements never move
-    handles.emplace(strings.back(), handle);
+    int32_t handle = count.load(std::memory_order_relaxed);
+    if (handle == std::numeric_limits<int32_t>::max()) {
+      std::fprintf(stderr, "error: too many distinct strings for 32-bit string handles\n");
+      std::abort();
+    }
+    std::unique_ptr<std::string[]> &chunk = chunks[size_t(handle) / kChunkSize];
+    if (!chunk)
+      chunk = std::make_unique<std::string[]>(kChunkSize);
+    std::string &slot = chunk[size_t(handle) % kChunkSize];
+    slot.assign(s);
+    handles.emplace(slot, handle);
+    count.store(handle + 1, std::memory_order_release);
     return handle;
   }
 
   /// The text of a handle; "" for one that was never issued (lanes that
   /// were off when it was computed).
-  std::string_view text(int32_t handle) {
-    std::shared_lock<std::shared_mutex> lock(mutex);
-    if (handle < 0 || size_t(handle) >= strings.size())
+  std::string_view text(int32_t handle) const {
+    if (handle < 0 || handle >= count.load(std::memory_order_acquire))
       return {};
-    return strings[size_t(handle)];
+    return chunks[size_t(handle) / kChunkSize][size_t(handle) % kChunkSize];
   }
 
 private:
-  std::shared_mutex mutex;
-  std::deque<std::string> strings;
+  static constexpr size_t kChunkSize = size_t(1) << 16;
+  static constexpr size_t kMaxChunks = size_t(1) << 15; // 2^31 handles in all
+  std::shared_mutex mutex; // guards `handles` and writes to `chunks`
+  std::unique_ptr<std::unique_ptr<std::string[]>[]> chunks =
+      std::make_unique<std::unique_ptr<std::string[]>[]>(kMaxChunks);
+  std::atomic<int32_t> count{0};
   std::unordered_map<std::string_view, int32_t> handles;
 };
 
@@ -339,6 +355,8 @@ std::string osl::formatError(std::string_view format, std::string_view valueKind
     return "";
   });
 }
+
+std::string osl::stringText(int32_t handle) { return std::string(internTable().text(handle)); }
 
 int osl::stringErrors() {
   std::lock_guard<std::mutex> lock(errorMutex);
