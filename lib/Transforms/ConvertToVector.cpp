@@ -521,6 +521,28 @@ struct TransformLowering : public OslPattern<TransformOp> {
   }
 };
 
+/// Declares runtime function `name` in the module once.
+LLVM::LLVMFuncOp runtimeDeclaration(OpBuilder &b, Operation *op, StringRef name,
+                                    Type result, ArrayRef<Type> params) {
+  auto module = op->getParentOfType<ModuleOp>();
+  if (auto f = module.lookupSymbol<LLVM::LLVMFuncOp>(name))
+    return f;
+  OpBuilder::InsertionGuard guard(b);
+  b.setInsertionPointToStart(module.getBody());
+  return b.create<LLVM::LLVMFuncOp>(op->getLoc(), name,
+                                    LLVM::LLVMFunctionType::get(result, params));
+}
+
+/// A stack block of `count` 32-bit values in the function's entry block,
+/// so a call inside a loop reuses it.
+Value entryBlockRows(OpBuilder &b, Location loc, Operation *op, int64_t count) {
+  OpBuilder::InsertionGuard guard(b);
+  b.setInsertionPointToStart(&op->getParentOfType<func::FuncOp>().getBody().front());
+  Value size = b.create<LLVM::ConstantOp>(loc, b.getI64Type(), b.getI64IntegerAttr(count));
+  return b.create<LLVM::AllocaOp>(loc, LLVM::LLVMPointerType::get(b.getContext()),
+                                  b.getI32Type(), size, 64);
+}
+
 /// A lane mask (i1 or vector<W x i1>) as the bits of an i32, lane i at bit i.
 Value maskBits(OpBuilder &b, Location loc, Value mask) {
   Type i32 = b.getI32Type();
@@ -542,28 +564,6 @@ std::string callSiteText(Location loc, StringRef fallback) {
   return (fileLoc.getFilename().getValue() + ":" + llvm::Twine(fileLoc.getLine()) + ":" +
           llvm::Twine(fileLoc.getColumn()))
       .str();
-}
-
-/// Declares runtime function `name` in the module once.
-LLVM::LLVMFuncOp runtimeDeclaration(OpBuilder &b, Operation *op, StringRef name,
-                                    Type result, ArrayRef<Type> params) {
-  auto module = op->getParentOfType<ModuleOp>();
-  if (auto f = module.lookupSymbol<LLVM::LLVMFuncOp>(name))
-    return f;
-  OpBuilder::InsertionGuard guard(b);
-  b.setInsertionPointToStart(module.getBody());
-  return b.create<LLVM::LLVMFuncOp>(op->getLoc(), name,
-                                    LLVM::LLVMFunctionType::get(result, params));
-}
-
-/// A stack block of `count` 32-bit values in the function's entry block,
-/// so a call inside a loop reuses it.
-Value entryBlockRows(OpBuilder &b, Location loc, Operation *op, int64_t count) {
-  OpBuilder::InsertionGuard guard(b);
-  b.setInsertionPointToStart(&op->getParentOfType<func::FuncOp>().getBody().front());
-  Value size = b.create<LLVM::ConstantOp>(loc, b.getI64Type(), b.getI64IntegerAttr(count));
-  return b.create<LLVM::AllocaOp>(loc, LLVM::LLVMPointerType::get(b.getContext()),
-                                  b.getI32Type(), size, 64);
 }
 
 /// osl.string_constant: the handle the runtime's intern table gives the
@@ -673,17 +673,11 @@ struct TextureLowering : public OslPattern<TextureOp> {
     MLIRContext *ctx = rewriter.getContext();
     auto ptr = LLVM::LLVMPointerType::get(ctx);
     Type f32 = rewriter.getF32Type(), i32 = rewriter.getI32Type();
-    LLVM::LLVMFuncOp callee = runtimeFunction(rewriter, op);
-
-    // The block lives in the entry block: a lookup inside a loop reuses it.
-    Value block;
-    {
-      OpBuilder::InsertionGuard guard(rewriter);
-      rewriter.setInsertionPointToStart(&op->getParentOfType<func::FuncOp>().getBody().front());
-      Value size = rewriter.create<LLVM::ConstantOp>(
-          loc, rewriter.getI64Type(), rewriter.getI64IntegerAttr(::osl::kTextureRows * lanes));
-      block = rewriter.create<LLVM::AllocaOp>(loc, ptr, f32, size, 64);
-    }
+    SmallVector<Type> params = {ptr, ptr, ptr, i32, i32, i32, i32, i32, i32,
+                                i32, i32, i32, ptr, i32, i32};
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_texture",
+                                                 LLVM::LLVMVoidType::get(ctx), params);
+    Value block = entryBlockRows(rewriter, loc, op, ::osl::kTextureRows * lanes);
     Lanes unpacker{rewriter, loc, width};
     auto storeRow = [&](int64_t row, Value original, Value converted) {
       Value v = unpacker.unpack(converted, original.getType(), varying)[0];
@@ -764,22 +758,6 @@ struct TextureLowering : public OslPattern<TextureOp> {
     rewriter.replaceOp(op, {result, loadRow(::osl::kTextureAlphaRow)});
     return success();
   }
-
-  /// The declaration of osl_rt_texture in the module.
-  static LLVM::LLVMFuncOp runtimeFunction(OpBuilder &b, Operation *op) {
-    auto module = op->getParentOfType<ModuleOp>();
-    if (auto f = module.lookupSymbol<LLVM::LLVMFuncOp>("osl_rt_texture"))
-      return f;
-    MLIRContext *ctx = b.getContext();
-    auto ptr = LLVM::LLVMPointerType::get(ctx);
-    Type i32 = b.getI32Type();
-    SmallVector<Type> params = {ptr, ptr, ptr, i32, i32, i32, i32, i32, i32,
-                                i32, i32, i32, ptr, i32, i32};
-    auto type = LLVM::LLVMFunctionType::get(LLVM::LLVMVoidType::get(ctx), params);
-    OpBuilder::InsertionGuard guard(b);
-    b.setInsertionPointToStart(module.getBody());
-    return b.create<LLVM::LLVMFuncOp>(op->getLoc(), "osl_rt_texture", type);
-  }
 };
 
 /// gettextureinfo: a uniform runtime call that writes its answer to the
@@ -794,23 +772,9 @@ struct GetTextureInfoLowering : public OslPattern<GetTextureInfoOp> {
     Type i32 = rewriter.getI32Type();
     Type element = op.getFloats() ? Type(rewriter.getF32Type()) : i32;
     int64_t count = op.getValues().size();
-    Value data;
-    {
-      OpBuilder::InsertionGuard guard(rewriter);
-      rewriter.setInsertionPointToStart(&op->getParentOfType<func::FuncOp>().getBody().front());
-      Value size = rewriter.create<LLVM::ConstantOp>(loc, rewriter.getI64Type(),
-                                                     rewriter.getI64IntegerAttr(count));
-      data = rewriter.create<LLVM::AllocaOp>(loc, ptr, element, size, 4);
-    }
-    auto module = op->getParentOfType<ModuleOp>();
-    auto callee = module.lookupSymbol<LLVM::LLVMFuncOp>("osl_rt_gettextureinfo");
-    if (!callee) {
-      OpBuilder::InsertionGuard guard(rewriter);
-      rewriter.setInsertionPointToStart(module.getBody());
-      callee = rewriter.create<LLVM::LLVMFuncOp>(
-          loc, "osl_rt_gettextureinfo",
-          LLVM::LLVMFunctionType::get(i32, {ptr, ptr, i32, i32, ptr}));
-    }
+    Value data = entryBlockRows(rewriter, loc, op, count);
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_gettextureinfo", i32,
+                                                 {ptr, ptr, i32, i32, ptr});
     auto i32Const = [&](int64_t v) {
       return rewriter.create<arith::ConstantIntOp>(loc, v, 32).getResult();
     };

@@ -240,7 +240,7 @@ func.func @transformc_luminance() {
 // 2, black 1).
 // CHECK-LABEL: llvm.func @osl_rt_texture(!llvm.ptr, !llvm.ptr, !llvm.ptr, i32, i32, i32, i32, i32, i32, i32, i32, i32, !llvm.ptr, i32, i32)
 // CHECK-LABEL: osl.shader_name = "texture_lookup"
-// CHECK: %[[BLOCK:.+]] = llvm.alloca %{{.+}} x f32 {alignment = 64 : i64}
+// CHECK: %[[BLOCK:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
 // CHECK: llvm.store %{{.+}}, %{{.+}} {alignment = 4 : i64} : vector<8xf32>, !llvm.ptr
 // CHECK: %[[WHERE:.+]] = llvm.mlir.addressof @osl_string_{{[0-9]+}} : !llvm.ptr
 // CHECK: %[[FILE:.+]] = llvm.mlir.addressof @osl_string_{{[0-9]+}} : !llvm.ptr
