@@ -78,7 +78,7 @@ def Osl_IfOp : Osl_Op<"if", [RecursiveMemoryEffects, NoRegionArguments]> {
   let assemblyFormat = [{
     $condition `:` type($condition) (`->` type($results)^)? $thenRegion `else` $elseRegion attr-dict
   }];
-  let hasVerifier = 1;
+  let hasRegionVerifier = 1; // after the ops inside verify
   let hasCanonicalizer = 1;
 }
 
@@ -95,7 +95,7 @@ def Osl_WhileOp : Osl_Op<"while", [RecursiveMemoryEffects]> {
   let assemblyFormat = [{
     (`(` $inits^ `:` type($inits) `)`)? (`->` type($results)^)? `cond` $before `do` $after attr-dict
   }];
-  let hasVerifier = 1;
+  let hasRegionVerifier = 1; // after the ops inside verify
 }
 
 def Osl_ConditionOp : Osl_Op<"condition", [Pure, Terminator, HasParent<"WhileOp">]> {

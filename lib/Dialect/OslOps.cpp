@@ -167,9 +167,13 @@ static LogicalResult verifyFlow(Operation *op, StringRef what, TypeRange from,
   return success();
 }
 
-LogicalResult IfOp::verify() {
+// The region verifiers run after the ops inside them have verified, so a
+// malformed terminator (too few operands) is reported, not read.
+LogicalResult IfOp::verifyRegions() {
   for (Region *region : {&getThenRegion(), &getElseRegion()}) {
-    auto yield = dyn_cast<YieldOp>(region->front().getTerminator());
+    if (region->empty() || region->front().empty())
+      return emitOpError("regions must end in osl.yield");
+    auto yield = dyn_cast<YieldOp>(region->front().back());
     if (!yield)
       return emitOpError("regions must end in osl.yield");
     if (failed(verifyFlow(*this, "yield", yield.getValues().getTypes(),
@@ -271,13 +275,16 @@ void IfOp::getCanonicalizationPatterns(RewritePatternSet &results, MLIRContext *
   results.add<SimplifyIfResults>(context);
 }
 
-LogicalResult WhileOp::verify() {
+LogicalResult WhileOp::verifyRegions() {
+  if (getBefore().empty() || getAfter().empty() || getBefore().front().empty() ||
+      getAfter().front().empty())
+    return emitOpError("needs a 'cond' and a 'do' region, each ending in its terminator");
   Block &before = getBefore().front();
   Block &after = getAfter().front();
   if (failed(verifyFlow(*this, "loop entry", getInits().getTypes(),
                         before.getArgumentTypes())))
     return failure();
-  auto cond = dyn_cast<ConditionOp>(before.getTerminator());
+  auto cond = dyn_cast<ConditionOp>(before.back());
   if (!cond)
     return emitOpError("'cond' region must end in osl.condition");
   if (failed(verifyFlow(*this, "condition", cond.getArgs().getTypes(),
@@ -285,7 +292,7 @@ LogicalResult WhileOp::verify() {
       failed(verifyFlow(*this, "loop exit", cond.getArgs().getTypes(),
                         getResultTypes())))
     return failure();
-  auto yield = dyn_cast<YieldOp>(after.getTerminator());
+  auto yield = dyn_cast<YieldOp>(after.back());
   if (!yield)
     return emitOpError("'do' region must end in osl.yield");
   return verifyFlow(*this, "loop back edge", yield.getValues().getTypes(),

@@ -272,3 +272,19 @@ func.func @string_call_result_type(%s: i32) {
   %0 = osl.string_call "stof" "s"(%s) : (i32) -> i32
   return
 }
+
+// -----
+
+// The loop's own checks run after its terminators verified (found by the
+// osl-opt fuzzer: a condition without operands was read past its end).
+func.func @while_condition_without_operands(%x: f32) {
+  %r = osl.while (%x : f32) -> f32 cond {
+  ^bb0(%a: f32):
+    // expected-error @+1 {{expected 1 or more operands, but found 0}}
+    "osl.condition"() : () -> ()
+  } do {
+  ^bb0(%a: f32):
+    osl.yield %a : f32
+  }
+  return
+}
