@@ -191,7 +191,6 @@ struct Lane {
     return b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OEQ, x, y);
   }
   Value sel(Value c, Value x, Value y) { return b.create<arith::SelectOp>(loc, c, x, y); }
-  Value sel(Value c, LaneColor x, LaneColor y, int i) { return sel(c, x[i], y[i]); }
   LaneColor sel(Value c, LaneColor x, LaneColor y) {
     return {sel(c, x[0], y[0]), sel(c, x[1], y[1]), sel(c, x[2], y[2])};
   }
@@ -379,25 +378,32 @@ std::string tableSymbol(const ColorSystem &cs, StringRef what) {
 }
 std::string tableSymbol(StringRef what) { return ("osl_" + what).str(); }
 
+/// The observer's x, y or z weights (`channel` 0, 1, 2) as a constant
+/// table, shared by blackbody and wavelength_color.
+LLVM::GlobalOp cieTable(OpBuilder &b, Location loc, int channel) {
+  static const char *names[3] = {"cie_x", "cie_y", "cie_z"};
+  std::vector<float> column;
+  for (int i = 0; i < kCieSamples; ++i)
+    column.push_back(kCie[i][channel]);
+  return getConstantTable(b, loc, tableSymbol(names[channel]), column);
+}
+
 /// Per wavelength of the observer: Planck's law as scale / expm1(exponent
 /// / T), and the CIE x, y, z weights.
 struct SpectrumTables {
   LLVM::GlobalOp scale, exponent, cie[3];
 
   SpectrumTables(OpBuilder &b, Location loc) {
-    std::vector<float> s, e, c[3];
+    std::vector<float> s, e;
     for (int i = 0; i < kCieSamples; ++i) {
       double metres = (380.0f + 5.0f * float(i)) * 1e-9;
       s.push_back(float(kPlanckC1 * std::pow(metres, -5.0)));
       e.push_back(float(kPlanckC2 / metres));
-      for (int k = 0; k < 3; ++k)
-        c[k].push_back(kCie[i][k]);
     }
     scale = getConstantTable(b, loc, tableSymbol("planck_scale"), s);
     exponent = getConstantTable(b, loc, tableSymbol("planck_exponent"), e);
-    static const char *names[3] = {"cie_x", "cie_y", "cie_z"};
     for (int k = 0; k < 3; ++k)
-      cie[k] = getConstantTable(b, loc, tableSymbol(names[k]), c[k]);
+      cie[k] = cieTable(b, loc, k);
   }
 };
 
@@ -529,12 +535,8 @@ LaneColor mlir::osl::buildWavelengthColor(OpBuilder &b, Location loc, const Colo
   Value index = l.toInt(l.sel(inside, pos, l.cst(pos, 0)));
   Value frac = l.sub(pos, l.toFloat(index));
   LaneColor xyz;
-  static const char *names[3] = {"cie_x", "cie_y", "cie_z"};
   for (int c = 0; c < 3; ++c) {
-    std::vector<float> column;
-    for (int i = 0; i < kCieSamples; ++i)
-      column.push_back(kCie[i][c]);
-    LLVM::GlobalOp entries = getConstantTable(b, loc, tableSymbol(names[c]), column);
+    LLVM::GlobalOp entries = cieTable(b, loc, c);
     Value lo = lookupConstantTable(b, loc, entries, index);
     Value hi = lookupConstantTable(b, loc, entries, l.addInt(index, 1));
     xyz[c] = l.lerp(lo, hi, frac);
