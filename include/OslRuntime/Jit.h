@@ -20,6 +20,7 @@
 
 namespace llvm {
 class LLVMContext;
+class MemoryBuffer;
 class Module;
 class TargetMachine;
 namespace orc {
@@ -37,7 +38,10 @@ public:
   /// level Aggressive) that resolves undefined symbols in the current
   /// process (libm, the runtime library if exported). When `stats` is set,
   /// each step adds its time there; it must outlive the Jit.
-  static llvm::Expected<std::unique_ptr<Jit>> create(Stats *stats = nullptr);
+  /// With `keepObject`, the object file codegen produces is kept (see
+  /// compiledObject), for the kernel cache.
+  static llvm::Expected<std::unique_ptr<Jit>> create(Stats *stats = nullptr,
+                                                     bool keepObject = false);
   ~Jit();
 
   /// The host TargetMachine, for optimizers that need host costs (e.g.
@@ -53,6 +57,14 @@ public:
   /// one of its symbols. Sets the JIT's DataLayout if the module has none.
   llvm::Error addModule(std::unique_ptr<llvm::Module> module,
                         std::unique_ptr<llvm::LLVMContext> context);
+
+  /// Hands over an object file compiled earlier (by a Jit created with
+  /// keepObject) for the same host; it is linked at the first lookup.
+  llvm::Error addObject(std::unique_ptr<llvm::MemoryBuffer> object);
+
+  /// The object file of the last module compiled, if the Jit keeps objects
+  /// and a lookup has compiled one; empty otherwise.
+  llvm::StringRef compiledObject() const;
 
   /// Defines host functions or data by address, for runtime entry points
   /// that are not exported from the executable.
@@ -72,12 +84,19 @@ public:
   /// with AVX2, else 4.
   static int hostMaxWidth();
 
+  /// The host as code generation sees it: triple, CPU name and the features
+  /// it has. Object code made for one description runs on another only if
+  /// they are equal (the kernel cache's key holds it).
+  static std::string hostDescription();
+
 private:
   Jit() = default;
 
   Stats *stats = nullptr;
   std::unique_ptr<llvm::TargetMachine> tm;
   std::unique_ptr<llvm::orc::LLJIT> lljit;
+  class ObjectKeeper;
+  std::unique_ptr<ObjectKeeper> keeper;
 };
 
 } // namespace osl

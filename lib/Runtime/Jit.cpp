@@ -3,6 +3,8 @@
 #include "OslRuntime/Jit.h"
 #include "OslRuntime/Stats.h"
 
+#include "llvm/ExecutionEngine/ObjectCache.h"
+#include "llvm/ExecutionEngine/Orc/CompileUtils.h"
 #include "llvm/ExecutionEngine/Orc/ExecutionUtils.h"
 #include "llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h"
 #include "llvm/ExecutionEngine/Orc/LLJIT.h"
@@ -11,13 +13,16 @@
 #include "llvm/IR/Module.h"
 #include "llvm/IR/Verifier.h"
 #include "llvm/Passes/PassBuilder.h"
+#include "llvm/Support/MemoryBuffer.h"
 #include "llvm/Support/TargetSelect.h"
 #include "llvm/Support/raw_ostream.h"
 #include "llvm/Target/TargetMachine.h"
 #include "llvm/TargetParser/Host.h"
 #include "llvm/Transforms/Utils/Cloning.h"
 
+#include <algorithm>
 #include <mutex>
+#include <vector>
 
 namespace osl {
 
@@ -72,9 +77,23 @@ llvm::Error verify(llvm::Module &module) {
 
 } // namespace
 
+/// Copies each object file codegen produces; never supplies one (a cached
+/// object is added with addObject, after the cache has checked it).
+class Jit::ObjectKeeper : public llvm::ObjectCache {
+public:
+  void notifyObjectCompiled(const llvm::Module *,
+                            llvm::MemoryBufferRef object) override {
+    last.assign(object.getBufferStart(), object.getBufferEnd());
+  }
+  std::unique_ptr<llvm::MemoryBuffer> getObject(const llvm::Module *) override {
+    return nullptr;
+  }
+  std::string last;
+};
+
 Jit::~Jit() = default;
 
-llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats) {
+llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats, bool keepObject) {
   ScopedTimer timer(stats, "jit setup");
   auto builder = hostBuilder();
   if (!builder)
@@ -89,9 +108,22 @@ llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats) {
     return tm.takeError();
   jit->tm = std::move(*tm);
 
-  auto lljit = llvm::orc::LLJITBuilder()
-                   .setJITTargetMachineBuilder(std::move(*builder))
-                   .create();
+  llvm::orc::LLJITBuilder lljitBuilder;
+  lljitBuilder.setJITTargetMachineBuilder(std::move(*builder));
+  if (keepObject) {
+    jit->keeper = std::make_unique<ObjectKeeper>();
+    ObjectKeeper *keeper = jit->keeper.get();
+    lljitBuilder.setCompileFunctionCreator(
+        [keeper](llvm::orc::JITTargetMachineBuilder machine)
+            -> llvm::Expected<std::unique_ptr<llvm::orc::IRCompileLayer::IRCompiler>> {
+          auto tm = machine.createTargetMachine();
+          if (!tm)
+            return tm.takeError();
+          return std::make_unique<llvm::orc::TMOwningSimpleCompiler>(std::move(*tm),
+                                                                     keeper);
+        });
+  }
+  auto lljit = lljitBuilder.create();
   if (!lljit)
     return lljit.takeError();
   jit->lljit = std::move(*lljit);
@@ -138,6 +170,15 @@ llvm::Error Jit::addModule(std::unique_ptr<llvm::Module> module,
     module->setTargetTriple(lljit->getTargetTriple().str());
   return lljit->addIRModule(
       llvm::orc::ThreadSafeModule(std::move(module), std::move(context)));
+}
+
+llvm::Error Jit::addObject(std::unique_ptr<llvm::MemoryBuffer> object) {
+  ScopedTimer timer(stats, "jit add");
+  return lljit->addObjectFile(std::move(object));
+}
+
+llvm::StringRef Jit::compiledObject() const {
+  return keeper ? llvm::StringRef(keeper->last) : llvm::StringRef();
 }
 
 llvm::Error
@@ -195,6 +236,18 @@ int Jit::hostMaxWidth() {
   if (has("avx2"))
     return 8;
   return 4;
+}
+
+std::string Jit::hostDescription() {
+  std::string text = llvm::sys::getProcessTriple() + " " + llvm::sys::getHostCPUName().str();
+  // StringMap iterates in hash order; sort so equal hosts give equal text.
+  std::vector<std::string> features;
+  for (const auto &f : llvm::sys::getHostCPUFeatures())
+    features.push_back((f.getValue() ? "+" : "-") + f.getKey().str());
+  std::sort(features.begin(), features.end());
+  for (const std::string &f : features)
+    text += " " + f;
+  return text;
 }
 
 } // namespace osl
