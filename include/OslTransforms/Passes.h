@@ -19,9 +19,11 @@ namespace mlir::osl {
 
 /// The whole chain from front-end output to the LLVM dialect at `width`.
 /// `reference`: one point at a time with ordinary branches (width 1, no
-/// masks), the oracle of the differential tester.
+/// masks), the oracle of the differential tester. `countLanes`: masked
+/// blocks report their active lanes (osl-run --lane-stats).
 void buildOslToLLVMPipeline(OpPassManager &pm, int width,
-                            const std::string &paramValues = "", bool reference = false);
+                            const std::string &paramValues = "", bool reference = false,
+                            bool countLanes = false);
 
 /// Registers every pass and the `osl-to-llvm` pipeline with mlir-opt style
 /// tools.

@@ -3,6 +3,7 @@
 #include "OslCompiler/KernelCache.h"
 
 #include "OslDialect/OslDialect.h"
+#include "OslRuntime/LaneStats.h"
 #include "OslRuntime/StringCall.h"
 #include "OslRuntime/TextureCall.h"
 #include "OslTransforms/Passes.h"
@@ -87,7 +88,7 @@ bool ShaderCompiler::lower() {
   ScopedTimer timer(stats, "mlir passes");
   mlir::PassManager pm(&context);
   mlir::osl::buildOslToLLVMPipeline(pm, options.width, paramBindings(options.params),
-                                    options.reference);
+                                    options.reference, options.countLanes);
   // Pass failures report through the context's diagnostics, with the
   // shader's file:line:col locations.
   mlir::ScopedDiagnosticHandler handler(&context, [&](mlir::Diagnostic &d) {
@@ -133,7 +134,8 @@ bool ShaderCompiler::defineRuntimeSymbols(Jit &target) {
           {{"osl_rt_texture", reinterpret_cast<void *>(&osl_rt_texture)},
            {"osl_rt_gettextureinfo", reinterpret_cast<void *>(&osl_rt_gettextureinfo)},
            {"osl_rt_string_intern", reinterpret_cast<void *>(&osl_rt_string_intern)},
-           {"osl_rt_string_call", reinterpret_cast<void *>(&osl_rt_string_call)}})) {
+           {"osl_rt_string_call", reinterpret_cast<void *>(&osl_rt_string_call)},
+           {"osl_rt_count_lanes", reinterpret_cast<void *>(&osl_rt_count_lanes)}})) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return false;
   }
@@ -209,6 +211,7 @@ std::string ShaderCompiler::cacheKey(llvm::StringRef source, llvm::StringRef fil
   os << "osl-mlir kernel 1\ncompiler " << KernelCache::compilerIdentity()
      << "\nllvm " LLVM_VERSION_STRING "\nhost " << Jit::hostDescription()
      << "\nwidth " << options.width << "\nreference " << options.reference
+     << "\ncount lanes " << options.countLanes
      << "\ncolorspace " << options.colorSpace << "\ncamera " << options.camera.xres << " "
      << options.camera.yres << "\n";
   for (const ParamOverride &p : options.params)

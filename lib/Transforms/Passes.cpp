@@ -14,7 +14,8 @@ struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
 } // namespace
 
 void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
-                                       const std::string &paramValues, bool reference) {
+                                       const std::string &paramValues, bool reference,
+                                       bool countLanes) {
   OpPassManager &fn = pm.nest<func::FuncOp>();
   fn.addPass(createBindParams(BindParamsOptions{paramValues}));
   fn.addPass(createCanonicalizerPass());
@@ -22,7 +23,9 @@ void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
     fn.addPass(createUniformReference());
   else
     fn.addPass(createVaryingPropagation());
-  fn.addPass(createInsertMaskStack());
+  InsertMaskStackOptions maskOptions;
+  maskOptions.countLanes = countLanes;
+  fn.addPass(createInsertMaskStack(maskOptions));
   fn.addPass(createLaneGroupFilter());
   ConvertToVectorOptions vectorOptions;
   vectorOptions.width = reference ? 1 : width;

@@ -46,6 +46,9 @@ const char *const osl::kUsage =
     "                         nothing (default: $OSL_MLIR_CACHE_DIR, else\n"
     "                         ~/.cache/osl-mlir)\n"
     "  --no-cache             always compile; read and write no cache\n"
+    "  --lane-stats           count the active lanes of every masked block\n"
+    "                         (varying if arms, varying loop iterations) and\n"
+    "                         print their mean fraction\n"
     "  --stats                time of each compile stage and of shading,\n"
     "                         and whether the kernel cache was used\n"
     "  --emit=mlir|lowered|llvm|asm\n"
@@ -150,6 +153,8 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         return false;
       }
       o.cacheDirGiven = true;
+    } else if (a == "--lane-stats") {
+      o.compile.countLanes = true;
     } else if (a == "--no-cache") {
       o.noCache = true;
     } else if (a == "--stats") {

@@ -8,6 +8,7 @@
 #include "RunOptions.h"
 
 #include "OslRuntime/ImageOutput.h"
+#include "OslRuntime/LaneStats.h"
 #include "OslRuntime/StringCall.h"
 #include "OslRuntime/TextureCall.h"
 #include "OslRuntime/ThreadPool.h"
@@ -164,6 +165,13 @@ int main(int argc, char **argv) {
                       error))
         return fail("cannot write '" + file + "': " + error);
     }
+  }
+  if (options.compile.countLanes) {
+    // Summed over every pass: --iters repeats the same work.
+    LaneStats lanes = laneStats();
+    llvm::outs() << "lane stats: " << lanes.blocks << " masked blocks executed, "
+                 << llvm::format("%.1f%%", 100.0 * lanes.meanActiveFraction(shader->width))
+                 << " of " << shader->width << " lanes active on average\n";
   }
   if (options.stats) {
     llvm::errs() << "shader " << shader->name << ", width " << shader->width
