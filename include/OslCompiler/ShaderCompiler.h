@@ -45,6 +45,8 @@ struct CompileOptions {
   mlir::osl::CameraImage camera;
   /// The working RGB space of the color functions (OSL's "colorspace").
   std::string colorSpace = "Rec709";
+  /// LLVM passes before codegen (Jit.h).
+  LlvmPipeline llvmPipeline = LlvmPipeline::Kernel;
   /// Masked blocks count their active lanes (OslRuntime/LaneStats.h).
   bool countLanes = false;
   /// Directory of the persistent kernel cache (KernelCache.h), used by

@@ -32,6 +32,16 @@ namespace osl {
 
 struct Stats;
 
+/// The LLVM passes run on a kernel before codegen.
+enum class LlvmPipeline {
+  /// What MLIR's lowering leaves to do: SROA, CSE, instcombine, CFG
+  /// cleanup, LICM. The kernel arrives vectorized and inlined, so O3's
+  /// vectorizers, inliner and unrollers mostly cost compile time.
+  Kernel,
+  /// LLVM's full O3 pipeline.
+  O3,
+};
+
 class Jit {
 public:
   /// A JIT for the host CPU (JITTargetMachineBuilder::detectHost, codegen
@@ -50,8 +60,9 @@ public:
 
   /// Verifies `module`, sets its triple and DataLayout (and host
   /// target-cpu/target-features on each definition lacking them), then runs
-  /// the new pass manager's O3 pipeline with the host TargetMachine.
-  llvm::Error optimize(llvm::Module &module);
+  /// `pipeline` with the host TargetMachine.
+  llvm::Error optimize(llvm::Module &module,
+                       LlvmPipeline pipeline = LlvmPipeline::Kernel);
 
   /// Hands `module` to the JIT; code is generated at the first lookup of
   /// one of its symbols. Sets the JIT's DataLayout if the module has none.

@@ -121,7 +121,7 @@ bool ShaderCompiler::translate() {
     return false;
   }
   jit = std::move(*created);
-  if (llvm::Error e = jit->optimize(*llvmIR)) {
+  if (llvm::Error e = jit->optimize(*llvmIR, options.llvmPipeline)) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return false;
   }
@@ -211,7 +211,8 @@ std::string ShaderCompiler::cacheKey(llvm::StringRef source, llvm::StringRef fil
   os << "osl-mlir kernel 1\ncompiler " << KernelCache::compilerIdentity()
      << "\nllvm " LLVM_VERSION_STRING "\nhost " << Jit::hostDescription()
      << "\nwidth " << options.width << "\nreference " << options.reference
-     << "\ncount lanes " << options.countLanes
+     << "\ncount lanes " << options.countLanes << "\nllvm pipeline "
+     << int(options.llvmPipeline)
      << "\ncolorspace " << options.colorSpace << "\ncamera " << options.camera.xres << " "
      << options.camera.yres << "\n";
   for (const ParamOverride &p : options.params)

@@ -139,8 +139,8 @@ llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats, bool keepObject) 
   return jit;
 }
 
-llvm::Error Jit::optimize(llvm::Module &module) {
-  ScopedTimer timer(stats, "llvm O3");
+llvm::Error Jit::optimize(llvm::Module &module, LlvmPipeline pipeline) {
+  ScopedTimer timer(stats, "llvm opt");
   retarget(module, *tm);
   if (llvm::Error err = verify(module))
     return err;
@@ -155,8 +155,19 @@ llvm::Error Jit::optimize(llvm::Module &module) {
   builder.registerFunctionAnalyses(fam);
   builder.registerLoopAnalyses(lam);
   builder.crossRegisterProxies(lam, fam, cgam, mam);
-  llvm::ModulePassManager mpm =
-      builder.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O3);
+  llvm::ModulePassManager mpm;
+  if (pipeline == LlvmPipeline::O3) {
+    mpm = builder.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O3);
+  } else {
+    // Allocas of runtime-call blocks to registers where possible, then
+    // clean-ups of the lowering's output; LICM hoists uniform work out of
+    // loops the front end could not prove invariant.
+    if (llvm::Error err = builder.parsePassPipeline(
+            mpm, "function(sroa,early-cse<memssa>,instcombine<no-verify-fixpoint>,"
+                 "simplifycfg,loop-mssa(licm),instcombine<no-verify-fixpoint>,"
+                 "simplifycfg)"))
+      return err;
+  }
   mpm.run(module, mam);
   return llvm::Error::success();
 }

@@ -15,6 +15,6 @@
 // PARAM: error: {{.*}}nosuch
 // STATS: front end
 // STATS: mlir passes
-// STATS: llvm O3
+// STATS: llvm opt
 // STATS: shading
 // STATS: ns per point

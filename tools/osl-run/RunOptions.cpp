@@ -46,6 +46,9 @@ const char *const osl::kUsage =
     "                         nothing (default: $OSL_MLIR_CACHE_DIR, else\n"
     "                         ~/.cache/osl-mlir)\n"
     "  --no-cache             always compile; read and write no cache\n"
+    "  --llvm-pipeline=kernel|O3\n"
+    "                         LLVM passes before codegen: the clean-ups a\n"
+    "                         vectorized kernel needs (default), or all of O3\n"
     "  --lane-stats           count the active lanes of every masked block\n"
     "                         (varying if arms, varying loop iterations) and\n"
     "                         print their mean fraction\n"
@@ -153,6 +156,13 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         return false;
       }
       o.cacheDirGiven = true;
+    } else if (a.rfind("--llvm-pipeline=", 0) == 0) {
+      std::string v = a.substr(16);
+      if (v != "kernel" && v != "O3") {
+        error = "--llvm-pipeline must be kernel or O3";
+        return false;
+      }
+      o.compile.llvmPipeline = v == "O3" ? LlvmPipeline::O3 : LlvmPipeline::Kernel;
     } else if (a == "--lane-stats") {
       o.compile.countLanes = true;
     } else if (a == "--no-cache") {
