@@ -90,6 +90,21 @@ public:
   void writeBatch(float *g, long first, int nactive) const {
     int x = static_cast<int>(first % opt.xres);
     int y = static_cast<int>(first / opt.xres);
+    if (x + nactive <= opt.xres && !opt.varyUdxdy && !opt.varyVdxdy && !opt.varyPdxdy) {
+      // The common case, a batch within one row: four plain row copies the
+      // host compiler vectorizes (this runs once per batch, beside the
+      // kernel).
+      const float *u = &us[x];
+      float v = vs[y];
+      for (int lane = 0; lane < width; ++lane) {
+        float ul = u[std::min(lane, nactive - 1)];
+        at(g, kU, lane) = ul;
+        at(g, kP + 0, lane) = ul;
+        at(g, kV, lane) = v;
+        at(g, kP + 1, lane) = v;
+      }
+      return;
+    }
     for (int lane = 0; lane < width; ++lane) {
       float u = us[x], v = vs[y];
       at(g, kU, lane) = u;
@@ -241,20 +256,32 @@ ShadeResult shadeGrid(BatchKernel kernel, int width,
 ShadeResult shadeGrid(BatchKernel kernel, int width,
                       const std::vector<OutputSpec> &outputs,
                       const GridOptions &opt, ThreadPool &pool) {
-  assert(kernel && width > 0 && "shadeGrid needs a kernel and a width");
   ShadeResult result;
+  shadeGridInto(result, kernel, width, outputs, opt, pool);
+  return result;
+}
+
+void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
+                   const std::vector<OutputSpec> &outputs, const GridOptions &opt,
+                   ThreadPool &pool) {
+  assert(kernel && width > 0 && "shadeGrid needs a kernel and a width");
+  result.seconds = 0;
   long npixels = static_cast<long>(std::max(opt.xres, 0)) *
                  static_cast<long>(std::max(opt.yres, 0));
   int totalChannels = 0;
   std::vector<int> firstRow;
-  for (const OutputSpec &out : outputs) {
+  result.images.resize(outputs.size());
+  for (size_t o = 0; o < outputs.size(); ++o) {
     firstRow.push_back(totalChannels);
-    totalChannels += out.channels;
-    result.images.emplace_back(static_cast<size_t>(npixels) * out.channels,
-                               0.0f);
+    totalChannels += outputs[o].channels;
+    // Every pixel is written below, so a buffer of the right size is
+    // reused as it is.
+    size_t size = static_cast<size_t>(npixels) * outputs[o].channels;
+    if (result.images[o].size() != size)
+      result.images[o].assign(size, 0.0f);
   }
   if (npixels == 0 || !kernel || width <= 0)
-    return result;
+    return;
 
   GlobalsWriter writer(opt, width);
   long nbatches = (npixels + width - 1) / width;
@@ -301,7 +328,6 @@ ShadeResult shadeGrid(BatchKernel kernel, int width,
                        std::chrono::steady_clock::now() - start)
                        .count();
   progress.finish();
-  return result;
 }
 
 } // namespace osl
