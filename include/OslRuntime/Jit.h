@@ -54,8 +54,9 @@ public:
                                                      bool keepObject = false);
   ~Jit();
 
-  /// The host TargetMachine, for optimizers that need host costs (e.g.
-  /// mlir::makeOptimizingTransformer).
+  /// The host TargetMachine of the thread that created this Jit, for
+  /// optimizers that need host costs (e.g. mlir::makeOptimizingTransformer);
+  /// use it on that thread only.
   llvm::TargetMachine &targetMachine() { return *tm; }
 
   /// Verifies `module`, sets its triple and DataLayout (and host
@@ -104,7 +105,8 @@ private:
   Jit() = default;
 
   Stats *stats = nullptr;
-  std::unique_ptr<llvm::TargetMachine> tm;
+  /// The creating thread's machine (owned by that thread).
+  llvm::TargetMachine *tm = nullptr;
   std::unique_ptr<llvm::orc::LLJIT> lljit;
   class ObjectKeeper;
   std::unique_ptr<ObjectKeeper> keeper;

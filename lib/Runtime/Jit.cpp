@@ -75,6 +75,43 @@ llvm::Error verify(llvm::Module &module) {
   return llvm::Error::success();
 }
 
+/// This thread's host TargetMachine. Creating one (and its subtarget's
+/// lowering tables) costs a few ms, more than codegen of a small kernel, so
+/// each thread makes one and every compile on that thread reuses it;
+/// TargetMachines are not shared between threads.
+llvm::Expected<llvm::TargetMachine &> threadTargetMachine() {
+  thread_local std::unique_ptr<llvm::TargetMachine> machine;
+  if (!machine) {
+    auto builder = hostBuilder();
+    if (!builder)
+      return builder.takeError();
+    auto tm = builder->createTargetMachine();
+    if (!tm)
+      return tm.takeError();
+    machine = std::move(*tm);
+  }
+  return *machine;
+}
+
+/// LLJIT's compile step on the calling thread's TargetMachine (LLJIT
+/// compiles on the thread that looks a symbol up).
+class ThreadMachineCompiler : public llvm::orc::IRCompileLayer::IRCompiler {
+public:
+  ThreadMachineCompiler(llvm::TargetMachine &tm, llvm::ObjectCache *keeper)
+      : IRCompiler(llvm::orc::irManglingOptionsFromTargetOptions(tm.Options)),
+        keeper(keeper) {}
+  llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>>
+  operator()(llvm::Module &module) override {
+    auto tm = threadTargetMachine();
+    if (!tm)
+      return tm.takeError();
+    return llvm::orc::SimpleCompiler(*tm, keeper)(module);
+  }
+
+private:
+  llvm::ObjectCache *keeper;
+};
+
 } // namespace
 
 /// Copies each object file codegen produces; never supplies one (a cached
@@ -101,28 +138,26 @@ llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats, bool keepObject) 
 
   std::unique_ptr<Jit> jit(new Jit());
   jit->stats = stats;
-  // A second TargetMachine from the same builder: the LLJIT owns its own
-  // (used for codegen), this one serves the optimizer's cost model.
-  auto tm = builder->createTargetMachine();
+  // The optimizer's cost model and codegen use the calling thread's
+  // machine; this one is for targetMachine().
+  auto tm = threadTargetMachine();
   if (!tm)
     return tm.takeError();
-  jit->tm = std::move(*tm);
+  jit->tm = &*tm;
 
   llvm::orc::LLJITBuilder lljitBuilder;
   lljitBuilder.setJITTargetMachineBuilder(std::move(*builder));
-  if (keepObject) {
+  if (keepObject)
     jit->keeper = std::make_unique<ObjectKeeper>();
-    ObjectKeeper *keeper = jit->keeper.get();
-    lljitBuilder.setCompileFunctionCreator(
-        [keeper](llvm::orc::JITTargetMachineBuilder machine)
-            -> llvm::Expected<std::unique_ptr<llvm::orc::IRCompileLayer::IRCompiler>> {
-          auto tm = machine.createTargetMachine();
-          if (!tm)
-            return tm.takeError();
-          return std::make_unique<llvm::orc::TMOwningSimpleCompiler>(std::move(*tm),
-                                                                     keeper);
-        });
-  }
+  ObjectKeeper *keeper = jit->keeper.get();
+  lljitBuilder.setCompileFunctionCreator(
+      [keeper](llvm::orc::JITTargetMachineBuilder)
+          -> llvm::Expected<std::unique_ptr<llvm::orc::IRCompileLayer::IRCompiler>> {
+        auto tm = threadTargetMachine();
+        if (!tm)
+          return tm.takeError();
+        return std::make_unique<ThreadMachineCompiler>(*tm, keeper);
+      });
   auto lljit = lljitBuilder.create();
   if (!lljit)
     return lljit.takeError();
@@ -141,6 +176,9 @@ llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats, bool keepObject) 
 
 llvm::Error Jit::optimize(llvm::Module &module, LlvmPipeline pipeline) {
   ScopedTimer timer(stats, "llvm opt");
+  auto tm = threadTargetMachine();
+  if (!tm)
+    return tm.takeError();
   retarget(module, *tm);
   if (llvm::Error err = verify(module))
     return err;
@@ -149,7 +187,7 @@ llvm::Error Jit::optimize(llvm::Module &module, LlvmPipeline pipeline) {
   llvm::FunctionAnalysisManager fam;
   llvm::CGSCCAnalysisManager cgam;
   llvm::ModuleAnalysisManager mam;
-  llvm::PassBuilder builder(tm.get());
+  llvm::PassBuilder builder(&*tm);
   builder.registerModuleAnalyses(mam);
   builder.registerCGSCCAnalyses(cgam);
   builder.registerFunctionAnalyses(fam);
