@@ -10,7 +10,6 @@
 
 #include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
 #include "mlir/IR/Diagnostics.h"
-#include "mlir/IR/Verifier.h"
 #include "mlir/Parser/Parser.h"
 #include "mlir/Pass/PassManager.h"
 #include "mlir/Target/LLVMIR/Dialect/Builtin/BuiltinToLLVMIRTranslation.h"
@@ -88,9 +87,6 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
 bool ShaderCompiler::lower() {
   ScopedTimer timer(stats, "mlir passes");
   mlir::PassManager pm(&context);
-  // The passes are tested to keep IR valid (osl-opt and lit verify after
-  // each one); here the whole result is verified once, at the end.
-  pm.enableVerifier(false);
   mlir::osl::buildOslToLLVMPipeline(pm, options.width, paramBindings(options.params),
                                     options.reference, options.countLanes);
   // Pass failures report through the context's diagnostics, with the
@@ -106,7 +102,7 @@ bool ShaderCompiler::lower() {
     }
     return mlir::success();
   });
-  return mlir::succeeded(pm.run(*mlirModule)) && mlir::succeeded(mlir::verify(*mlirModule));
+  return mlir::succeeded(pm.run(*mlirModule));
 }
 
 bool ShaderCompiler::translate() {
