@@ -12,7 +12,20 @@
 #include "mlir/Pass/Pass.h"
 #include "mlir/Pass/PassManager.h"
 
+#include <optional>
+
 namespace mlir::osl {
+
+/// How math ops are computed (osl-approximate-math's `level`, osl-run's
+/// --math=). Every level gives bit-identical results at every width.
+enum class MathLevel {
+  Fast,    ///< MLIR's polynomial approximations; bounds in bench/MATH.md
+  Default, ///< OSL's own algorithms: reproduces OSL's results
+  Precise, ///< f64 libm per lane rounded to f32: within 1 ULP
+};
+/// "fast", "default" or "precise"; nullopt for anything else.
+std::optional<MathLevel> parseMathLevel(llvm::StringRef name);
+const char *mathLevelName(MathLevel level);
 
 #define GEN_PASS_DECL
 #include "OslTransforms/Passes.h.inc"
@@ -21,7 +34,8 @@ namespace mlir::osl {
 /// `reference`: one point at a time with ordinary branches (width 1, no
 /// masks), the oracle of the differential tester.
 void buildOslToLLVMPipeline(OpPassManager &pm, int width,
-                            const std::string &paramValues = "", bool reference = false);
+                            const std::string &paramValues = "", bool reference = false,
+                            MathLevel math = MathLevel::Default);
 
 /// Registers every pass and the `osl-to-llvm` pipeline with mlir-opt style
 /// tools.

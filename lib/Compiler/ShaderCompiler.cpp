@@ -84,7 +84,7 @@ bool ShaderCompiler::lower() {
   ScopedTimer timer(stats, "mlir passes");
   mlir::PassManager pm(&context);
   mlir::osl::buildOslToLLVMPipeline(pm, options.width, paramBindings(options.params),
-                                    options.reference);
+                                    options.reference, options.math);
   // Pass failures report through the context's diagnostics, with the
   // shader's file:line:col locations.
   mlir::ScopedDiagnosticHandler handler(&context, [&](mlir::Diagnostic &d) {

@@ -10,11 +10,19 @@ namespace {
 struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
   Option<int> width{*this, "width", llvm::cl::desc("lanes per batch"),
                     llvm::cl::init(8)};
+  Option<osl::MathLevel> math{
+      *this, "math", llvm::cl::desc("how math ops are computed"),
+      llvm::cl::init(osl::MathLevel::Default),
+      llvm::cl::values(clEnumValN(osl::MathLevel::Fast, "fast", "MLIR's approximations"),
+                       clEnumValN(osl::MathLevel::Default, "default", "OSL's algorithms"),
+                       clEnumValN(osl::MathLevel::Precise, "precise",
+                                  "f64 libm per lane"))};
 };
 } // namespace
 
 void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
-                                       const std::string &paramValues, bool reference) {
+                                       const std::string &paramValues, bool reference,
+                                       MathLevel math) {
   OpPassManager &fn = pm.nest<func::FuncOp>();
   fn.addPass(createBindParams(BindParamsOptions{paramValues}));
   fn.addPass(createCanonicalizerPass());
@@ -29,7 +37,9 @@ void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
   vectorOptions.referenceMode = reference;
   pm.addPass(createConvertToVector(vectorOptions));
   pm.addPass(createDerivatives());
-  pm.addPass(createApproximateMath());
+  ApproximateMathOptions mathOptions;
+  mathOptions.level = math;
+  pm.addPass(createApproximateMath(mathOptions));
   pm.addPass(createCanonicalizerPass());
   pm.addPass(createCSEPass());
   pm.addPass(createLowerToLLVM());
@@ -40,6 +50,6 @@ void mlir::osl::registerOslPasses() {
   PassPipelineRegistration<OslToLLVMOptions>(
       "osl-to-llvm", "Lower an osl shader to an LLVM-dialect batch kernel",
       [](OpPassManager &pm, const OslToLLVMOptions &options) {
-        buildOslToLLVMPipeline(pm, options.width);
+        buildOslToLLVMPipeline(pm, options.width, "", false, options.math);
       });
 }

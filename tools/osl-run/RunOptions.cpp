@@ -25,6 +25,10 @@ const char *const osl::kUsage =
     "  --param:type=T NAME V  the same, with testshade's type annotation\n"
     "  --width N              lanes per batch: 1, 4, 8 or 16 (default: widest\n"
     "                         the CPU supports)\n"
+    "  --math=LEVEL           how math functions are computed: default\n"
+    "                         (OSL's own results), fast (MLIR's polynomial\n"
+    "                         approximations) or precise (within 1 ULP);\n"
+    "                         measured bounds in bench/MATH.md\n"
     "  --center               shade pixel centres: u = (x+0.5)/X\n"
     "  -I DIR                 search DIR for #include files\n"
     "  --interpret            reference mode: one point at a time, ordinary\n"
@@ -115,6 +119,16 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         error = "--texture-cache-mb needs a positive size in MB";
         return false;
       }
+    } else if (a == "--math" || a.rfind("--math=", 0) == 0) {
+      if (a == "--math" && !need(i, 1, "--math"))
+        return false;
+      std::string v = a == "--math" ? std::string(argv[++i]) : a.substr(7);
+      auto level = mlir::osl::parseMathLevel(v);
+      if (!level) {
+        error = "--math must be fast, default or precise (got '" + v + "')";
+        return false;
+      }
+      o.compile.math = *level;
     } else if (a == "--center") {
       o.grid.center = true;
     } else if (a == "--interpret") {
