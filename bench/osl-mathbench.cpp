@@ -1,11 +1,13 @@
 //===- osl-mathbench.cpp - error and speed of each math implementation ----===//
 //
 // For every library math function, each implementation (--math=fast,
-// default, precise, and glibc's libmvec for comparison) at widths 1, 4, 8
+// default, precise; MLIR's polynomial approximations for every op, which
+// fast picks from; glibc's libmvec for comparison) at widths 1, 4, 8
 // and 16: max ULP and max absolute error against the function evaluated in
 // double with glibc's libm, over a dense sweep of its domain (results in
-// the normal range up to 2^126), the number of edge inputs (0, -0,
-// denormals, huge, Inf, NaN) where it gives NaN and OSL's default gives a
+// the normal range up to 2^126), the largest distance in representable
+// floats from the correctly rounded result, the number of edge inputs (0, -0,
+// denormals, huge, Inf) where it gives NaN and OSL's default gives a
 // number, and single-thread ns per point. One CSV row each; the chart and
 // table are drawn from it by bench/math_chart.py. Not a test: timings
 // depend on the machine; compare rows of one run.
@@ -29,6 +31,16 @@
 using namespace osl::math;
 
 namespace {
+
+/// Representable floats between a and b.
+int64_t floatSteps(float a, float b) {
+  auto ordered = [](float v) {
+    int32_t i;
+    std::memcpy(&i, &v, sizeof i);
+    return i < 0 ? int64_t(INT32_MIN) - i : int64_t(i);
+  };
+  return std::llabs(ordered(a) - ordered(b));
+}
 
 bool inRange(double ref) {
   double a = std::fabs(ref);
@@ -82,7 +94,7 @@ int main(int argc, char **argv) {
     llvm::errs() << "osl-mathbench: cannot load libmvec.so.1: " << dlerror() << "\n";
     return 1;
   }
-  llvm::outs() << "function,impl,width,max_ulp,max_abs,ns_per_point,nan_edges,points\n";
+  llvm::outs() << "function,impl,width,max_ulp,max_abs,cr_steps,ns_per_point,nan_edges,points\n";
   for (const Function &f : functions()) {
     if (!only.empty() && only.find("," + std::string(f.name) + ",") == std::string::npos)
       continue;
@@ -110,7 +122,8 @@ int main(int argc, char **argv) {
       tx.push_back(x[order[i]]);
       ty.push_back(y[order[i]]);
     }
-    for (Impl impl : {Impl::Fast, Impl::Default, Impl::Precise, Impl::Libmvec})
+    for (Impl impl : {Impl::Fast, Impl::Default, Impl::Precise, Impl::Polynomial,
+                      Impl::Libmvec})
       for (int width : {1, 4, 8, 16}) {
         auto k = Kernel::compile(f, impl, width);
         if (!k) {
@@ -120,6 +133,7 @@ int main(int argc, char **argv) {
         std::vector<float> r, edges;
         (*k)->runPadded(x, y, r);
         double maxUlp = 0, maxAbs = 0;
+        int64_t maxSteps = 0;
         size_t points = 0;
         for (size_t i = 0; i < x.size(); ++i) {
           if (!inRange(ref[i]))
@@ -127,16 +141,18 @@ int main(int argc, char **argv) {
           ++points;
           maxUlp = std::max(maxUlp, ulpError(r[i], ref[i]));
           maxAbs = std::max(maxAbs, std::fabs(double(r[i]) - ref[i]));
+          maxSteps = std::max(maxSteps, floatSteps(r[i], float(ref[i])));
         }
         (*k)->runPadded(ex, ey, edges);
         int nanEdges = 0;
         for (size_t i = 0; i < ex.size(); ++i)
-          nanEdges += std::isnan(edges[i]) && !std::isnan(oslEdges[i]);
+          nanEdges += std::isnan(edges[i]) && !std::isnan(oslEdges[i]) &&
+                      !std::isnan(ex[i]) && !std::isnan(ey[i]);
         double ns = nsPerPoint(**k, tx, ty);
         std::ostringstream row;
         row.precision(4);
         row << f.name << "," << implName(impl) << "," << width << "," << maxUlp << ","
-            << maxAbs << "," << ns << "," << nanEdges << "," << points << "\n";
+            << maxAbs << "," << maxSteps << "," << ns << "," << nanEdges << "," << points << "\n";
         llvm::outs() << row.str();
         llvm::outs().flush();
       }

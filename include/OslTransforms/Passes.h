@@ -19,11 +19,12 @@ namespace mlir::osl {
 /// How math ops are computed (osl-approximate-math's `level`, osl-run's
 /// --math=). Every level gives bit-identical results at every width.
 enum class MathLevel {
-  Fast,    ///< MLIR's polynomial approximations; bounds in bench/MATH.md
-  Default, ///< OSL's own algorithms: reproduces OSL's results
-  Precise, ///< f64 libm per lane rounded to f32: within 1 ULP
+  Fast,       ///< per op the faster of OSL's and MLIR's; bounds in bench/MATH.md
+  Default,    ///< OSL's own algorithms: reproduces OSL's results
+  Precise,    ///< f64 libm per lane rounded to f32
+  Polynomial, ///< MLIR's approximations for every op (measured, not a --math)
 };
-/// "fast", "default" or "precise"; nullopt for anything else.
+/// "fast", "default" or "precise" (osl-run's --math); nullopt otherwise.
 std::optional<MathLevel> parseMathLevel(llvm::StringRef name);
 const char *mathLevelName(MathLevel level);
 

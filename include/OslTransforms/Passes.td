@@ -115,11 +115,15 @@ def ApproximateMath : Pass<"osl-approximate-math", "::mlir::ModuleOp"> {
     * `default`: sin, cos, tan, atan, atan2, exp, exp2, log, log2, log10
       and pow become OSL's own algorithms (OslMathApproximation.cpp), the
       other math ops MLIR's polynomial approximations. Reproduces OSL.
-    * `fast`: MLIR's polynomial approximations for every op
-      (OslMathFastPrecise.cpp); measured bounds in bench/MATH.md.
+    * `fast`: per op, the faster of OSL's algorithm and MLIR's polynomial
+      approximation as measured by bench/osl-mathbench: OSL's for tan,
+      atan, atan2 and pow, MLIR's for the others (MathLevels.cpp);
+      measured bounds in bench/MATH.md.
     * `precise`: each op evaluated in f64 by glibc's libm, one call per
       lane, then rounded to f32: within 1 ULP of the correctly rounded
       result.
+    * `polynomial`: MLIR's polynomial approximations for every op; not an
+      osl-run level, measured by bench/osl-mathbench as one implementation.
 
     It runs right after osl-derivatives and before any canonicalization,
     because the math dialect's folders evaluate constant operands with the
@@ -138,7 +142,9 @@ def ApproximateMath : Pass<"osl-approximate-math", "::mlir::ModuleOp"> {
                           clEnumValN(::mlir::osl::MathLevel::Default, "default",
                                      "OSL's (OIIO fast_*) algorithms"),
                           clEnumValN(::mlir::osl::MathLevel::Precise, "precise",
-                                     "f64 libm per lane, rounded to f32"))}]>];
+                                     "f64 libm per lane, rounded to f32"),
+                          clEnumValN(::mlir::osl::MathLevel::Polynomial, "polynomial",
+                                     "MLIR's polynomial approximations for every op"))}]>];
   let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::vector::VectorDialect",
                            "::mlir::func::FuncDialect"];
 }

@@ -49,29 +49,29 @@ constexpr double kNone = 0; // no absolute-error allowance
 // stability tests hold every level to.
 const std::vector<Entry> &entries() {
   static const std::vector<Entry> table = {
-      // name, arity, lo, hi, magLo, ulp{fast, default, precise}, abs{...}
-      {{"sin", 1, -1e5, 1e5, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::sin},
-      {{"cos", 1, -1e5, 1e5, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::cos},
-      {{"tan", 1, -1e5, 1e5, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::tan},
-      {{"asin", 1, -1, 1, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::asin},
-      {{"acos", 1, -1, 1, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::acos},
-      {{"atan", 1, -1e6, 1e6, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::atan},
-      {{"atan2", 2, -100, 100, 1e-4, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::atan2},
-      {{"sinh", 1, -88, 88, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::sinh},
-      {{"cosh", 1, -88, 88, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::cosh},
-      {{"tanh", 1, -9, 9, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::tanh},
-      {{"exp", 1, -87.3, 87.3, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::exp},
-      {{"exp2", 1, -126, 126, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::exp2},
-      {{"expm1", 1, -87.3, 87.3, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::expm1},
-      {{"log", 1, FLT_MIN, FLT_MAX, FLT_MIN, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::log},
-      {{"log2", 1, FLT_MIN, FLT_MAX, FLT_MIN, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::log2},
-      {{"log10", 1, FLT_MIN, FLT_MAX, FLT_MIN, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::log10},
-      {{"pow", 2, -16, 16, 1e-3, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::pow},
-      {{"erf", 1, -4, 4, 1e-6, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::erf},
-      {{"erfc", 1, -4, 4, 1e-6, {1e30, 1e30, 1e30}, {kNone, kNone, kNone}}, lane::erfc},
-      {{"cbrt", 1, -1e30, 1e30, 1e-30, {1e30, 1e30, 1}, {kNone, kNone, kNone}}, lane::cbrt},
-      {{"sqrt", 1, 0, FLT_MAX, FLT_MIN, {1, 1, 1}, {kNone, kNone, kNone}}, lane::sqrt},
-      {{"inversesqrt", 1, FLT_MIN, FLT_MAX, FLT_MIN, {1, 1, 1}, {kNone, kNone, kNone}},
+      // name, arity, lo, hi, magLo, ulp{fast, default, precise, polynomial}, abs{...}
+      {{"sin", 1, -1e5, 1e5, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::sin},
+      {{"cos", 1, -1e5, 1e5, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::cos},
+      {{"tan", 1, -1e5, 1e5, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::tan},
+      {{"asin", 1, -1, 1, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::asin},
+      {{"acos", 1, -1, 1, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::acos},
+      {{"atan", 1, -1e6, 1e6, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::atan},
+      {{"atan2", 2, -100, 100, 1e-4, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::atan2},
+      {{"sinh", 1, -87.3, 87.3, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::sinh},
+      {{"cosh", 1, -87.3, 87.3, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::cosh},
+      {{"tanh", 1, -9, 9, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::tanh},
+      {{"exp", 1, -87.3, 87.3, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::exp},
+      {{"exp2", 1, -126, 126, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::exp2},
+      {{"expm1", 1, -87.3, 87.3, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::expm1},
+      {{"log", 1, FLT_MIN, FLT_MAX, FLT_MIN, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::log},
+      {{"log2", 1, FLT_MIN, FLT_MAX, FLT_MIN, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::log2},
+      {{"log10", 1, FLT_MIN, FLT_MAX, FLT_MIN, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::log10},
+      {{"pow", 2, -16, 16, 1e-3, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::pow},
+      {{"erf", 1, -4, 4, 1e-6, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::erf},
+      {{"erfc", 1, -4, 4, 1e-6, {1e30, 1e30, 1e30, 1e30}, {kNone, kNone, kNone, kNone}}, lane::erfc},
+      {{"cbrt", 1, -1e30, 1e30, 1e-30, {1e30, 1e30, 1, 1e30}, {kNone, kNone, kNone, kNone}}, lane::cbrt},
+      {{"sqrt", 1, 0, FLT_MAX, FLT_MIN, {1, 1, 1, 1}, {kNone, kNone, kNone, kNone}}, lane::sqrt},
+      {{"inversesqrt", 1, FLT_MIN, FLT_MAX, FLT_MIN, {1, 1, 1, 1}, {kNone, kNone, kNone, kNone}},
        lane::inverseSqrt},
   };
   return table;
@@ -205,6 +205,8 @@ const char *::osl::math::implName(Impl impl) {
     return "default";
   case Impl::Precise:
     return "precise";
+  case Impl::Polynomial:
+    return "polynomial";
   case Impl::Libmvec:
     return "libmvec";
   case Impl::Reference:
@@ -310,7 +312,8 @@ llvm::Expected<std::unique_ptr<Kernel>> Kernel::compile(const Function &f, Impl 
 
   PassManager pm(&ctx);
   mlir::osl::ApproximateMathOptions options;
-  options.level = impl == Impl::Fast      ? mlir::osl::MathLevel::Fast
+  options.level = impl == Impl::Fast         ? mlir::osl::MathLevel::Fast
+                  : impl == Impl::Polynomial ? mlir::osl::MathLevel::Polynomial
                   : impl == Impl::Precise || impl == Impl::Reference
                       ? mlir::osl::MathLevel::Precise
                       : mlir::osl::MathLevel::Default;

@@ -17,6 +17,16 @@ namespace mlir::osl {
 /// exp2 and pow -> exp/log, log10 -> log).
 void populateFastMathPatterns(RewritePatternSet &patterns);
 
+/// The ops the fast level computes with OSL's algorithm rather than MLIR's
+/// (measured faster, or MLIR's breaks down).
+bool isOslFasterAt(Operation *op);
+
+/// OSL's rules where MLIR's approximations break down (sin/cos of huge
+/// arguments, atan2 of two infinities); runs before the fast patterns.
+/// `oslAlgorithmsWhereFaster`: the fast level, which leaves isOslFasterAt
+/// ops to OSL's algorithms.
+void guardFastMath(ModuleOp module, bool oslAlgorithmsWhereFaster);
+
 /// Rewrites each transcendental f32 math op as extf -> the op in f64 ->
 /// truncf, and the f64 op as a call to glibc's double function (one call
 /// per lane of a vector).

@@ -236,12 +236,15 @@ struct ApproximateMathPass
         signalPassFailure();
       return;
     }
-    if (level == MathLevel::Default) {
+    if (level == MathLevel::Fast || level == MathLevel::Polynomial)
+      guardFastMath(getOperation(), level == MathLevel::Fast);
+    if (level == MathLevel::Default || level == MathLevel::Fast) {
       // OSL's algorithms, op by op: a pattern driver would fold constant
       // operands with libm first, which is what this pass must avoid.
       SmallVector<Operation *> ops;
       getOperation().walk([&](Operation *op) {
-        if (op->getDialect() && isa<math::MathDialect>(op->getDialect()))
+        if (op->getDialect() && isa<math::MathDialect>(op->getDialect()) &&
+            (level == MathLevel::Default || isOslFasterAt(op)))
           ops.push_back(op);
       });
       for (Operation *op : ops) {
