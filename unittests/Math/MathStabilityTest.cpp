@@ -1,6 +1,7 @@
 //===- MathStabilityTest.cpp - every --math level within its bound --------===//
 //
-// Each library math function at each --math level, JIT-compiled through
+// Each library math function at each --math level (and MLIR's polynomial
+// approximations, which fast picks from), JIT-compiled through
 // osl-approximate-math as in a shader (OslCompiler/MathKernel.h), against
 // the same function evaluated in double with glibc's libm:
 //  - on a dense sweep of its domain every result is within the level's
@@ -80,8 +81,10 @@ TEST_P(MathLevelTest, WithinDocumentedBoundOnDenseSweep) {
   sampleDomain(f, kSweep, x, y);
   std::vector<double> ref;
   kernel(f, Impl::Reference, 16).runReference(x, y, ref);
-  for (Impl impl : kLevels) {
+  for (Impl impl : {Impl::Fast, Impl::Default, Impl::Precise, Impl::Polynomial}) {
     double ulpBound = f.ulp[int(impl)], absBound = f.abs[int(impl)];
+    if (std::isinf(ulpBound))
+      continue; // documented as unbounded (MLIR's tan)
     std::vector<float> r = eval(f, impl, 16, x, y);
     int failures = 0;
     for (size_t i = 0; i < x.size(); ++i) {
