@@ -11,10 +11,14 @@
 //   value lies within 2^-29 ULP of a rounding midpoint). One scalar call
 //   per lane costs tens of ns; it is the accurate path, not a fast one.
 //   The same function runs for a scalar and for every lane of a vector, so
-//   results are bit-identical at every width.
+//   results are bit-identical at every width. A library function that is
+//   several ops (sinh from exp, asin from atan2 and sqrt, log10 as a scaled
+//   log) has its internal steps marked by LaneMath (mlir::osl::kOneRoundingAttr); they
+//   are computed in double with it, so it too is rounded once.
 //
 //===----------------------------------------------------------------------===//
 #include "MathLevels.h"
+#include "OslTransforms/LaneMath.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Conversion/MathToLibm/MathToLibm.h"
@@ -173,6 +177,56 @@ void osl::populateFastMathPatterns(RewritePatternSet &patterns) {
   populateMathPolynomialApproximationPatterns(patterns);
 }
 
+namespace {
+
+Type withF64(Type t) {
+  if (auto vec = dyn_cast<VectorType>(t))
+    return vec.clone(Float64Type::get(t.getContext()));
+  return Float64Type::get(t.getContext());
+}
+
+/// An internal arithmetic step of a library function (LaneMath.h).
+bool isOneRoundingStep(Operation *op) {
+  return op && op->hasAttr(mlir::osl::kOneRoundingAttr) && op->getNumResults() == 1 &&
+         getElementTypeOrSelf(op->getResult(0)).isF32() &&
+         isa<arith::AddFOp, arith::SubFOp, arith::MulFOp, arith::DivFOp, arith::NegFOp,
+             math::SqrtOp>(op);
+}
+
+/// `op` rebuilt on f64 `operands` (same name and attributes).
+Operation *cloneInDouble(OpBuilder &b, Operation *op, ValueRange operands) {
+  OperationState state(op->getLoc(), op->getName());
+  state.addOperands(operands);
+  state.addTypes(withF64(op->getResult(0).getType()));
+  state.addAttributes(op->getAttrs());
+  return b.create(state);
+}
+
+/// `v` in double: the unrounded value when v is a rounded double, the
+/// function's internal steps recomputed in double, else v extended (exact).
+Value inDouble(OpBuilder &b, Value v) {
+  Operation *def = v.getDefiningOp();
+  if (auto trunc = dyn_cast_or_null<arith::TruncFOp>(def))
+    if (getElementTypeOrSelf(trunc.getIn()).isF64())
+      return trunc.getIn();
+  if (isOneRoundingStep(def)) {
+    SmallVector<Value, 2> operands;
+    for (Value operand : def->getOperands())
+      operands.push_back(inDouble(b, operand));
+    return cloneInDouble(b, def, operands)->getResult(0);
+  }
+  return b.create<arith::ExtFOp>(v.getLoc(), withF64(v.getType()), v);
+}
+
+bool isRoundedDoubleOrConstant(Value v) {
+  Operation *def = v.getDefiningOp();
+  if (auto trunc = dyn_cast_or_null<arith::TruncFOp>(def))
+    return getElementTypeOrSelf(trunc.getIn()).isF64();
+  return isa_and_nonnull<arith::ConstantOp>(def);
+}
+
+} // namespace
+
 LogicalResult osl::computeInDoubleWithLibm(ModuleOp module) {
   SmallVector<Operation *> ops;
   SmallVector<Operation *> wide;
@@ -185,42 +239,46 @@ LogicalResult osl::computeInDoubleWithLibm(ModuleOp module) {
     else if (element.isF64()) // already double (math kernels' reference)
       wide.push_back(op);
   });
+  SmallVector<arith::TruncFOp> rounded;
   for (Operation *op : ops) {
     OpBuilder b(op);
-    Type f32Type = op->getResult(0).getType();
-    Type f64Type = f32Type;
-    if (auto vec = dyn_cast<VectorType>(f32Type))
-      f64Type = vec.clone(b.getF64Type());
-    else
-      f64Type = b.getF64Type();
-    OperationState state(op->getLoc(), op->getName());
+    // A user's argument is the float the shader computed; the internal
+    // steps of a function (asin's sqrt(1 - x^2)) are recomputed in double.
+    SmallVector<Value, 2> operands;
     for (Value operand : op->getOperands())
-      state.addOperands(b.create<arith::ExtFOp>(op->getLoc(), f64Type, operand).getResult());
-    state.addTypes(f64Type);
-    state.addAttributes(op->getAttrs());
-    Operation *w = b.create(state);
+      operands.push_back(op->hasAttr(mlir::osl::kOneRoundingAttr)
+                             ? inDouble(b, operand)
+                             : b.create<arith::ExtFOp>(op->getLoc(), withF64(operand.getType()),
+                                                       operand)
+                                   .getResult());
+    Operation *w = cloneInDouble(b, op, operands);
     wide.push_back(w);
-    Value result = w->getResult(0);
-    // A result only scaled by a constant (log10 is log(x) * (1/ln 10)) is
-    // scaled in double, so the function is rounded once.
-    Operation *user = op->getResult(0).hasOneUse() ? *op->getResult(0).getUsers().begin()
-                                                   : nullptr;
-    if (auto mul = dyn_cast_or_null<arith::MulFOp>(user)) {
-      Value other = mul.getLhs() == op->getResult(0) ? mul.getRhs() : mul.getLhs();
-      if (other.getDefiningOp<arith::ConstantOp>()) {
-        b.setInsertionPoint(mul);
-        Value scale = b.create<arith::ExtFOp>(op->getLoc(), f64Type, other);
-        Value scaled = b.create<arith::MulFOp>(op->getLoc(), result, scale);
-        mul.getResult().replaceAllUsesWith(
-            b.create<arith::TruncFOp>(op->getLoc(), f32Type, scaled).getResult());
-        mul.erase();
-        op->erase();
-        continue;
-      }
-    }
-    Value narrow = b.create<arith::TruncFOp>(op->getLoc(), f32Type, result);
-    op->getResult(0).replaceAllUsesWith(narrow);
+    auto narrow = b.create<arith::TruncFOp>(op->getLoc(), op->getResult(0).getType(),
+                                            w->getResult(0));
+    rounded.push_back(narrow);
+    op->getResult(0).replaceAllUsesWith(narrow.getResult());
     op->erase();
+  }
+  // Steps that follow (sinh's (e - 1/e) / 2, log10's scaling, erfc's 1 -
+  // erf) are done in double too when all their operands are rounded
+  // doubles or constants, so the function is rounded once.
+  while (!rounded.empty()) {
+    arith::TruncFOp t = rounded.pop_back_val();
+    SmallVector<Operation *> users(t->getUsers().begin(), t->getUsers().end());
+    for (Operation *user : users) {
+      if (!isOneRoundingStep(user) || !llvm::all_of(user->getOperands(), isRoundedDoubleOrConstant))
+        continue;
+      OpBuilder b(user);
+      SmallVector<Value, 2> operands;
+      for (Value operand : user->getOperands())
+        operands.push_back(inDouble(b, operand));
+      Operation *w = cloneInDouble(b, user, operands);
+      auto narrow = b.create<arith::TruncFOp>(user->getLoc(), user->getResult(0).getType(),
+                                              w->getResult(0));
+      user->getResult(0).replaceAllUsesWith(narrow.getResult());
+      user->erase();
+      rounded.push_back(narrow);
+    }
   }
   if (wide.empty())
     return success();

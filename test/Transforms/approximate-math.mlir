@@ -91,19 +91,43 @@ func.func @precise_sin(%x: vector<4xf32>) -> vector<4xf32> {
 
 // -----
 
-// precise: a result only scaled by a constant (log10 as OSL builds it) is
-// scaled in double, so it is rounded once; floor stays one instruction.
+// precise: a step LaneMath marks as internal to the function (log10 is a
+// scaled log) is done in double, so the function is rounded once; a user's
+// own arithmetic on the result stays float; floor stays one instruction.
 // CHECK-LABEL: func.func @precise_scaled_log
 // PRECISE-LABEL: func.func @precise_scaled_log
 // PRECISE: %[[L:.+]] = call @log(%{{.+}}) : (f64) -> f64
-// PRECISE: arith.mulf %[[L]], %{{.+}} : f64
-// PRECISE: arith.truncf %{{.+}} : f64 to f32
+// PRECISE: arith.mulf %[[L]], %{{.+}} {osl.one_rounding} : f64
+// PRECISE: %[[M:.+]] = call @log(%{{.+}}) : (f64) -> f64
+// PRECISE: %[[U:.+]] = arith.truncf %[[M]] : f64 to f32
+// PRECISE: arith.mulf %[[U]], %{{.+}} : f32
 // PRECISE: math.floor %{{.+}} : f32
 // PRECISE-NOT: call @floor
-func.func @precise_scaled_log(%x: f32) -> (f32, f32) {
+func.func @precise_scaled_log(%x: f32, %y: f32) -> (f32, f32, f32) {
   %c = arith.constant 0.434294492 : f32
   %l = math.log %x : f32
-  %s = arith.mulf %l, %c : f32
+  %s = arith.mulf %l, %c {osl.one_rounding} : f32
+  %m = math.log %y : f32
+  %u = arith.mulf %m, %c : f32
   %f = math.floor %x : f32
-  return %s, %f : f32, f32
+  return %s, %u, %f : f32, f32, f32
+}
+
+// -----
+
+// precise: asin's sqrt(1 - x^2) (marked steps feeding atan2) is computed in
+// double from the float argument.
+// CHECK-LABEL: func.func @precise_asin_steps
+// PRECISE-LABEL: func.func @precise_asin_steps
+// PRECISE: arith.subf %{{.+}}, %{{.+}} {osl.one_rounding} : f64
+// PRECISE: math.sqrt %{{.+}} {osl.one_rounding} : f64
+// PRECISE: call @atan2(%{{.+}}, %{{.+}}) : (f64, f64) -> f64
+func.func @precise_asin_steps(%x: f32) -> f32 {
+  %one = arith.constant 1.0 : f32
+  %a = arith.subf %one, %x {osl.one_rounding} : f32
+  %b = arith.addf %one, %x {osl.one_rounding} : f32
+  %p = arith.mulf %a, %b {osl.one_rounding} : f32
+  %r = math.sqrt %p {osl.one_rounding} : f32
+  %t = math.atan2 %x, %r {osl.one_rounding} : f32
+  return %t : f32
 }
