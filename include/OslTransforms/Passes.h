@@ -23,8 +23,11 @@ enum class MathLevel {
   Default,    ///< OSL's own algorithms: reproduces OSL's results
   Precise,    ///< f64 libm per lane rounded to f32
   Polynomial, ///< MLIR's approximations for every op (measured, not a --math)
+  Double,     ///< precise math and every float value in f64 (the reference
+              ///< for whole-shader errors; osl-evaluate-in-double)
 };
-/// "fast", "default" or "precise" (osl-run's --math); nullopt otherwise.
+/// "fast", "default", "precise" or "double" (osl-run's --math); nullopt
+/// otherwise.
 std::optional<MathLevel> parseMathLevel(llvm::StringRef name);
 const char *mathLevelName(MathLevel level);
 

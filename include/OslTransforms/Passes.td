@@ -124,6 +124,8 @@ def ApproximateMath : Pass<"osl-approximate-math", "::mlir::ModuleOp"> {
       result.
     * `polynomial`: MLIR's polynomial approximations for every op; not an
       osl-run level, measured by bench/osl-mathbench as one implementation.
+    * `double`: as precise here; the osl-to-llvm pipeline then runs
+      osl-evaluate-in-double (the reference for whole-shader errors).
 
     It runs right after osl-derivatives and before any canonicalization,
     because the math dialect's folders evaluate constant operands with the
@@ -144,9 +146,24 @@ def ApproximateMath : Pass<"osl-approximate-math", "::mlir::ModuleOp"> {
                           clEnumValN(::mlir::osl::MathLevel::Precise, "precise",
                                      "f64 libm per lane, rounded to f32"),
                           clEnumValN(::mlir::osl::MathLevel::Polynomial, "polynomial",
-                                     "MLIR's polynomial approximations for every op"))}]>];
+                                     "MLIR's polynomial approximations for every op"),
+                          clEnumValN(::mlir::osl::MathLevel::Double, "double",
+                                     "precise math; the pipeline evaluates in f64"))}]>];
   let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::vector::VectorDialect",
                            "::mlir::func::FuncDialect"];
+}
+
+def EvaluateInDouble : Pass<"osl-evaluate-in-double", "::mlir::ModuleOp"> {
+  let summary = "Compute every float value of the kernel in f64 (--math=double)";
+  let description = [{
+    The double-precision reference for a whole shader's error: runs after
+    osl-approximate-math at the precise level and turns every f32 value
+    (arithmetic, comparisons, selects, vector ops, loop-carried values) into
+    f64. Loads of globals and tables are extended (exactly), stores of
+    outputs rounded once, and a float reinterpreted as bits is rounded to
+    f32 first. Not a shading mode for images: a measuring instrument.
+  }];
+  let dependentDialects = ["::mlir::arith::ArithDialect"];
 }
 
 def LowerToLLVM : Pass<"osl-lower-to-llvm", "::mlir::ModuleOp"> {

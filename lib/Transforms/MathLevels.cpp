@@ -39,6 +39,8 @@ std::optional<osl::MathLevel> osl::parseMathLevel(llvm::StringRef name) {
     return MathLevel::Default;
   if (name == "precise")
     return MathLevel::Precise;
+  if (name == "double")
+    return MathLevel::Double;
   return std::nullopt;
 }
 
@@ -52,6 +54,8 @@ const char *osl::mathLevelName(MathLevel level) {
     return "precise";
   case MathLevel::Polynomial:
     return "polynomial";
+  case MathLevel::Double:
+    return "double";
   }
   return "?";
 }

@@ -231,7 +231,7 @@ struct ApproximateMathPass
   using ApproximateMathBase::ApproximateMathBase;
 
   void runOnOperation() override {
-    if (level == MathLevel::Precise) {
+    if (level == MathLevel::Precise || level == MathLevel::Double) {
       if (failed(computeInDoubleWithLibm(getOperation())))
         signalPassFailure();
       return;

@@ -16,7 +16,9 @@ struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
       llvm::cl::values(clEnumValN(osl::MathLevel::Fast, "fast", "MLIR's approximations"),
                        clEnumValN(osl::MathLevel::Default, "default", "OSL's algorithms"),
                        clEnumValN(osl::MathLevel::Precise, "precise",
-                                  "f64 libm per lane"))};
+                                  "f64 libm per lane"),
+                       clEnumValN(osl::MathLevel::Double, "double",
+                                  "everything in f64 (reference)"))};
 };
 } // namespace
 
@@ -40,6 +42,8 @@ void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
   ApproximateMathOptions mathOptions;
   mathOptions.level = math;
   pm.addPass(createApproximateMath(mathOptions));
+  if (math == MathLevel::Double)
+    pm.addPass(createEvaluateInDouble());
   pm.addPass(createCanonicalizerPass());
   pm.addPass(createCSEPass());
   pm.addPass(createLowerToLLVM());

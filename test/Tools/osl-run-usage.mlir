@@ -11,7 +11,7 @@
 // RUN: osl-run %shaders/marble.osl -g 8 8 -o Cout %t.exr --stats 2>&1 | FileCheck %s --check-prefix=STATS
 // USAGE: usage: osl-run SHADER.osl [options]
 // WIDTH: osl-run: error: --width must be 1, 4, 8 or 16
-// MATH: osl-run: error: --math must be fast, default or precise (got 'bogus')
+// MATH: osl-run: error: --math must be fast, default, precise or double (got 'bogus')
 // MATHARG: osl-run: error: --math needs 1 argument
 // FLAG: osl-run: error: unknown option '--frobnicate'
 // MISSING: osl-run: error: cannot read '{{.*}}does-not-exist.osl'

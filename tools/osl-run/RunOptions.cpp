@@ -26,9 +26,11 @@ const char *const osl::kUsage =
     "  --width N              lanes per batch: 1, 4, 8 or 16 (default: widest\n"
     "                         the CPU supports)\n"
     "  --math=LEVEL           how math functions are computed: default\n"
-    "                         (OSL's own results), fast (MLIR's polynomial\n"
-    "                         approximations) or precise (within 1 ULP);\n"
-    "                         measured bounds in bench/MATH.md\n"
+    "                         (OSL's own results), fast (the faster of OSL's\n"
+    "                         and MLIR's approximations) or precise (within\n"
+    "                         1 ULP); measured bounds in bench/MATH.md.\n"
+    "                         double: precise math and all arithmetic in f64\n"
+    "                         (a reference for measuring errors)\n"
     "  --center               shade pixel centres: u = (x+0.5)/X\n"
     "  -I DIR                 search DIR for #include files\n"
     "  --interpret            reference mode: one point at a time, ordinary\n"
@@ -125,7 +127,7 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       std::string v = a == "--math" ? std::string(argv[++i]) : a.substr(7);
       auto level = mlir::osl::parseMathLevel(v);
       if (!level) {
-        error = "--math must be fast, default or precise (got '" + v + "')";
+        error = "--math must be fast, default, precise or double (got '" + v + "')";
         return false;
       }
       o.compile.math = *level;
