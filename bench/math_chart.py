@@ -11,7 +11,7 @@ One command draws everything (from the repository root, after building):
    function evaluated in double with glibc's libm, and ns per point.
 2. Each shaders/*.osl at every --math level and widths 1 and 16: ns per point
    (osl-run --stats, one thread) and the mean and max error of its Cout image
-   against the same shader at --math=precise (idiff).
+   against the same shader evaluated in double (--math=double) (idiff).
 3. Writes bench/math.csv, bench/shaders-math.csv, bench/math-chart.svg,
    bench/shader-math-chart.svg and bench/MATH.md (the tables).
 
@@ -44,7 +44,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BENCH = os.path.join(ROOT, "bench")
 IMPLS = ["fast", "default", "precise", "polynomial", "libmvec"]
 LEVELS = ["fast", "default", "precise"]
-COLORS = {"fast": "tab:red", "default": "tab:blue", "precise": "tab:green",
+SHADER_LEVELS = LEVELS + ["double"]
+COLORS = {"fast": "tab:red", "default": "tab:blue", "precise": "tab:green", "double": "black",
           "polynomial": "tab:orange", "libmvec": "tab:purple"}
 
 
@@ -56,7 +57,13 @@ def run_mathbench(build, sweep):
     return list(csv.DictReader(io.StringIO(out)))
 
 
-def shade(osl_run, shader, level, width, grid, iters, image):
+def shade(osl_run, shader, level, width, grid, iters, image, repeats=3):
+    """Best ns per point of `repeats` runs (the machine may be shared)."""
+    return min(shade_once(osl_run, shader, level, width, grid, iters, image)
+               for _ in range(repeats))
+
+
+def shade_once(osl_run, shader, level, width, grid, iters, image):
     cmd = [osl_run, shader, "-g", str(grid), str(grid), "--math=" + level, "--width",
            str(width), "-t", "1", "--iters", str(iters), "--stats", "-o", "Cout", image]
     res = subprocess.run(cmd, check=True, capture_output=True, text=True)
@@ -84,7 +91,7 @@ def run_shaders(build, grid, iters):
         for name in shaders:
             path = os.path.join(ROOT, "shaders", name)
             images = {}
-            for level in LEVELS:
+            for level in SHADER_LEVELS:
                 for width in (1, 16):
                     image = os.path.join(tmp, "%s-%s-%d.exr" % (name, level, width))
                     ns = shade(osl_run, path, level, width, grid, iters, image)
@@ -95,7 +102,7 @@ def run_shaders(build, grid, iters):
                 if row["shader"] != name[:-4]:
                     continue
                 img = images[(row["level"], row["width"])]
-                row["mean_error"], row["max_error"] = image_error(img, images[("precise", 16)])
+                row["mean_error"], row["max_error"] = image_error(img, images[("double", 16)])
                 # Same level, other width: must be bit-identical.
                 other = images[(row["level"], 17 - row["width"])]
                 row["width_identical"] = image_error(img, other)[1] == 0
@@ -160,7 +167,7 @@ def draw_shaders(rows):
     shaders = list(dict.fromkeys(r["shader"] for r in rows))
     fig, axes = plt.subplots(1, len(shaders), figsize=(5 * len(shaders), 4))
     for ax, name in zip(axes, shaders):
-        for level in LEVELS:
+        for level in SHADER_LEVELS:
             pts = [r for r in rows if r["shader"] == name and r["level"] == level]
             xs = [float(r["ns_per_point"]) for r in pts]
             ys = [max(float(r["max_error"]), 1e-10) for r in pts]
@@ -171,7 +178,7 @@ def draw_shaders(rows):
         ax.set_yscale("log")
         ax.set_title(name)
         ax.set_xlabel("ns per point (1 thread)")
-        ax.set_ylabel("max |error| vs --math=precise (0 at 1e-10)")
+        ax.set_ylabel("max |error| vs double evaluation (0 at 1e-10)")
         ax.legend()
     fig.tight_layout()
     fig.savefig(os.path.join(BENCH, "shader-math-chart.svg"))
@@ -261,12 +268,15 @@ SHADER_TEXT = """## Shaders
 
 Each shaders/*.osl on a %dx%d grid, one thread, per --math level and width:
 ns per point and the mean and max absolute error of its `Cout` image against
-the same shader at `--math=precise`, width 16. This is **not** a
-double-precision evaluation of the shader: the reference still does the
-shader's own float arithmetic (and noise) in float, so it measures the error
-each level's math functions add. marble calls no transcendental function
-(noise and abs only) and escape only sqrt (exact at every level), so their
-error is 0 by construction; tiles calls sin. `same at w1/w16`: the image is
+the same shader evaluated in double precision (`--math=double`, width 16:
+osl-evaluate-in-double turns every float value of the kernel into f64 after
+precise math; inputs are extended exactly and the output rounded once). So
+the error includes the shader's own float arithmetic and noise, not only the
+math functions: marble calls no transcendental function (noise and abs), so
+its error is the same at every level; escape (sqrt only, exact everywhere)
+iterates a chaotic map whose float and double orbits part near the set's
+boundary, where a point's iteration count, hence its colour band, changes;
+tiles calls sin in loops of per-tile length. `same at w1/w16`: the image is
 bit-identical at widths 1 and 16.
 """
 
