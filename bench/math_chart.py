@@ -201,7 +201,10 @@ is MLIR's approximations for every op and `libmvec` glibc's vector functions
 (libmvec's results differ between widths). Every level is bit-identical
 across widths (tested). Each row is the OSL library function as a shader
 computes it (LaneMath.h, OSL's edge rules included), so asin, acos, sinh,
-cosh, erfc, cbrt and inversesqrt are compositions of several ops.
+cosh, erfc, cbrt and inversesqrt are compositions of several ops. perlin,
+simplex and cellnoise (2D) contain no math op, so every level runs the same
+code (one row); their reference is the same kernel evaluated in double by
+osl-evaluate-in-double, so the error is that of their float arithmetic.
 
 **Error.** Against the same function evaluated in double with glibc's libm
 (OslCompiler/MathKernel.h), on a stratified sweep of the domain (half

@@ -32,6 +32,7 @@ enum class Impl {
   Libmvec,   ///< glibc's vector math (_ZGV*), scalar libm at width 1;
              ///< measured only (results differ between widths)
   Reference, ///< the whole function in f64 with libm: writes doubles
+             ///< (noise: the f32 kernel through osl-evaluate-in-double)
 };
 const char *implName(Impl impl);
 
@@ -49,6 +50,10 @@ struct Function {
   double lo, hi, magLo;
   double ulp[4];
   double abs[4];
+  /// A noise function (2D): no math ops, so every level computes the same
+  /// thing; its reference is the same kernel evaluated in double by
+  /// osl-evaluate-in-double.
+  bool noise = false;
 };
 const std::vector<Function> &functions();
 const Function *findFunction(const std::string &name);

@@ -9,6 +9,7 @@
 #include "OslCompiler/MathKernel.h"
 
 #include "OslTransforms/LaneMath.h"
+#include "OslTransforms/NoiseBuilder.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/IR/Builders.h"
@@ -41,6 +42,16 @@ struct Entry {
   Function f;
   LaneFn build;
 };
+
+Value perlin2(OpBuilder &b, Location loc, ValueRange x) {
+  return mlir::osl::buildNoiseFloat(b, loc, mlir::osl::NoiseKind::Perlin, x);
+}
+Value simplex2(OpBuilder &b, Location loc, ValueRange x) {
+  return mlir::osl::buildNoiseFloat(b, loc, mlir::osl::NoiseKind::Simplex, x);
+}
+Value cell2(OpBuilder &b, Location loc, ValueRange x) {
+  return mlir::osl::buildNoiseFloat(b, loc, mlir::osl::NoiseKind::Cell, x);
+}
 
 /// No bound: MLIR's tan (sin/cos) gives +-inf and NaN at large arguments.
 constexpr double kNoBound = INFINITY;
@@ -77,6 +88,12 @@ const std::vector<Entry> &entries() {
       {{"sqrt", 1, 0, FLT_MAX, FLT_MIN, {0.5, 0.5, 1, 0.5}, {0, 0, 0, 0}}, lane::sqrt},
       {{"inversesqrt", 1, FLT_MIN, FLT_MAX, FLT_MIN, {1.9, 1.9, 1, 1.9}, {0, 0, 0, 0}},
        lane::inverseSqrt},
+      // Noise (x, y): the error of its float arithmetic.
+      {{"perlin", 2, -1000, 1000, 1e-3, {0, 0, 0, 0}, {3e-6, 3e-6, 3e-6, 3e-6}, true},
+       perlin2},
+      {{"simplex", 2, -1000, 1000, 1e-3, {0, 0, 0, 0}, {4.6e-4, 4.6e-4, 4.6e-4, 4.6e-4}, true},
+       simplex2},
+      {{"cellnoise", 2, -1000, 1000, 1e-3, {0.5, 0.5, 1, 0.5}, {0, 0, 0, 0}, true}, cell2},
   };
   return table;
 }
@@ -139,14 +156,17 @@ void callLibmvec(ModuleOp module, int width) {
   }
 }
 
+/// `f64`: the function is built on f64 values and stores doubles;
+/// `storeDouble`: built on f32 values, the result extended to f64 and stored
+/// as a double (osl-evaluate-in-double then removes every rounding).
 OwningOpRef<ModuleOp> buildModule(MLIRContext &ctx, LaneFn build, int arity, int width,
-                                  bool f64) {
+                                  bool f64, bool storeDouble) {
   OpBuilder b(&ctx);
   Location loc = b.getUnknownLoc();
   OwningOpRef<ModuleOp> module = ModuleOp::create(loc);
   b.setInsertionPointToEnd(module->getBody());
   auto ptr = LLVM::LLVMPointerType::get(&ctx);
-  Type f32 = b.getF32Type(), outElement = f64 ? b.getF64Type() : f32;
+  Type f32 = b.getF32Type(), outElement = f64 || storeDouble ? b.getF64Type() : f32;
   auto laneOf = [&](Type element) -> Type {
     return width == 1 ? element : VectorType::get({width}, element);
   };
@@ -168,6 +188,8 @@ OwningOpRef<ModuleOp> buildModule(MLIRContext &ctx, LaneFn build, int arity, int
     args.push_back(v);
   }
   Value r = build(b, loc, args);
+  if (storeDouble)
+    r = b.create<arith::ExtFOp>(loc, laneOf(outElement), r);
   Value p = b.create<LLVM::GEPOp>(loc, ptr, outElement, entry->getArgument(2), ValueRange{i});
   b.create<LLVM::StoreOp>(loc, r, p, 4);
   b.setInsertionPointToEnd(entry);
@@ -309,8 +331,9 @@ llvm::Expected<std::unique_ptr<Kernel>> Kernel::compile(const Function &f, Impl 
   registerLLVMDialectTranslation(registry);
   MLIRContext ctx(registry, MLIRContext::Threading::DISABLED);
   ctx.loadAllAvailableDialects();
-  bool f64 = impl == Impl::Reference;
-  OwningOpRef<ModuleOp> module = buildModule(ctx, e->build, f.arity, width, f64);
+  bool reference = impl == Impl::Reference;
+  OwningOpRef<ModuleOp> module = buildModule(ctx, e->build, f.arity, width,
+                                             reference && !f.noise, reference && f.noise);
   if (impl == Impl::Libmvec)
     callLibmvec(*module, width);
 
@@ -322,6 +345,8 @@ llvm::Expected<std::unique_ptr<Kernel>> Kernel::compile(const Function &f, Impl 
                       ? mlir::osl::MathLevel::Precise
                       : mlir::osl::MathLevel::Default;
   pm.addPass(mlir::osl::createApproximateMath(options));
+  if (reference && f.noise)
+    pm.addPass(mlir::osl::createEvaluateInDouble());
   pm.addPass(createCanonicalizerPass());
   pm.addPass(createCSEPass());
   pm.addPass(mlir::osl::createLowerToLLVM());
