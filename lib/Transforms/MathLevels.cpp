@@ -2,7 +2,7 @@
 //
 // polynomial: MLIR's own polynomial approximations for every op. They stay
 //   in vector registers and use no tables; their error was measured, not
-//   taken on trust (bench/math-chart.sh, bounds in bench/MATH.md).
+//   taken on trust (bench/math_chart.py, bounds in bench/MATH.md).
 // fast: per op, the faster of OSL's algorithm and MLIR's approximation in
 //   bench/osl-mathbench at width 16 (isOslFasterAt below).
 // precise: glibc's double-precision functions, whose error is below one
@@ -13,7 +13,7 @@
 //   The same function runs for a scalar and for every lane of a vector, so
 //   results are bit-identical at every width. A library function that is
 //   several ops (sinh from exp, asin from atan2 and sqrt, log10 as a scaled
-//   log) has its internal steps marked by LaneMath (mlir::osl::kOneRoundingAttr); they
+//   log) has its internal steps marked by LaneMath (kOneRoundingAttr); they
 //   are computed in double with it, so it too is rounded once.
 //
 //===----------------------------------------------------------------------===//
