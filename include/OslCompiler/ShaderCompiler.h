@@ -50,6 +50,21 @@ struct CompileOptions {
   mlir::osl::CameraImage camera;
   /// The working RGB space of the color functions (OSL's "colorspace").
   std::string colorSpace = "Rec709";
+  /// LLVM passes before codegen (Jit.h).
+  LlvmPipeline llvmPipeline = LlvmPipeline::Kernel;
+  /// Masked blocks count their active lanes (OslRuntime/LaneStats.h).
+  bool countLanes = false;
+  /// Directory of the persistent kernel cache (KernelCache.h), used by
+  /// compile(); empty: no cache.
+  std::string cacheDir;
+};
+
+/// What compile() did with the kernel cache.
+enum class CacheUse {
+  Off,     // no cache directory, or the source does not preprocess
+  Hit,     // loaded: nothing was compiled
+  Miss,    // compiled and stored
+  Rebuilt, // the entry was corrupt or stale: compiled and replaced
 };
 
 /// One shader compiled for one width. Keeps its JIT alive.
@@ -82,9 +97,16 @@ public:
   /// JIT-compiles the optimized module into a kernel.
   std::unique_ptr<CompiledShader> load();
 
-  /// All four stages.
+  /// All four stages, or, with options.cacheDir, the kernel a previous
+  /// compile of the same source and options stored there.
   std::unique_ptr<CompiledShader> compile(llvm::StringRef source,
                                           llvm::StringRef filename);
+
+  /// The kernel cache's key for `source` under this compiler's options:
+  /// everything the kernel depends on. Empty if the source does not
+  /// preprocess.
+  std::string cacheKey(llvm::StringRef source, llvm::StringRef filename) const;
+  CacheUse cacheUse() const { return cacheUsed; }
 
   mlir::ModuleOp module() { return mlirModule.get(); }
   llvm::Module *llvmModule() { return llvmIR.get(); }
@@ -92,7 +114,16 @@ public:
   const std::vector<OutputSpec> &outputs() const { return outputSpecs; }
 
 private:
+  std::unique_ptr<CompiledShader> compileStages(llvm::StringRef source,
+                                                llvm::StringRef filename);
+  std::unique_ptr<CompiledShader> loadObject(std::string object, std::string name,
+                                             std::vector<OutputSpec> outputs);
+  bool defineRuntimeSymbols(Jit &target);
+
   CompileOptions options;
+  CacheUse cacheUsed = CacheUse::Off;
+  /// Keep the object code of the kernel (for the cache).
+  bool keepObject = false;
   llvm::raw_ostream &errs;
   Stats *stats;
   mlir::MLIRContext context;

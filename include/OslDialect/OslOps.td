@@ -66,6 +66,20 @@ def Osl_AnyOp : Osl_Op<"any", [Pure]> {
   let assemblyFormat = "$mask attr-dict `:` type($mask)";
 }
 
+def Osl_CountLanesOp : Osl_Op<"count_lanes", [MemoryEffects<[MemWrite]>]> {
+  let summary = "adds a masked block's active lanes to the run's lane statistics";
+  let description = [{
+    osl-insert-mask-stack with `count-lanes` puts one at the start of each
+    masked block it makes (an arm of a varying if, an iteration of a
+    varying loop): every execution adds one block and the number of lanes
+    of `mask` that are set, so `osl-run --lane-stats` can report the mean
+    fraction of active lanes per executed block. The mask is already
+    restricted to the batch's shading points.
+  }];
+  let arguments = (ins Osl_Bool:$mask);
+  let assemblyFormat = "$mask attr-dict `:` type($mask)";
+}
+
 //===----------------------------------------------------------------------===//
 // Structured control flow (before osl-insert-mask-stack)
 //===----------------------------------------------------------------------===//

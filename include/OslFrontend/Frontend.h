@@ -45,6 +45,15 @@ parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                const mlir::osl::CameraImage &camera = {},
                llvm::StringRef colorSpace = "Rec709");
 
+/// Everything the front end reads of a shader as one string: its tokens
+/// after preprocessing (#includes expanded, macros applied), each with its
+/// file name and position (positions end up in run-time error messages).
+/// Sources with equal fingerprints compile alike under equal options, so
+/// this keys the kernel cache. Empty if the source does not preprocess;
+/// compiling it then reports why.
+std::string preprocessedFingerprint(llvm::StringRef source, llvm::StringRef filename,
+                                    llvm::ArrayRef<std::string> includePaths = {});
+
 } // namespace osl
 
 #endif // OSLFRONTEND_FRONTEND_H

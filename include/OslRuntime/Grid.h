@@ -71,6 +71,13 @@ ShadeResult shadeGrid(BatchKernel kernel, int width,
                       const std::vector<OutputSpec> &outputs,
                       const GridOptions &options, ThreadPool &pool);
 
+/// As above into `result`, whose images are reused when they already have
+/// the right sizes: repeated passes (--iters) allocate and page in their
+/// images once.
+void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
+                   const std::vector<OutputSpec> &outputs, const GridOptions &options,
+                   ThreadPool &pool);
+
 /// Fills one batch of globals (kGlobalRows x width floats) for the pixels
 /// [firstPixel, firstPixel + nactive) in row-major order. Lanes past
 /// nactive repeat the last active pixel, so code that computes on every

@@ -20,6 +20,7 @@
 
 namespace llvm {
 class LLVMContext;
+class MemoryBuffer;
 class Module;
 class TargetMachine;
 namespace orc {
@@ -31,28 +32,51 @@ namespace osl {
 
 struct Stats;
 
+/// The LLVM passes run on a kernel before codegen.
+enum class LlvmPipeline {
+  /// What MLIR's lowering leaves to do: SROA, CSE, instcombine, CFG
+  /// cleanup, LICM. The kernel arrives vectorized and inlined, so O3's
+  /// vectorizers, inliner and unrollers mostly cost compile time.
+  Kernel,
+  /// LLVM's full O3 pipeline.
+  O3,
+};
+
 class Jit {
 public:
   /// A JIT for the host CPU (JITTargetMachineBuilder::detectHost, codegen
   /// level Aggressive) that resolves undefined symbols in the current
   /// process (libm, the runtime library if exported). When `stats` is set,
   /// each step adds its time there; it must outlive the Jit.
-  static llvm::Expected<std::unique_ptr<Jit>> create(Stats *stats = nullptr);
+  /// With `keepObject`, the object file codegen produces is kept (see
+  /// compiledObject), for the kernel cache.
+  static llvm::Expected<std::unique_ptr<Jit>> create(Stats *stats = nullptr,
+                                                     bool keepObject = false);
   ~Jit();
 
-  /// The host TargetMachine, for optimizers that need host costs (e.g.
-  /// mlir::makeOptimizingTransformer).
+  /// The host TargetMachine of the thread that created this Jit, for
+  /// optimizers that need host costs (e.g. mlir::makeOptimizingTransformer);
+  /// use it on that thread only.
   llvm::TargetMachine &targetMachine() { return *tm; }
 
   /// Verifies `module`, sets its triple and DataLayout (and host
   /// target-cpu/target-features on each definition lacking them), then runs
-  /// the new pass manager's O3 pipeline with the host TargetMachine.
-  llvm::Error optimize(llvm::Module &module);
+  /// `pipeline` with the host TargetMachine.
+  llvm::Error optimize(llvm::Module &module,
+                       LlvmPipeline pipeline = LlvmPipeline::Kernel);
 
   /// Hands `module` to the JIT; code is generated at the first lookup of
   /// one of its symbols. Sets the JIT's DataLayout if the module has none.
   llvm::Error addModule(std::unique_ptr<llvm::Module> module,
                         std::unique_ptr<llvm::LLVMContext> context);
+
+  /// Hands over an object file compiled earlier (by a Jit created with
+  /// keepObject) for the same host; it is linked at the first lookup.
+  llvm::Error addObject(std::unique_ptr<llvm::MemoryBuffer> object);
+
+  /// The object file of the last module compiled, if the Jit keeps objects
+  /// and a lookup has compiled one; empty otherwise.
+  llvm::StringRef compiledObject() const;
 
   /// Defines host functions or data by address, for runtime entry points
   /// that are not exported from the executable.
@@ -72,12 +96,20 @@ public:
   /// with AVX2, else 4.
   static int hostMaxWidth();
 
+  /// The host as code generation sees it: triple, CPU name and the features
+  /// it has. Object code made for one description runs on another only if
+  /// they are equal (the kernel cache's key holds it).
+  static std::string hostDescription();
+
 private:
   Jit() = default;
 
   Stats *stats = nullptr;
-  std::unique_ptr<llvm::TargetMachine> tm;
+  /// The creating thread's machine (owned by that thread).
+  llvm::TargetMachine *tm = nullptr;
   std::unique_ptr<llvm::orc::LLJIT> lljit;
+  class ObjectKeeper;
+  std::unique_ptr<ObjectKeeper> keeper;
 };
 
 } // namespace osl

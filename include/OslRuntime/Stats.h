@@ -8,7 +8,6 @@
 #ifndef OSLRUNTIME_STATS_H
 #define OSLRUNTIME_STATS_H
 
-#include <chrono>
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,7 +22,15 @@ namespace osl {
 /// Adding a stage name twice accumulates, so repeated steps (one lookup per
 /// kernel) show as one line. Not thread-safe: record from one thread.
 struct Stats {
+  /// What a stage's time is: wall time (osl-run --stats), or the CPU time
+  /// of the recording thread, which other processes on a busy machine do
+  /// not inflate (the JIT benchmark).
+  enum class Clock { Wall, ThreadCpu };
+  Clock clock = Clock::Wall;
   std::vector<std::pair<std::string, double>> stages;
+
+  /// Now on `clock`, in seconds from an arbitrary origin.
+  static double now(Clock clock);
 
   void add(const std::string &name, double seconds);
   /// Seconds recorded for `name`, or 0.
@@ -38,7 +45,7 @@ class ScopedTimer {
 public:
   ScopedTimer(Stats *stats, std::string name)
       : stats(stats), name(std::move(name)),
-        start(std::chrono::steady_clock::now()) {}
+        start(stats ? Stats::now(stats->clock) : 0) {}
   ~ScopedTimer() { stop(); }
   ScopedTimer(const ScopedTimer &) = delete;
   ScopedTimer &operator=(const ScopedTimer &) = delete;
@@ -47,15 +54,14 @@ public:
   void stop() {
     if (!stats)
       return;
-    std::chrono::duration<double> d = std::chrono::steady_clock::now() - start;
-    stats->add(name, d.count());
+    stats->add(name, Stats::now(stats->clock) - start);
     stats = nullptr;
   }
 
 private:
   Stats *stats;
   std::string name;
-  std::chrono::steady_clock::time_point start;
+  double start;
 };
 
 } // namespace osl

@@ -36,10 +36,13 @@ const char *mathLevelName(MathLevel level);
 
 /// The whole chain from front-end output to the LLVM dialect at `width`.
 /// `reference`: one point at a time with ordinary branches (width 1, no
-/// masks), the oracle of the differential tester.
+/// masks), the oracle of the differential tester. `countLanes`: masked
+/// blocks report their active lanes (osl-run --lane-stats). `math`: how
+/// math ops are computed (osl-approximate-math's level; Double also runs
+/// osl-evaluate-in-double).
 void buildOslToLLVMPipeline(OpPassManager &pm, int width,
                             const std::string &paramValues = "", bool reference = false,
-                            MathLevel math = MathLevel::Default);
+                            bool countLanes = false, MathLevel math = MathLevel::Default);
 
 /// Registers every pass and the `osl-to-llvm` pipeline with mlir-opt style
 /// tools.

@@ -45,7 +45,10 @@ def InsertMaskStack : Pass<"osl-insert-mask-stack", "::mlir::func::FuncOp"> {
   }];
   let options = [Option<"skipThreshold", "skip-threshold", "int", "16",
                         "operations in an arm from which it is skipped when its "
-                        "mask is empty">];
+                        "mask is empty">,
+                 Option<"countLanes", "count-lanes", "bool", "false",
+                        "start each masked block with osl.count_lanes (lane "
+                        "statistics for osl-run --lane-stats)">];
   let dependentDialects = ["::mlir::scf::SCFDialect"];
 }
 

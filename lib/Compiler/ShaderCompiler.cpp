@@ -1,7 +1,9 @@
 //===- ShaderCompiler.cpp - OSL source to a callable batch kernel ---------===//
 #include "OslCompiler/ShaderCompiler.h"
+#include "OslCompiler/KernelCache.h"
 
 #include "OslDialect/OslDialect.h"
+#include "OslRuntime/LaneStats.h"
 #include "OslRuntime/StringCall.h"
 #include "OslRuntime/TextureCall.h"
 #include "OslTransforms/Passes.h"
@@ -14,7 +16,9 @@
 #include "mlir/Target/LLVMIR/Dialect/LLVMIR/LLVMToLLVMIRTranslation.h"
 #include "mlir/Target/LLVMIR/Export.h"
 #include "llvm/IR/LLVMContext.h"
+#include "llvm/Config/llvm-config.h"
 #include "llvm/IR/Module.h"
+#include "llvm/Support/MemoryBuffer.h"
 #include "llvm/Support/SourceMgr.h"
 
 using namespace osl;
@@ -84,7 +88,7 @@ bool ShaderCompiler::lower() {
   ScopedTimer timer(stats, "mlir passes");
   mlir::PassManager pm(&context);
   mlir::osl::buildOslToLLVMPipeline(pm, options.width, paramBindings(options.params),
-                                    options.reference, options.math);
+                                    options.reference, options.countLanes, options.math);
   // Pass failures report through the context's diagnostics, with the
   // shader's file:line:col locations.
   mlir::ScopedDiagnosticHandler handler(&context, [&](mlir::Diagnostic &d) {
@@ -111,13 +115,27 @@ bool ShaderCompiler::translate() {
       return false;
     }
   }
-  auto created = Jit::create(stats);
+  auto created = Jit::create(stats, keepObject);
   if (!created) {
     errs << "error: " << llvm::toString(created.takeError()) << "\n";
     return false;
   }
   jit = std::move(*created);
-  if (llvm::Error e = jit->optimize(*llvmIR)) {
+  if (llvm::Error e = jit->optimize(*llvmIR, options.llvmPipeline)) {
+    errs << "error: " << llvm::toString(std::move(e)) << "\n";
+    return false;
+  }
+  return true;
+}
+
+/// The runtime entry points kernels call.
+bool ShaderCompiler::defineRuntimeSymbols(Jit &target) {
+  if (llvm::Error e = target.defineSymbols(
+          {{"osl_rt_texture", reinterpret_cast<void *>(&osl_rt_texture)},
+           {"osl_rt_gettextureinfo", reinterpret_cast<void *>(&osl_rt_gettextureinfo)},
+           {"osl_rt_string_intern", reinterpret_cast<void *>(&osl_rt_string_intern)},
+           {"osl_rt_string_call", reinterpret_cast<void *>(&osl_rt_string_call)},
+           {"osl_rt_count_lanes", reinterpret_cast<void *>(&osl_rt_count_lanes)}})) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return false;
   }
@@ -125,15 +143,8 @@ bool ShaderCompiler::translate() {
 }
 
 std::unique_ptr<CompiledShader> ShaderCompiler::load() {
-  // The runtime entry points kernels call.
-  if (llvm::Error e = jit->defineSymbols(
-          {{"osl_rt_texture", reinterpret_cast<void *>(&osl_rt_texture)},
-           {"osl_rt_gettextureinfo", reinterpret_cast<void *>(&osl_rt_gettextureinfo)},
-           {"osl_rt_string_intern", reinterpret_cast<void *>(&osl_rt_string_intern)},
-           {"osl_rt_string_call", reinterpret_cast<void *>(&osl_rt_string_call)}})) {
-    errs << "error: " << llvm::toString(std::move(e)) << "\n";
+  if (!defineRuntimeSymbols(*jit))
     return nullptr;
-  }
   if (llvm::Error e = jit->addModule(std::move(llvmIR), std::move(llvmContext))) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return nullptr;
@@ -152,9 +163,103 @@ std::unique_ptr<CompiledShader> ShaderCompiler::load() {
   return shader;
 }
 
-std::unique_ptr<CompiledShader> ShaderCompiler::compile(llvm::StringRef source,
-                                                        llvm::StringRef filename) {
+std::unique_ptr<CompiledShader> ShaderCompiler::compileStages(llvm::StringRef source,
+                                                              llvm::StringRef filename) {
   if (!parse(source, filename) || !lower() || !translate())
     return nullptr;
   return load();
+}
+
+std::unique_ptr<CompiledShader>
+ShaderCompiler::loadObject(std::string object, std::string name,
+                           std::vector<OutputSpec> outputs) {
+  auto created = Jit::create(stats);
+  if (!created) {
+    errs << "error: " << llvm::toString(created.takeError()) << "\n";
+    return nullptr;
+  }
+  std::unique_ptr<Jit> cachedJit = std::move(*created);
+  if (!defineRuntimeSymbols(*cachedJit))
+    return nullptr;
+  if (llvm::Error e = cachedJit->addObject(llvm::MemoryBuffer::getMemBufferCopy(object))) {
+    errs << "error: " << llvm::toString(std::move(e)) << "\n";
+    return nullptr;
+  }
+  auto symbol = cachedJit->lookup("osl_batch");
+  if (!symbol) {
+    llvm::consumeError(symbol.takeError());
+    return nullptr;
+  }
+  auto shader = std::make_unique<CompiledShader>();
+  shader->kernel = reinterpret_cast<BatchKernel>(*symbol);
+  shader->width = options.width;
+  shader->name = std::move(name);
+  shader->outputs = std::move(outputs);
+  shader->jit = std::move(cachedJit);
+  return shader;
+}
+
+std::string ShaderCompiler::cacheKey(llvm::StringRef source, llvm::StringRef filename) const {
+  std::string text = filename.ends_with(".mlir")
+                         ? (filename + "\n" + source).str()
+                         : preprocessedFingerprint(source, filename, options.includePaths);
+  if (text.empty())
+    return "";
+  std::string key;
+  llvm::raw_string_ostream os(key);
+  // Every option the kernel depends on, one per line.
+  os << "osl-mlir kernel 1\ncompiler " << KernelCache::compilerIdentity()
+     << "\nllvm " LLVM_VERSION_STRING "\nhost " << Jit::hostDescription()
+     << "\nwidth " << options.width << "\nreference " << options.reference
+     << "\ncount lanes " << options.countLanes
+     << "\nmath " << mlir::osl::mathLevelName(options.math) << "\nllvm pipeline "
+     << int(options.llvmPipeline)
+     << "\ncolorspace " << options.colorSpace << "\ncamera " << options.camera.xres << " "
+     << options.camera.yres << "\n";
+  for (const ParamOverride &p : options.params)
+    os << "param " << p.name.size() << ":" << p.name << " " << p.value.size() << ":" << p.value
+       << "\n";
+  os << "source" << text;
+  return key;
+}
+
+std::unique_ptr<CompiledShader> ShaderCompiler::compile(llvm::StringRef source,
+                                                        llvm::StringRef filename) {
+  cacheUsed = CacheUse::Off;
+  std::string key;
+  if (!options.cacheDir.empty()) {
+    ScopedTimer timer(stats, "kernel cache");
+    key = cacheKey(source, filename);
+  }
+  if (key.empty())
+    return compileStages(source, filename);
+
+  KernelCache cache(options.cacheDir);
+  CachedKernel entry;
+  CacheLookup found;
+  {
+    ScopedTimer timer(stats, "kernel cache");
+    found = cache.lookup(key, entry);
+  }
+  if (found == CacheLookup::Hit) {
+    if (auto shader = loadObject(std::move(entry.object), entry.shaderName, entry.outputs)) {
+      cacheUsed = CacheUse::Hit;
+      return shader;
+    }
+    found = CacheLookup::Corrupt; // a well-formed file the linker refused
+  }
+  cacheUsed = found == CacheLookup::Miss ? CacheUse::Miss : CacheUse::Rebuilt;
+  keepObject = true;
+  std::unique_ptr<CompiledShader> shader = compileStages(source, filename);
+  keepObject = false;
+  if (!shader || shader->jit->compiledObject().empty())
+    return shader;
+  ScopedTimer timer(stats, "kernel cache");
+  std::string error;
+  CachedKernel stored{shader->name, shader->outputs, shader->jit->compiledObject().str()};
+  // A cache that cannot be written costs the next run a compile, nothing
+  // more: say so and go on.
+  if (!cache.store(key, stored, error))
+    errs << "warning: kernel cache: " << error << "\n";
+  return shader;
 }

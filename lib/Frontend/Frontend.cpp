@@ -52,3 +52,25 @@ osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
   }
   return module;
 }
+
+std::string osl::preprocessedFingerprint(llvm::StringRef source, llvm::StringRef filename,
+                                         llvm::ArrayRef<std::string> includePaths) {
+  Diagnostics diags(filename, llvm::nulls());
+  std::vector<Token> raw, tokens;
+  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths))
+    return "";
+  std::string text;
+  llvm::raw_string_ostream os(text);
+  unsigned lastFile = ~0u;
+  for (const Token &t : tokens) {
+    if (t.loc.file != lastFile) {
+      // File names are length-prefixed, so no name can imitate a token.
+      llvm::StringRef name = diags.fileName(t.loc.file);
+      os << "\nF" << name.size() << ":" << name;
+      lastFile = t.loc.file;
+    }
+    os << "\n" << unsigned(t.kind) << " " << t.loc.line << ":" << t.loc.col << " "
+       << t.text.size() << ":" << t.text;
+  }
+  return text;
+}

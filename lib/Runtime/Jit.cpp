@@ -3,6 +3,8 @@
 #include "OslRuntime/Jit.h"
 #include "OslRuntime/Stats.h"
 
+#include "llvm/ExecutionEngine/ObjectCache.h"
+#include "llvm/ExecutionEngine/Orc/CompileUtils.h"
 #include "llvm/ExecutionEngine/Orc/ExecutionUtils.h"
 #include "llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h"
 #include "llvm/ExecutionEngine/Orc/LLJIT.h"
@@ -11,13 +13,16 @@
 #include "llvm/IR/Module.h"
 #include "llvm/IR/Verifier.h"
 #include "llvm/Passes/PassBuilder.h"
+#include "llvm/Support/MemoryBuffer.h"
 #include "llvm/Support/TargetSelect.h"
 #include "llvm/Support/raw_ostream.h"
 #include "llvm/Target/TargetMachine.h"
 #include "llvm/TargetParser/Host.h"
 #include "llvm/Transforms/Utils/Cloning.h"
 
+#include <algorithm>
 #include <mutex>
+#include <vector>
 
 namespace osl {
 
@@ -70,11 +75,62 @@ llvm::Error verify(llvm::Module &module) {
   return llvm::Error::success();
 }
 
+/// This thread's host TargetMachine. Creating one (and its subtarget's
+/// lowering tables) costs a few ms, more than codegen of a small kernel, so
+/// each thread makes one and every compile on that thread reuses it;
+/// TargetMachines are not shared between threads.
+llvm::Expected<llvm::TargetMachine &> threadTargetMachine() {
+  thread_local std::unique_ptr<llvm::TargetMachine> machine;
+  if (!machine) {
+    auto builder = hostBuilder();
+    if (!builder)
+      return builder.takeError();
+    auto tm = builder->createTargetMachine();
+    if (!tm)
+      return tm.takeError();
+    machine = std::move(*tm);
+  }
+  return *machine;
+}
+
+/// LLJIT's compile step on the calling thread's TargetMachine (LLJIT
+/// compiles on the thread that looks a symbol up).
+class ThreadMachineCompiler : public llvm::orc::IRCompileLayer::IRCompiler {
+public:
+  ThreadMachineCompiler(llvm::TargetMachine &tm, llvm::ObjectCache *keeper)
+      : IRCompiler(llvm::orc::irManglingOptionsFromTargetOptions(tm.Options)),
+        keeper(keeper) {}
+  llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>>
+  operator()(llvm::Module &module) override {
+    auto tm = threadTargetMachine();
+    if (!tm)
+      return tm.takeError();
+    return llvm::orc::SimpleCompiler(*tm, keeper)(module);
+  }
+
+private:
+  llvm::ObjectCache *keeper;
+};
+
 } // namespace
+
+/// Copies each object file codegen produces; never supplies one (a cached
+/// object is added with addObject, after the cache has checked it).
+class Jit::ObjectKeeper : public llvm::ObjectCache {
+public:
+  void notifyObjectCompiled(const llvm::Module *,
+                            llvm::MemoryBufferRef object) override {
+    last.assign(object.getBufferStart(), object.getBufferEnd());
+  }
+  std::unique_ptr<llvm::MemoryBuffer> getObject(const llvm::Module *) override {
+    return nullptr;
+  }
+  std::string last;
+};
 
 Jit::~Jit() = default;
 
-llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats) {
+llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats, bool keepObject) {
   ScopedTimer timer(stats, "jit setup");
   auto builder = hostBuilder();
   if (!builder)
@@ -82,16 +138,27 @@ llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats) {
 
   std::unique_ptr<Jit> jit(new Jit());
   jit->stats = stats;
-  // A second TargetMachine from the same builder: the LLJIT owns its own
-  // (used for codegen), this one serves the optimizer's cost model.
-  auto tm = builder->createTargetMachine();
+  // The optimizer's cost model and codegen use the calling thread's
+  // machine; this one is for targetMachine().
+  auto tm = threadTargetMachine();
   if (!tm)
     return tm.takeError();
-  jit->tm = std::move(*tm);
+  jit->tm = &*tm;
 
-  auto lljit = llvm::orc::LLJITBuilder()
-                   .setJITTargetMachineBuilder(std::move(*builder))
-                   .create();
+  llvm::orc::LLJITBuilder lljitBuilder;
+  lljitBuilder.setJITTargetMachineBuilder(std::move(*builder));
+  if (keepObject)
+    jit->keeper = std::make_unique<ObjectKeeper>();
+  ObjectKeeper *keeper = jit->keeper.get();
+  lljitBuilder.setCompileFunctionCreator(
+      [keeper](llvm::orc::JITTargetMachineBuilder)
+          -> llvm::Expected<std::unique_ptr<llvm::orc::IRCompileLayer::IRCompiler>> {
+        auto tm = threadTargetMachine();
+        if (!tm)
+          return tm.takeError();
+        return std::make_unique<ThreadMachineCompiler>(*tm, keeper);
+      });
+  auto lljit = lljitBuilder.create();
   if (!lljit)
     return lljit.takeError();
   jit->lljit = std::move(*lljit);
@@ -107,8 +174,11 @@ llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats) {
   return jit;
 }
 
-llvm::Error Jit::optimize(llvm::Module &module) {
-  ScopedTimer timer(stats, "llvm O3");
+llvm::Error Jit::optimize(llvm::Module &module, LlvmPipeline pipeline) {
+  ScopedTimer timer(stats, "llvm opt");
+  auto tm = threadTargetMachine();
+  if (!tm)
+    return tm.takeError();
   retarget(module, *tm);
   if (llvm::Error err = verify(module))
     return err;
@@ -117,14 +187,25 @@ llvm::Error Jit::optimize(llvm::Module &module) {
   llvm::FunctionAnalysisManager fam;
   llvm::CGSCCAnalysisManager cgam;
   llvm::ModuleAnalysisManager mam;
-  llvm::PassBuilder builder(tm.get());
+  llvm::PassBuilder builder(&*tm);
   builder.registerModuleAnalyses(mam);
   builder.registerCGSCCAnalyses(cgam);
   builder.registerFunctionAnalyses(fam);
   builder.registerLoopAnalyses(lam);
   builder.crossRegisterProxies(lam, fam, cgam, mam);
-  llvm::ModulePassManager mpm =
-      builder.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O3);
+  llvm::ModulePassManager mpm;
+  if (pipeline == LlvmPipeline::O3) {
+    mpm = builder.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O3);
+  } else {
+    // Allocas of runtime-call blocks to registers where possible, then
+    // clean-ups of the lowering's output; LICM hoists uniform work out of
+    // loops the front end could not prove invariant.
+    if (llvm::Error err = builder.parsePassPipeline(
+            mpm, "function(sroa,early-cse<memssa>,instcombine<no-verify-fixpoint>,"
+                 "simplifycfg,loop-mssa(licm),instcombine<no-verify-fixpoint>,"
+                 "simplifycfg)"))
+      return err;
+  }
   mpm.run(module, mam);
   return llvm::Error::success();
 }
@@ -138,6 +219,15 @@ llvm::Error Jit::addModule(std::unique_ptr<llvm::Module> module,
     module->setTargetTriple(lljit->getTargetTriple().str());
   return lljit->addIRModule(
       llvm::orc::ThreadSafeModule(std::move(module), std::move(context)));
+}
+
+llvm::Error Jit::addObject(std::unique_ptr<llvm::MemoryBuffer> object) {
+  ScopedTimer timer(stats, "jit add");
+  return lljit->addObjectFile(std::move(object));
+}
+
+llvm::StringRef Jit::compiledObject() const {
+  return keeper ? llvm::StringRef(keeper->last) : llvm::StringRef();
 }
 
 llvm::Error
@@ -195,6 +285,18 @@ int Jit::hostMaxWidth() {
   if (has("avx2"))
     return 8;
   return 4;
+}
+
+std::string Jit::hostDescription() {
+  std::string text = llvm::sys::getProcessTriple() + " " + llvm::sys::getHostCPUName().str();
+  // StringMap iterates in hash order; sort so equal hosts give equal text.
+  std::vector<std::string> features;
+  for (const auto &f : llvm::sys::getHostCPUFeatures())
+    features.push_back((f.getValue() ? "+" : "-") + f.getKey().str());
+  std::sort(features.begin(), features.end());
+  for (const std::string &f : features)
+    text += " " + f;
+  return text;
 }
 
 } // namespace osl

@@ -6,8 +6,21 @@
 #include "llvm/Support/raw_ostream.h"
 
 #include <algorithm>
+#include <chrono>
+#include <ctime>
 
 namespace osl {
+
+double Stats::now(Clock clock) {
+  if (clock == Clock::ThreadCpu) {
+    timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+  }
+  return std::chrono::duration<double>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
 
 void Stats::add(const std::string &name, double seconds) {
   for (auto &stage : stages)

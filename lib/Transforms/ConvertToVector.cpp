@@ -582,6 +582,25 @@ struct StringConstantLowering : public OslPattern<StringConstantOp> {
   }
 };
 
+/// osl.count_lanes: the number of set lanes goes to the runtime's lane
+/// statistics (osl_rt_count_lanes, OslRuntime/LaneStats.h).
+struct CountLanesLowering : public OslPattern<CountLanesOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(CountLanesOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    Type i32 = rewriter.getI32Type();
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_count_lanes",
+                                                 LLVM::LLVMVoidType::get(getContext()),
+                                                 {i32});
+    Value bits = maskBits(rewriter, loc, adaptor.getMask());
+    Value count = rewriter.create<LLVM::CtPopOp>(loc, i32, bits);
+    rewriter.create<LLVM::CallOp>(loc, callee, ValueRange{count});
+    rewriter.eraseOp(op);
+    return success();
+  }
+};
+
 /// osl.string_call: the operands' lanes go to a block of 32-bit rows
 /// (OslRuntime/StringCall.h), osl_rt_string_call runs the active lanes and
 /// the result row is read back. Uniform operands and result: one lane.
@@ -891,7 +910,8 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
   LANE(PowOp, pow); LANE(FmodOp, fmod); LANE(StepOp, step); LANE(MixOp, mix);
   LANE(ClampOp, clamp); LANE(SmoothStepOp, smoothstep); LANE(SelectOp, select);
 #undef LANE
-  patterns.add<GlobalLowering, BatchMaskLowering, AnyLowering, BroadcastLowering,
+  patterns.add<GlobalLowering, BatchMaskLowering, AnyLowering, CountLanesLowering,
+               BroadcastLowering,
                CmpLowering, ConvertLowering, ConstructLowering, ExtractLowering,
                InsertLowering, GeometryLowering<DotOp>, GeometryLowering<LengthOp>,
                GeometryLowering<DistanceOp>, GeometryLowering<CrossOp>,

@@ -31,8 +31,8 @@ namespace {
 
 class MaskStackBuilder {
 public:
-  MaskStackBuilder(func::FuncOp func, int skipThreshold)
-      : func(func), skipThreshold(skipThreshold) {}
+  MaskStackBuilder(func::FuncOp func, int skipThreshold, bool countLanes)
+      : func(func), skipThreshold(skipThreshold), countLanes(countLanes) {}
 
   LogicalResult run() { return processBlock(func.getBody().front(), Value()); }
 
@@ -120,6 +120,7 @@ private:
   /// would see, and the merge never picks them for those lanes.
   SmallVector<Value> inlineArm(IfOp op, Block &arm, Value armMask) {
     auto yield = cast<YieldOp>(arm.getTerminator());
+    countActiveLanes(arm, op.getLoc(), armMask);
     SmallVector<Value> values(yield.getValues());
     Block *parent = op->getBlock();
     if (!worthSkipping(arm)) {
@@ -153,6 +154,16 @@ private:
       if (auto *it = llvm::find(inner, v); it != inner.end())
         v = guard.getResult(it - inner.begin());
     return values;
+  }
+
+  /// With count-lanes, `block` starts by counting the batch's shading
+  /// points among `mask`'s lanes; ops built here dominate the whole block.
+  void countActiveLanes(Block &block, Location loc, Value mask) {
+    if (!countLanes)
+      return;
+    OpBuilder b = OpBuilder::atBlockBegin(&block);
+    Value active = b.create<AndOp>(loc, batchMask(), mask);
+    b.create<CountLanesOp>(loc, active);
   }
 
   /// Loops, the library calls that expand to hundreds of operations
@@ -247,6 +258,7 @@ private:
     if (failed(processBlock(before, beforeMask)) ||
         failed(processBlock(after, afterMask)))
       return failure();
+    countActiveLanes(after, loc, afterMask);
 
     auto cond = cast<ConditionOp>(before.getTerminator());
     // Lanes that left are frozen by re-yielding what the condition forwarded,
@@ -290,6 +302,7 @@ private:
 
   func::FuncOp func;
   int skipThreshold;
+  bool countLanes;
   Value entryMask;
 };
 
@@ -297,7 +310,7 @@ struct InsertMaskStackPass
     : public mlir::osl::impl::InsertMaskStackBase<InsertMaskStackPass> {
   using InsertMaskStackBase::InsertMaskStackBase;
   void runOnOperation() override {
-    if (failed(MaskStackBuilder(getOperation(), skipThreshold).run()))
+    if (failed(MaskStackBuilder(getOperation(), skipThreshold, countLanes).run()))
       signalPassFailure();
   }
 };

@@ -24,7 +24,7 @@ struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
 
 void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
                                        const std::string &paramValues, bool reference,
-                                       MathLevel math) {
+                                       bool countLanes, MathLevel math) {
   OpPassManager &fn = pm.nest<func::FuncOp>();
   fn.addPass(createBindParams(BindParamsOptions{paramValues}));
   fn.addPass(createCanonicalizerPass());
@@ -32,7 +32,9 @@ void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
     fn.addPass(createUniformReference());
   else
     fn.addPass(createVaryingPropagation());
-  fn.addPass(createInsertMaskStack());
+  InsertMaskStackOptions maskOptions;
+  maskOptions.countLanes = countLanes;
+  fn.addPass(createInsertMaskStack(maskOptions));
   fn.addPass(createLaneGroupFilter());
   ConvertToVectorOptions vectorOptions;
   vectorOptions.width = reference ? 1 : width;
@@ -54,6 +56,6 @@ void mlir::osl::registerOslPasses() {
   PassPipelineRegistration<OslToLLVMOptions>(
       "osl-to-llvm", "Lower an osl shader to an LLVM-dialect batch kernel",
       [](OpPassManager &pm, const OslToLLVMOptions &options) {
-        buildOslToLLVMPipeline(pm, options.width, "", false, options.math);
+        buildOslToLLVMPipeline(pm, options.width, "", false, false, options.math);
       });
 }

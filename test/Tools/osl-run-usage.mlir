@@ -8,7 +8,7 @@
 // RUN: not osl-run %t.does-not-exist.osl 2>&1 | FileCheck %s --check-prefix=MISSING
 // RUN: not osl-run %shaders/marble.osl -g 8 8 -o nosuch %t.png 2>&1 | FileCheck %s --check-prefix=OUTPUT
 // RUN: not osl-run %shaders/marble.osl -g 8 8 --param nosuch 1 2>&1 | FileCheck %s --check-prefix=PARAM
-// RUN: osl-run %shaders/marble.osl -g 8 8 -o Cout %t.exr --stats 2>&1 | FileCheck %s --check-prefix=STATS
+// RUN: osl-run %shaders/marble.osl -g 8 8 -o Cout %t.exr --stats --no-cache 2>&1 | FileCheck %s --check-prefix=STATS
 // USAGE: usage: osl-run SHADER.osl [options]
 // WIDTH: osl-run: error: --width must be 1, 4, 8 or 16
 // MATH: osl-run: error: --math must be fast, default, precise or double (got 'bogus')
@@ -19,6 +19,6 @@
 // PARAM: error: {{.*}}nosuch
 // STATS: front end
 // STATS: mlir passes
-// STATS: llvm O3
+// STATS: llvm opt
 // STATS: shading
 // STATS: ns per point

@@ -365,3 +365,17 @@ func.func @string_call() {
   osl.output "n" = %n : i32
   return
 }
+
+// -----
+
+// osl.count_lanes: the set lanes of the mask, counted, go to the runtime.
+// CHECK-LABEL: osl.shader_name = "count_lanes"
+// CHECK: %[[BITS:.+]] = llvm.bitcast %{{.+}} : vector<8xi1> to i8
+// CHECK: %[[WIDE:.+]] = arith.extui %[[BITS]] : i8 to i32
+// CHECK: %[[N:.+]] = llvm.intr.ctpop(%[[WIDE]]) : (i32) -> i32
+// CHECK: llvm.call @osl_rt_count_lanes(%[[N]]) : (i32) -> ()
+func.func @count_lanes() {
+  %m = osl.batch_mask : !osl.varying<i1>
+  osl.count_lanes %m : !osl.varying<i1>
+  return
+}

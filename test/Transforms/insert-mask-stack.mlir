@@ -1,4 +1,5 @@
 // RUN: osl-opt %s -split-input-file --osl-insert-mask-stack | FileCheck %s
+// RUN: osl-opt %s -split-input-file --osl-insert-mask-stack=count-lanes=true | FileCheck %s --check-prefix=COUNT
 
 // Both arms run for every lane and the results merge per lane.
 // CHECK-LABEL: func.func @varying_if_becomes_select
@@ -444,5 +445,45 @@ func.func @empty_arm_is_skipped(%c: !osl.varying<i1>, %n: !osl.varying<f32>, %x:
     osl.yield %x : !osl.varying<f32>
   }
   osl.output "x" = %r : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// With count-lanes, each arm of a varying if and each iteration of a
+// varying loop starts by counting its mask's lanes among the batch's
+// shading points; without it nothing is counted.
+// CHECK-LABEL: func.func @count_lanes_in_masked_blocks
+// CHECK-NOT: osl.count_lanes
+// COUNT-LABEL: func.func @count_lanes_in_masked_blocks
+// COUNT: %[[BATCH:.+]] = osl.batch_mask : !osl.varying<i1>
+// COUNT: osl.count_lanes %{{.+}} : !osl.varying<i1>
+// COUNT-NEXT: osl.sin
+// COUNT-NEXT: %[[ELSE:.+]] = osl.and %[[BATCH]], %{{.+}}
+// COUNT-NEXT: osl.count_lanes %[[ELSE]] : !osl.varying<i1>
+// COUNT-NEXT: osl.cos
+// COUNT: } do {
+// COUNT-NEXT: ^bb0(%{{.+}}: !osl.varying<f32>, %[[M:.+]]: !osl.varying<i1>):
+// COUNT-NEXT: %[[ITER:.+]] = osl.and %[[BATCH]], %[[M]]
+// COUNT-NEXT: osl.count_lanes %[[ITER]] : !osl.varying<i1>
+func.func @count_lanes_in_masked_blocks(%c: !osl.varying<i1>, %a: !osl.varying<f32>, %n: !osl.varying<f32>) {
+  %r = osl.if %c : !osl.varying<i1> -> !osl.varying<f32> {
+    %s = osl.sin %a : !osl.varying<f32> -> !osl.varying<f32>
+    osl.yield %s : !osl.varying<f32>
+  } else {
+    %k = osl.cos %a : !osl.varying<f32> -> !osl.varying<f32>
+    osl.yield %k : !osl.varying<f32>
+  }
+  %w = osl.while (%r : !osl.varying<f32>) -> !osl.varying<f32> cond {
+  ^bb0(%v: !osl.varying<f32>):
+    %lt = osl.cmp "lt", %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+    osl.condition %lt : !osl.varying<i1>, %v : !osl.varying<f32>
+  } do {
+  ^bb0(%v: !osl.varying<f32>):
+    %one = arith.constant 1.0 : f32
+    %v2 = osl.add %v, %one : !osl.varying<f32>, f32 -> !osl.varying<f32>
+    osl.yield %v2 : !osl.varying<f32>
+  }
+  osl.output "x" = %w : !osl.varying<f32>
   return
 }

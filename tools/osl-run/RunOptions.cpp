@@ -7,6 +7,8 @@
 //===----------------------------------------------------------------------===//
 #include "RunOptions.h"
 
+#include "OslCompiler/KernelCache.h"
+
 #include <cstdlib>
 #include <cstring>
 
@@ -45,7 +47,19 @@ const char *const osl::kUsage =
     "  -t N                   threads (default: all cores)\n"
     "  --iters N              shade the grid N times, write once\n"
     "  --texture-cache-mb N   size of the shared texture cache\n"
-    "  --stats                time of each compile stage and of shading\n"
+    "  --cache-dir DIR        keep compiled kernels in DIR, so a second run\n"
+    "                         with the same source and options compiles\n"
+    "                         nothing (default: $OSL_MLIR_CACHE_DIR, else\n"
+    "                         ~/.cache/osl-mlir)\n"
+    "  --no-cache             always compile; read and write no cache\n"
+    "  --llvm-pipeline=kernel|O3\n"
+    "                         LLVM passes before codegen: the clean-ups a\n"
+    "                         vectorized kernel needs (default), or all of O3\n"
+    "  --lane-stats           count the active lanes of every masked block\n"
+    "                         (varying if arms, varying loop iterations) and\n"
+    "                         print their mean fraction\n"
+    "  --stats                time of each compile stage and of shading,\n"
+    "                         and whether the kernel cache was used\n"
     "  --emit=mlir|lowered|llvm|asm\n"
     "                         print the front end's osl dialect, the lowered\n"
     "                         LLVM dialect, optimized LLVM IR or assembly,\n"
@@ -149,6 +163,26 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       o.grid.varyVdxdy = true;
     } else if (a == "--vary_pdxdy") {
       o.grid.varyPdxdy = true;
+    } else if (a == "--cache-dir") {
+      if (!need(i, 1, "--cache-dir"))
+        return false;
+      o.compile.cacheDir = argv[++i];
+      if (o.compile.cacheDir.empty()) {
+        error = "--cache-dir needs a directory";
+        return false;
+      }
+      o.cacheDirGiven = true;
+    } else if (a.rfind("--llvm-pipeline=", 0) == 0) {
+      std::string v = a.substr(16);
+      if (v != "kernel" && v != "O3") {
+        error = "--llvm-pipeline must be kernel or O3";
+        return false;
+      }
+      o.compile.llvmPipeline = v == "O3" ? LlvmPipeline::O3 : LlvmPipeline::Kernel;
+    } else if (a == "--lane-stats") {
+      o.compile.countLanes = true;
+    } else if (a == "--no-cache") {
+      o.noCache = true;
     } else if (a == "--stats") {
       o.stats = true;
     } else if (a.rfind("--emit=", 0) == 0) {
@@ -176,5 +210,13 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
   }
   if (!o.gridGiven)
     o.grid.xres = o.grid.yres = 512;
+  if (o.noCache && o.cacheDirGiven) {
+    error = "--cache-dir and --no-cache contradict each other";
+    return false;
+  }
+  if (o.noCache)
+    o.compile.cacheDir.clear();
+  else if (!o.cacheDirGiven)
+    o.compile.cacheDir = KernelCache::defaultDirectory();
   return true;
 }

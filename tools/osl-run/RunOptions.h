@@ -22,6 +22,9 @@ struct RunOptions {
   /// The shared texture cache's size in MB (0: OpenImageIO's default).
   int textureCacheMB = 0;
   std::string emit; // "", "mlir", "lowered", "llvm", "asm"
+  /// --no-cache: compile even if the kernel cache has the kernel.
+  bool noCache = false;
+  bool cacheDirGiven = false;
 };
 
 /// testshade-style arguments. On error returns false with a message.

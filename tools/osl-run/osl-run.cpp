@@ -8,6 +8,7 @@
 #include "RunOptions.h"
 
 #include "OslRuntime/ImageOutput.h"
+#include "OslRuntime/LaneStats.h"
 #include "OslRuntime/StringCall.h"
 #include "OslRuntime/TextureCall.h"
 #include "OslRuntime/ThreadPool.h"
@@ -52,6 +53,51 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
   return true;
 }
 
+/// --emit: runs the compile stages up to the one asked for and prints its
+/// result. False after an error.
+bool emit(ShaderCompiler &compiler, const RunOptions &options, llvm::StringRef source,
+          Stats *statsPtr) {
+  if (!compiler.parse(source, options.shaderPath))
+    return false;
+  if (options.emit == "mlir") {
+    compiler.module().print(llvm::outs());
+    return true;
+  }
+  if (!compiler.lower())
+    return false;
+  if (options.emit == "lowered") {
+    compiler.module().print(llvm::outs());
+    return true;
+  }
+  if (!compiler.translate())
+    return false;
+  if (options.emit == "llvm") {
+    compiler.llvmModule()->print(llvm::outs(), nullptr);
+    return true;
+  }
+  auto asmText = Jit::emitAssembly(*compiler.llvmModule(), statsPtr);
+  if (!asmText) {
+    fail(llvm::toString(asmText.takeError()));
+    return false;
+  }
+  llvm::outs() << *asmText;
+  return true;
+}
+
+const char *cacheUseText(CacheUse use) {
+  switch (use) {
+  case CacheUse::Off:
+    return "off";
+  case CacheUse::Hit:
+    return "hit (nothing compiled)";
+  case CacheUse::Miss:
+    return "miss (compiled and stored)";
+  case CacheUse::Rebuilt:
+    return "corrupt or stale entry, compiled and replaced";
+  }
+  return "";
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -79,34 +125,16 @@ int main(int argc, char **argv) {
   Stats stats;
   Stats *statsPtr = options.stats ? &stats : nullptr;
   ShaderCompiler compiler(options.compile, llvm::errs(), statsPtr);
-  if (!compiler.parse((*buffer)->getBuffer(), options.shaderPath))
+  std::unique_ptr<CompiledShader> shader;
+  if (options.emit.empty()) {
+    shader = compiler.compile((*buffer)->getBuffer(), options.shaderPath);
+    if (!shader)
+      return 1;
+  } else if (!emit(compiler, options, (*buffer)->getBuffer(), statsPtr)) {
     return 1;
-  if (options.emit == "mlir") {
-    compiler.module().print(llvm::outs());
+  } else {
     return 0;
   }
-  if (!compiler.lower())
-    return 1;
-  if (options.emit == "lowered") {
-    compiler.module().print(llvm::outs());
-    return 0;
-  }
-  if (!compiler.translate())
-    return 1;
-  if (options.emit == "llvm") {
-    compiler.llvmModule()->print(llvm::outs(), nullptr);
-    return 0;
-  }
-  if (options.emit == "asm") {
-    auto asmText = Jit::emitAssembly(*compiler.llvmModule(), statsPtr);
-    if (!asmText)
-      return fail(llvm::toString(asmText.takeError()));
-    llvm::outs() << *asmText;
-    return 0;
-  }
-  std::unique_ptr<CompiledShader> shader = compiler.load();
-  if (!shader)
-    return 1;
 
   std::vector<std::pair<size_t, std::string>> files;
   if (!resolveOutputs(options, *shader, files, error))
@@ -119,8 +147,9 @@ int main(int argc, char **argv) {
   ShadeResult result;
   double shading = 0;
   for (int i = 0; i < options.iters; ++i) {
-    result = shadeGrid(shader->kernel, shader->width, shader->outputs,
-                       options.grid, pool);
+    // One set of images, allocated and paged in by the first pass.
+    shadeGridInto(result, shader->kernel, shader->width, shader->outputs,
+                  options.grid, pool);
     shading += result.seconds;
   }
   stats.add("shading", shading);
@@ -136,12 +165,20 @@ int main(int argc, char **argv) {
         return fail("cannot write '" + file + "': " + error);
     }
   }
+  if (options.compile.countLanes) {
+    // Summed over every pass: --iters repeats the same work.
+    LaneStats lanes = laneStats();
+    llvm::outs() << "lane stats: " << lanes.blocks << " masked blocks executed, "
+                 << llvm::format("%.1f%%", 100.0 * lanes.meanActiveFraction(shader->width))
+                 << " of " << shader->width << " lanes active on average\n";
+  }
   if (options.stats) {
     llvm::errs() << "shader " << shader->name << ", width " << shader->width
                  << ", grid " << options.grid.xres << "x" << options.grid.yres
                  << ", " << pool.size() << " thread(s), " << options.iters
                  << " iteration(s)\n";
     stats.print(llvm::errs());
+    llvm::errs() << "kernel cache: " << cacheUseText(compiler.cacheUse()) << "\n";
     double points = double(options.grid.xres) * options.grid.yres * options.iters;
     llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
   }
