@@ -6,7 +6,8 @@ if [ "$(id -u)" != 0 ]; then SUDO=sudo; fi
 PKGS=(cmake ninja-build ccache pkg-config python3
       clang-19 lld-19 llvm-19-dev llvm-19-tools libmlir-19-dev mlir-19-tools
       libclang-rt-19-dev
-      libopenimageio-dev openimageio-tools libgtest-dev libopenvdb-dev libboost-dev)
+      libopenimageio-dev openimageio-tools libgtest-dev libopenvdb-dev libboost-dev
+      python3-matplotlib)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

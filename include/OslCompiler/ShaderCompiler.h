@@ -16,6 +16,7 @@
 #include "OslRuntime/Grid.h"
 #include "OslRuntime/Jit.h"
 #include "OslRuntime/Stats.h"
+#include "OslTransforms/Passes.h"
 
 #include "mlir/IR/MLIRContext.h"
 #include "mlir/IR/OwningOpRef.h"
@@ -40,6 +41,10 @@ struct CompileOptions {
   /// Reference mode (osl-run --interpret): one point at a time with
   /// ordinary branches and no masks; implies width 1.
   bool reference = false;
+  /// How math functions are computed (osl-run --math=): `Default`
+  /// reproduces OSL, `Fast` uses MLIR's approximations, `Precise` is within
+  /// 1 ULP. Bit-identical across widths at each level.
+  mlir::osl::MathLevel math = mlir::osl::MathLevel::Default;
   /// The renderer's image (testshade: the -g grid), which fixes the
   /// "screen", "NDC" and "raster" spaces.
   mlir::osl::CameraImage camera;

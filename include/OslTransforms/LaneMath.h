@@ -27,6 +27,12 @@ inline constexpr const char *kDualRuleNone = "none";
 /// Marks loads that are not shader globals (constant tables, texture
 /// results): osl-derivatives gives them no derivative.
 inline constexpr const char *kNoDerivativeAttr = "osl.no_derivative";
+/// Marks the arithmetic steps of one library function built from several
+/// ops (sinh from exp, asin from atan2 and sqrt, log10 as a scaled log...):
+/// at --math=precise they are evaluated in double together with the
+/// transcendental op they feed or follow, so the function is rounded once
+/// (MathLevels.cpp). Other levels ignore it.
+inline constexpr const char *kOneRoundingAttr = "osl.one_rounding";
 
 } // namespace mlir::osl
 

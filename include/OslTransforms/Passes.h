@@ -12,7 +12,24 @@
 #include "mlir/Pass/Pass.h"
 #include "mlir/Pass/PassManager.h"
 
+#include <optional>
+
 namespace mlir::osl {
+
+/// How math ops are computed (osl-approximate-math's `level`, osl-run's
+/// --math=). Every level gives bit-identical results at every width.
+enum class MathLevel {
+  Fast,       ///< per op the faster of OSL's and MLIR's; bounds in bench/MATH.md
+  Default,    ///< OSL's own algorithms: reproduces OSL's results
+  Precise,    ///< f64 libm per lane rounded to f32
+  Polynomial, ///< MLIR's approximations for every op (measured, not a --math)
+  Double,     ///< precise math and every float value in f64 (the reference
+              ///< for whole-shader errors; osl-evaluate-in-double)
+};
+/// "fast", "default", "precise" or "double" (osl-run's --math); nullopt
+/// otherwise.
+std::optional<MathLevel> parseMathLevel(llvm::StringRef name);
+const char *mathLevelName(MathLevel level);
 
 #define GEN_PASS_DECL
 #include "OslTransforms/Passes.h.inc"
@@ -20,10 +37,12 @@ namespace mlir::osl {
 /// The whole chain from front-end output to the LLVM dialect at `width`.
 /// `reference`: one point at a time with ordinary branches (width 1, no
 /// masks), the oracle of the differential tester. `countLanes`: masked
-/// blocks report their active lanes (osl-run --lane-stats).
+/// blocks report their active lanes (osl-run --lane-stats). `math`: how
+/// math ops are computed (osl-approximate-math's level; Double also runs
+/// osl-evaluate-in-double).
 void buildOslToLLVMPipeline(OpPassManager &pm, int width,
                             const std::string &paramValues = "", bool reference = false,
-                            bool countLanes = false);
+                            bool countLanes = false, MathLevel math = MathLevel::Default);
 
 /// Registers every pass and the `osl-to-llvm` pipeline with mlir-opt style
 /// tools.

@@ -113,15 +113,60 @@ def Derivatives : Pass<"osl-derivatives", "::mlir::ModuleOp"> {
 def ApproximateMath : Pass<"osl-approximate-math", "::mlir::ModuleOp"> {
   let summary = "Expand math ops into the arithmetic that computes them, before folding";
   let description = [{
-    sin, cos, tan, atan, atan2, exp, exp2, log, log2, log10 and pow become
-    OSL's own algorithms (OslMathApproximation.cpp), the other math ops
-    MLIR's polynomial approximations. It runs right after osl-derivatives
-    and before any canonicalization, because the math dialect's folders
-    evaluate constant operands with the host's libm: a value the optimizer
-    proves constant would otherwise differ from the same value computed at
-    run time (found by the differential tester, seed 7489).
+    `level` chooses how f32 math ops are computed (osl-run --math=):
+
+    * `default`: sin, cos, tan, atan, atan2, exp, exp2, log, log2, log10
+      and pow become OSL's own algorithms (OslMathApproximation.cpp), the
+      other math ops MLIR's polynomial approximations. Reproduces OSL.
+    * `fast`: per op, the faster of OSL's algorithm and MLIR's polynomial
+      approximation as measured by bench/osl-mathbench: OSL's for tan,
+      atan, atan2 and pow, MLIR's for the others (MathLevels.cpp);
+      measured bounds in bench/MATH.md.
+    * `precise`: each op evaluated in f64 by glibc's libm, one call per
+      lane, then rounded to f32: within 1 ULP of the correctly rounded
+      result.
+    * `polynomial`: MLIR's polynomial approximations for every op; not an
+      osl-run level, measured by bench/osl-mathbench as one implementation.
+    * `double`: as precise here; the osl-to-llvm pipeline then runs
+      osl-evaluate-in-double (the reference for whole-shader errors).
+
+    It runs right after osl-derivatives and before any canonicalization,
+    because the math dialect's folders evaluate constant operands with the
+    host's libm: a value the optimizer proves constant would otherwise
+    differ from the same value computed at run time (found by the
+    differential tester, seed 7489). Every level builds the same ops for
+    scalars and vectors of any width, so results are bit-identical across
+    widths.
   }];
-  let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::vector::VectorDialect"];
+  let options = [Option<"level", "level", "::mlir::osl::MathLevel",
+                        "::mlir::osl::MathLevel::Default",
+                        "how math ops are computed: fast, default or precise",
+                        [{::llvm::cl::values(
+                          clEnumValN(::mlir::osl::MathLevel::Fast, "fast",
+                                     "MLIR's polynomial approximations"),
+                          clEnumValN(::mlir::osl::MathLevel::Default, "default",
+                                     "OSL's (OIIO fast_*) algorithms"),
+                          clEnumValN(::mlir::osl::MathLevel::Precise, "precise",
+                                     "f64 libm per lane, rounded to f32"),
+                          clEnumValN(::mlir::osl::MathLevel::Polynomial, "polynomial",
+                                     "MLIR's polynomial approximations for every op"),
+                          clEnumValN(::mlir::osl::MathLevel::Double, "double",
+                                     "precise math; the pipeline evaluates in f64"))}]>];
+  let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::vector::VectorDialect",
+                           "::mlir::func::FuncDialect"];
+}
+
+def EvaluateInDouble : Pass<"osl-evaluate-in-double", "::mlir::ModuleOp"> {
+  let summary = "Compute every float value of the kernel in f64 (--math=double)";
+  let description = [{
+    The double-precision reference for a whole shader's error: runs after
+    osl-approximate-math at the precise level and turns every f32 value
+    (arithmetic, comparisons, selects, vector ops, loop-carried values) into
+    f64. Loads of globals and tables are extended (exactly), stores of
+    outputs rounded once, and a float reinterpreted as bits is rounded to
+    f32 first. Not a shading mode for images: a measuring instrument.
+  }];
+  let dependentDialects = ["::mlir::arith::ArithDialect"];
 }
 
 def LowerToLLVM : Pass<"osl-lower-to-llvm", "::mlir::ModuleOp"> {

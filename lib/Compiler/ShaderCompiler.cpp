@@ -88,7 +88,7 @@ bool ShaderCompiler::lower() {
   ScopedTimer timer(stats, "mlir passes");
   mlir::PassManager pm(&context);
   mlir::osl::buildOslToLLVMPipeline(pm, options.width, paramBindings(options.params),
-                                    options.reference, options.countLanes);
+                                    options.reference, options.countLanes, options.math);
   // Pass failures report through the context's diagnostics, with the
   // shader's file:line:col locations.
   mlir::ScopedDiagnosticHandler handler(&context, [&](mlir::Diagnostic &d) {
@@ -211,7 +211,8 @@ std::string ShaderCompiler::cacheKey(llvm::StringRef source, llvm::StringRef fil
   os << "osl-mlir kernel 1\ncompiler " << KernelCache::compilerIdentity()
      << "\nllvm " LLVM_VERSION_STRING "\nhost " << Jit::hostDescription()
      << "\nwidth " << options.width << "\nreference " << options.reference
-     << "\ncount lanes " << options.countLanes << "\nllvm pipeline "
+     << "\ncount lanes " << options.countLanes
+     << "\nmath " << mlir::osl::mathLevelName(options.math) << "\nllvm pipeline "
      << int(options.llvmPipeline)
      << "\ncolorspace " << options.colorSpace << "\ncamera " << options.camera.xres << " "
      << options.camera.yres << "\n";

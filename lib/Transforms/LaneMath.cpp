@@ -194,23 +194,30 @@ Value lane::tan(OpBuilder &b, Location loc, ValueRange x) {
   return b.create<math::TanOp>(loc, x[0]);
 }
 
+/// `v` is an internal step of a library function (kOneRoundingAttr).
+static Value oneRounding(Value v) {
+  if (Operation *op = v.getDefiningOp())
+    op->setAttr(kOneRoundingAttr, UnitAttr::get(op->getContext()));
+  return v;
+}
+
 static Value clampUnit(OpBuilder &b, Location loc, Value x) {
   return lane::clamp(b, loc, {x, cst(b, loc, x, -1), cst(b, loc, x, 1)});
 }
 /// sqrt(1 - x^2) as sqrt((1-x)(1+x)), accurate near |x| = 1.
 static Value cosOfAsin(OpBuilder &b, Location loc, Value x) {
   Value one = cst(b, loc, x, 1);
-  Value p = b.create<arith::MulFOp>(loc, b.create<arith::SubFOp>(loc, one, x),
-                                    b.create<arith::AddFOp>(loc, one, x));
-  return b.create<math::SqrtOp>(loc, p);
+  Value p = oneRounding(b.create<arith::MulFOp>(loc, oneRounding(b.create<arith::SubFOp>(loc, one, x)),
+                                          oneRounding(b.create<arith::AddFOp>(loc, one, x))));
+  return oneRounding(b.create<math::SqrtOp>(loc, p));
 }
 Value lane::asin(OpBuilder &b, Location loc, ValueRange x) {
   Value c = clampUnit(b, loc, x[0]);
-  return b.create<math::Atan2Op>(loc, c, cosOfAsin(b, loc, c));
+  return oneRounding(b.create<math::Atan2Op>(loc, c, cosOfAsin(b, loc, c)));
 }
 Value lane::acos(OpBuilder &b, Location loc, ValueRange x) {
   Value c = clampUnit(b, loc, x[0]);
-  return b.create<math::Atan2Op>(loc, cosOfAsin(b, loc, c), c);
+  return oneRounding(b.create<math::Atan2Op>(loc, cosOfAsin(b, loc, c), c));
 }
 Value lane::atan(OpBuilder &b, Location loc, ValueRange x) {
   return b.create<math::AtanOp>(loc, x[0]);
@@ -242,7 +249,7 @@ static Value logOfPositive(OpBuilder &b, Location loc, Value x, double scale,
   Value l = base2 ? b.create<math::Log2Op>(loc, safe).getResult()
                   : b.create<math::LogOp>(loc, safe).getResult();
   if (scale != 1.0)
-    l = b.create<arith::MulFOp>(loc, l, cst(b, loc, x, scale));
+    l = oneRounding(b.create<arith::MulFOp>(loc, l, cst(b, loc, x, scale)));
   return l;
 }
 Value lane::log(OpBuilder &b, Location loc, ValueRange x) {
@@ -260,12 +267,12 @@ Value lane::log10(OpBuilder &b, Location loc, ValueRange x) {
 /// e^x and e^-x from one exp, shared by sinh and cosh.
 static std::pair<Value, Value> expPair(OpBuilder &b, Location loc, Value x) {
   Value e = b.create<math::ExpOp>(loc, x);
-  return {e, b.create<arith::DivFOp>(loc, cst(b, loc, x, 1), e)};
+  return {e, oneRounding(b.create<arith::DivFOp>(loc, cst(b, loc, x, 1), e))};
 }
 Value lane::sinh(OpBuilder &b, Location loc, ValueRange x) {
   auto [e, inv] = expPair(b, loc, x[0]);
-  Value wide = b.create<arith::MulFOp>(loc, b.create<arith::SubFOp>(loc, e, inv),
-                                       cst(b, loc, x[0], 0.5));
+  Value wide = oneRounding(b.create<arith::MulFOp>(loc, oneRounding(b.create<arith::SubFOp>(loc, e, inv)),
+                                             cst(b, loc, x[0], 0.5)));
   Value x2 = b.create<arith::MulFOp>(loc, x[0], x[0]);
   // x + x^3/6 + x^5/120: below |x| = 2^-4 the next term is under 1 ULP.
   Value poly = b.create<arith::AddFOp>(
@@ -279,8 +286,8 @@ Value lane::sinh(OpBuilder &b, Location loc, ValueRange x) {
 }
 Value lane::cosh(OpBuilder &b, Location loc, ValueRange x) {
   auto [e, inv] = expPair(b, loc, x[0]);
-  return b.create<arith::MulFOp>(loc, b.create<arith::AddFOp>(loc, e, inv),
-                                 cst(b, loc, x[0], 0.5));
+  return oneRounding(b.create<arith::MulFOp>(loc, oneRounding(b.create<arith::AddFOp>(loc, e, inv)),
+                                       cst(b, loc, x[0], 0.5)));
 }
 Value lane::tanh(OpBuilder &b, Location loc, ValueRange x) {
   return b.create<math::TanhOp>(loc, x[0]);
@@ -308,8 +315,8 @@ Value lane::erf(OpBuilder &b, Location loc, ValueRange x) {
   return b.create<math::ErfOp>(loc, x[0]);
 }
 Value lane::erfc(OpBuilder &b, Location loc, ValueRange x) {
-  return b.create<arith::SubFOp>(loc, cst(b, loc, x[0], 1),
-                                 b.create<math::ErfOp>(loc, x[0]));
+  return oneRounding(b.create<arith::SubFOp>(loc, cst(b, loc, x[0], 1),
+                                       b.create<math::ErfOp>(loc, x[0])));
 }
 /// The binary exponent of max(|x|, FLT_MIN), read from the bits, so
 /// logb(0) = -126 as in OSL and exact powers of two are exact.

@@ -24,6 +24,7 @@
 // madd(a, b, c) is a*b + c rounded twice, as in OIIO without FMA.
 //
 //===----------------------------------------------------------------------===//
+#include "MathLevels.h"
 #include "OslTransforms/LaneMath.h"
 #include "OslTransforms/Passes.h"
 
@@ -227,28 +228,37 @@ namespace mlir::osl {
 namespace {
 struct ApproximateMathPass
     : public mlir::osl::impl::ApproximateMathBase<ApproximateMathPass> {
+  using ApproximateMathBase::ApproximateMathBase;
+
   void runOnOperation() override {
-    // OSL's algorithms, op by op: a pattern driver would fold constant
-    // operands with libm first, which is what this pass must avoid.
-    SmallVector<Operation *> ops;
-    getOperation().walk([&](Operation *op) {
-      if (op->getDialect() && isa<math::MathDialect>(op->getDialect()))
-        ops.push_back(op);
-    });
-    for (Operation *op : ops) {
-      OpBuilder b(op);
-      if (Value r = expandOslMath(b, op)) {
-        op->getResult(0).replaceAllUsesWith(r);
-        op->erase();
+    if (level == MathLevel::Precise || level == MathLevel::Double) {
+      if (failed(computeInDoubleWithLibm(getOperation())))
+        signalPassFailure();
+      return;
+    }
+    if (level == MathLevel::Fast || level == MathLevel::Polynomial)
+      guardFastMath(getOperation(), level == MathLevel::Fast);
+    if (level == MathLevel::Default || level == MathLevel::Fast) {
+      // OSL's algorithms, op by op: a pattern driver would fold constant
+      // operands with libm first, which is what this pass must avoid.
+      SmallVector<Operation *> ops;
+      getOperation().walk([&](Operation *op) {
+        if (op->getDialect() && isa<math::MathDialect>(op->getDialect()) &&
+            (level == MathLevel::Default || isOslFasterAt(op)))
+          ops.push_back(op);
+      });
+      for (Operation *op : ops) {
+        OpBuilder b(op);
+        if (Value r = expandOslMath(b, op)) {
+          op->getResult(0).replaceAllUsesWith(r);
+          op->erase();
+        }
       }
     }
-    // MLIR's approximations for the rest (erf, tanh...); these can still be
-    // folded on constant operands.
+    // MLIR's approximations for the rest (erf, tanh...; at `fast`, all);
+    // these can still be folded on constant operands.
     RewritePatternSet patterns(&getContext());
-    populateExpandTanPattern(patterns);
-    populateExpandExp2FPattern(patterns);
-    populateExpandPowFPattern(patterns);
-    populateMathPolynomialApproximationPatterns(patterns);
+    populateFastMathPatterns(patterns);
     if (failed(applyPatternsAndFoldGreedily(getOperation(), std::move(patterns))))
       signalPassFailure();
   }

@@ -10,12 +10,21 @@ namespace {
 struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
   Option<int> width{*this, "width", llvm::cl::desc("lanes per batch"),
                     llvm::cl::init(8)};
+  Option<osl::MathLevel> math{
+      *this, "math", llvm::cl::desc("how math ops are computed"),
+      llvm::cl::init(osl::MathLevel::Default),
+      llvm::cl::values(clEnumValN(osl::MathLevel::Fast, "fast", "MLIR's approximations"),
+                       clEnumValN(osl::MathLevel::Default, "default", "OSL's algorithms"),
+                       clEnumValN(osl::MathLevel::Precise, "precise",
+                                  "f64 libm per lane"),
+                       clEnumValN(osl::MathLevel::Double, "double",
+                                  "everything in f64 (reference)"))};
 };
 } // namespace
 
 void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
                                        const std::string &paramValues, bool reference,
-                                       bool countLanes) {
+                                       bool countLanes, MathLevel math) {
   OpPassManager &fn = pm.nest<func::FuncOp>();
   fn.addPass(createBindParams(BindParamsOptions{paramValues}));
   fn.addPass(createCanonicalizerPass());
@@ -32,7 +41,11 @@ void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
   vectorOptions.referenceMode = reference;
   pm.addPass(createConvertToVector(vectorOptions));
   pm.addPass(createDerivatives());
-  pm.addPass(createApproximateMath());
+  ApproximateMathOptions mathOptions;
+  mathOptions.level = math;
+  pm.addPass(createApproximateMath(mathOptions));
+  if (math == MathLevel::Double)
+    pm.addPass(createEvaluateInDouble());
   pm.addPass(createCanonicalizerPass());
   pm.addPass(createCSEPass());
   pm.addPass(createLowerToLLVM());
@@ -43,6 +56,6 @@ void mlir::osl::registerOslPasses() {
   PassPipelineRegistration<OslToLLVMOptions>(
       "osl-to-llvm", "Lower an osl shader to an LLVM-dialect batch kernel",
       [](OpPassManager &pm, const OslToLLVMOptions &options) {
-        buildOslToLLVMPipeline(pm, options.width);
+        buildOslToLLVMPipeline(pm, options.width, "", false, false, options.math);
       });
 }

@@ -27,6 +27,12 @@ const char *const osl::kUsage =
     "  --param:type=T NAME V  the same, with testshade's type annotation\n"
     "  --width N              lanes per batch: 1, 4, 8 or 16 (default: widest\n"
     "                         the CPU supports)\n"
+    "  --math=LEVEL           how math functions are computed: default\n"
+    "                         (OSL's own results), fast (the faster of OSL's\n"
+    "                         and MLIR's approximations) or precise (within\n"
+    "                         1 ULP); measured bounds in bench/MATH.md.\n"
+    "                         double: precise math and all arithmetic in f64\n"
+    "                         (a reference for measuring errors)\n"
     "  --center               shade pixel centres: u = (x+0.5)/X\n"
     "  -I DIR                 search DIR for #include files\n"
     "  --interpret            reference mode: one point at a time, ordinary\n"
@@ -129,6 +135,16 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         error = "--texture-cache-mb needs a positive size in MB";
         return false;
       }
+    } else if (a == "--math" || a.rfind("--math=", 0) == 0) {
+      if (a == "--math" && !need(i, 1, "--math"))
+        return false;
+      std::string v = a == "--math" ? std::string(argv[++i]) : a.substr(7);
+      auto level = mlir::osl::parseMathLevel(v);
+      if (!level) {
+        error = "--math must be fast, default, precise or double (got '" + v + "')";
+        return false;
+      }
+      o.compile.math = *level;
     } else if (a == "--center") {
       o.grid.center = true;
     } else if (a == "--interpret") {

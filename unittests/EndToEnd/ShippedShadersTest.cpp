@@ -1,8 +1,9 @@
 //===- ShippedShadersTest.cpp - Every shipped shader, every width ---------===//
 //
-// Each shader in shaders/ is compiled at widths 1, 4, 8 and 16 and shaded
-// on a 61x47 grid (not a multiple of 16, so the last batch is partial);
-// every output image must be bit-identical to width 1's.
+// Each shader in shaders/ is compiled at widths 1, 4, 8 and 16, at every
+// --math level, and shaded on a 61x47 grid (not a multiple of 16, so the
+// last batch is partial); every output image must be bit-identical to
+// width 1's at the same level.
 //
 //===----------------------------------------------------------------------===//
 #include "OslCompiler/ShaderCompiler.h"
@@ -29,7 +30,9 @@ std::vector<std::string> shippedShaders() {
   return paths;
 }
 
-ShadeResult shadeAt(const std::string &path, int width,
+using mlir::osl::MathLevel;
+
+ShadeResult shadeAt(const std::string &path, int width, MathLevel math,
                     std::vector<OutputSpec> &outputs) {
   auto buffer = llvm::MemoryBuffer::getFile(path);
   EXPECT_TRUE(bool(buffer)) << path;
@@ -37,6 +40,7 @@ ShadeResult shadeAt(const std::string &path, int width,
   llvm::raw_string_ostream errs(errors);
   CompileOptions options;
   options.width = width;
+  options.math = math;
   ShaderCompiler compiler(options, errs);
   std::unique_ptr<CompiledShader> shader =
       compiler.compile((*buffer)->getBuffer(), path);
@@ -51,11 +55,13 @@ ShadeResult shadeAt(const std::string &path, int width,
   return shadeGrid(shader->kernel, width, shader->outputs, grid);
 }
 
-class ShippedShader : public testing::TestWithParam<std::string> {};
+class ShippedShader
+    : public testing::TestWithParam<std::tuple<std::string, MathLevel>> {};
 
 TEST_P(ShippedShader, BitIdenticalAcrossWidths) {
+  auto [path, math] = GetParam();
   std::vector<OutputSpec> outputs;
-  ShadeResult scalar = shadeAt(GetParam(), 1, outputs);
+  ShadeResult scalar = shadeAt(path, 1, math, outputs);
   ASSERT_FALSE(scalar.images.empty());
   // An image that is one flat value would make the comparison vacuous.
   const std::vector<float> &first = scalar.images.front();
@@ -64,7 +70,7 @@ TEST_P(ShippedShader, BitIdenticalAcrossWidths) {
       << "first output is constant";
   for (int width : {4, 8, 16}) {
     std::vector<OutputSpec> wideOutputs;
-    ShadeResult wide = shadeAt(GetParam(), width, wideOutputs);
+    ShadeResult wide = shadeAt(path, width, math, wideOutputs);
     ASSERT_EQ(wide.images.size(), scalar.images.size());
     for (size_t o = 0; o < outputs.size(); ++o) {
       const auto &a = scalar.images[o], &b = wide.images[o];
@@ -78,9 +84,13 @@ TEST_P(ShippedShader, BitIdenticalAcrossWidths) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Shaders, ShippedShader, testing::ValuesIn(shippedShaders()),
-    [](const testing::TestParamInfo<std::string> &info) {
-      return std::filesystem::path(info.param).stem().string();
+    Shaders, ShippedShader,
+    testing::Combine(testing::ValuesIn(shippedShaders()),
+                     testing::Values(MathLevel::Fast, MathLevel::Default, MathLevel::Precise,
+                                     MathLevel::Double)),
+    [](const auto &info) {
+      return std::filesystem::path(std::get<0>(info.param)).stem().string() + "_" +
+             mlir::osl::mathLevelName(std::get<1>(info.param));
     });
 
 } // namespace
