@@ -65,24 +65,33 @@ def build_limit(out):
     return exes
 
 
-def limit_ratio(out, rounds):
+def limit_ratio(out, rounds, passes):
     section("1. marble against the hand-vectorized limit (1024x1024, 1 thread, best of %d "
             "interleaved rounds)" % rounds)
+    print("osl-mlir: whole-process time of %d passes minus that of 1 pass (each the best of "
+          "the rounds), per point and pass; in-process: the shading time --stats reports for "
+          "the %d passes" % (passes, passes))
     exes = build_limit(out)
     points = 1024 * 1024
-    best = {w: [float("inf"), float("inf")] for w in exes}
+    limit, one, many, inproc = ({w: float("inf") for w in exes} for _ in range(4))
     for _ in range(rounds):
         for w, exe in exes.items():
             m = re.search(r"ns/point ([0-9.]+)", run([exe]).stdout)
-            best[w][0] = min(best[w][0], float(m.group(1)))
+            limit[w] = min(limit[w], float(m.group(1)))
             base = [OSL_RUN, MARBLE, "-g", "1024", "1024", "-t", "1", "--width", str(w),
                     "-o", "Cout", "null"]
-            one = wall(base + ["--iters", "1"])
-            eleven = wall(base + ["--iters", "11"])
-            best[w][1] = min(best[w][1], (eleven - one) / 10 / points * 1e9)
-    print("%6s %12s %14s %8s" % ("width", "limit ns", "osl-mlir ns", "ratio"))
-    for w, (lim, ours) in best.items():
-        print("%6d %12.2f %14.2f %8.2f" % (w, lim, ours, ours / lim))
+            one[w] = min(one[w], wall(base + ["--iters", "1"]))
+            start = time.perf_counter()
+            err = run(base + ["--iters", str(passes), "--stats"]).stderr
+            many[w] = min(many[w], time.perf_counter() - start)
+            ns = float(re.search(r"shading: ([0-9.]+) ns per point", err).group(1))
+            inproc[w] = min(inproc[w], ns)
+    print("%6s %10s %14s %8s %14s %8s" % ("width", "limit ns", "osl-mlir ns", "ratio",
+                                           "in-process ns", "ratio"))
+    for w in exes:
+        ours = (many[w] - one[w]) / (passes - 1) / points * 1e9
+        print("%6d %10.2f %14.2f %8.2f %14.2f %8.2f" % (
+            w, limit[w], ours, ours / limit[w], inproc[w], inproc[w] / limit[w]))
 
 
 def shader_table():
@@ -173,6 +182,9 @@ def divergence():
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rounds", type=int, default=3, help="interleaved rounds (default 3)")
+    ap.add_argument("--passes", type=int, default=31,
+                    help="passes of the long osl-run in the limit comparison (default 31)")
+    ap.add_argument("--only", type=int, choices=range(1, 6), help="run one section")
     a = ap.parse_args()
     for tool in ("osl-run", "osl-bench", "osl-jit-bench"):
         if not os.path.exists(os.path.join(BIN, tool)):
@@ -183,11 +195,11 @@ def main():
     print("osl-mlir performance, %s, %s, %d cores" % (
         time.strftime("%Y-%m-%d %H:%M"), cpu.group(1) if cpu else "unknown CPU",
         os.cpu_count()))
-    limit_ratio(out, a.rounds)
-    shader_table()
-    jit(out)
-    scale(out, a.rounds)
-    divergence()
+    sections = [lambda: limit_ratio(out, a.rounds, a.passes), shader_table, lambda: jit(out),
+                lambda: scale(out, a.rounds), divergence]
+    for i, run_section in enumerate(sections, 1):
+        if a.only in (None, i):
+            run_section()
 
 
 if __name__ == "__main__":
