@@ -32,16 +32,6 @@ using namespace osl::math;
 
 namespace {
 
-/// Representable floats between a and b.
-int64_t floatSteps(float a, float b) {
-  auto ordered = [](float v) {
-    int32_t i;
-    std::memcpy(&i, &v, sizeof i);
-    return i < 0 ? int64_t(INT32_MIN) - i : int64_t(i);
-  };
-  return std::llabs(ordered(a) - ordered(b));
-}
-
 bool inRange(double ref) {
   double a = std::fabs(ref);
   return std::isfinite(ref) && (a == 0 || (a >= FLT_MIN && a <= 0x1p126));

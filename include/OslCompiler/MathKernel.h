@@ -16,6 +16,7 @@
 #include "llvm/Support/Error.h"
 
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -93,6 +94,18 @@ private:
   int w = 1;
   std::unique_ptr<Jit> jit;
 };
+
+/// Distance in representable floats between a and b (ULPs where they are
+/// the same size), counting across zero: floats are ordered as integers.
+inline int64_t floatSteps(float a, float b) {
+  auto ordered = [](float v) {
+    int32_t i;
+    std::memcpy(&i, &v, sizeof i);
+    return i < 0 ? int64_t(INT32_MIN) - i : int64_t(i);
+  };
+  int64_t d = ordered(a) - ordered(b);
+  return d < 0 ? -d : d;
+}
 
 } // namespace osl::math
 

@@ -375,24 +375,29 @@ llvm::Expected<std::unique_ptr<Kernel>> Kernel::compile(const Function &f, Impl 
   return kernel;
 }
 
-void Kernel::runPadded(const std::vector<float> &x, const std::vector<float> &y,
-                       std::vector<float> &out) const {
-  size_t n = x.size(), padded = (n + w - 1) / w * w;
+namespace {
+/// Runs `kernel` on inputs padded with 1s to a whole number of batches and
+/// keeps the first x.size() results (f32 kernels, or f64 for the double
+/// reference).
+template <typename Result>
+void runOnWholeBatches(const Kernel &kernel, const std::vector<float> &x,
+                       const std::vector<float> &y, std::vector<Result> &out) {
+  size_t n = x.size(), w = size_t(kernel.width()), padded = (n + w - 1) / w * w;
   std::vector<float> px(x), py(y);
   px.resize(padded, 1.0f);
   py.resize(padded, 1.0f);
-  out.assign(padded, 0.0f);
-  run(px.data(), py.data(), out.data(), int64_t(padded));
+  out.assign(padded, Result(0));
+  kernel.run(px.data(), py.data(), out.data(), int64_t(padded));
   out.resize(n);
+}
+} // namespace
+
+void Kernel::runPadded(const std::vector<float> &x, const std::vector<float> &y,
+                       std::vector<float> &out) const {
+  runOnWholeBatches(*this, x, y, out);
 }
 
 void Kernel::runReference(const std::vector<float> &x, const std::vector<float> &y,
                           std::vector<double> &out) const {
-  size_t n = x.size(), padded = (n + w - 1) / w * w;
-  std::vector<float> px(x), py(y);
-  px.resize(padded, 1.0f);
-  py.resize(padded, 1.0f);
-  out.assign(padded, 0.0);
-  run(px.data(), py.data(), out.data(), int64_t(padded));
-  out.resize(n);
+  runOnWholeBatches(*this, x, y, out);
 }

@@ -75,6 +75,14 @@ llvm::Error verify(llvm::Module &module) {
   return llvm::Error::success();
 }
 
+/// A new TargetMachine for the host.
+llvm::Expected<std::unique_ptr<llvm::TargetMachine>> createHostMachine() {
+  auto builder = hostBuilder();
+  if (!builder)
+    return builder.takeError();
+  return builder->createTargetMachine();
+}
+
 /// This thread's host TargetMachine. Creating one (and its subtarget's
 /// lowering tables) costs a few ms, more than codegen of a small kernel, so
 /// each thread makes one and every compile on that thread reuses it;
@@ -82,10 +90,7 @@ llvm::Error verify(llvm::Module &module) {
 llvm::Expected<llvm::TargetMachine &> threadTargetMachine() {
   thread_local std::unique_ptr<llvm::TargetMachine> machine;
   if (!machine) {
-    auto builder = hostBuilder();
-    if (!builder)
-      return builder.takeError();
-    auto tm = builder->createTargetMachine();
+    auto tm = createHostMachine();
     if (!tm)
       return tm.takeError();
     machine = std::move(*tm);
@@ -253,10 +258,7 @@ llvm::Expected<void *> Jit::lookup(llvm::StringRef name) {
 llvm::Expected<std::string> Jit::emitAssembly(llvm::Module &module,
                                               Stats *stats) {
   ScopedTimer timer(stats, "emit asm");
-  auto builder = hostBuilder();
-  if (!builder)
-    return builder.takeError();
-  auto tm = builder->createTargetMachine();
+  auto tm = createHostMachine();
   if (!tm)
     return tm.takeError();
 

@@ -66,13 +66,22 @@ TEST(KernelCacheTest, StoredEntryReadsBack) {
   EXPECT_EQ(cache.lookup("other key", entry), CacheLookup::Miss);
 }
 
-TEST(KernelCacheTest, EveryFlippedByteIsCorrupt) {
+/// A cache in a fresh directory with the sample entry stored under "key":
+/// `good` is its file's content, to damage in every way.
+class StoredSampleTest : public ::testing::Test {
+protected:
+  void SetUp() override {
+    std::string error;
+    ASSERT_TRUE(cache.store("key", sampleEntry(), error)) << error;
+    path = cache.pathFor("key");
+    good = readFile(path);
+  }
   TempDir dir;
-  KernelCache cache(dir.path);
-  std::string error;
-  ASSERT_TRUE(cache.store("key", sampleEntry(), error)) << error;
-  std::string path = cache.pathFor("key");
-  std::string good = readFile(path);
+  KernelCache cache{dir.path};
+  std::string path, good;
+};
+
+TEST_F(StoredSampleTest, EveryFlippedByteIsCorrupt) {
   for (size_t i = 0; i < good.size(); ++i) {
     std::string bad = good;
     bad[i] ^= 0x20;
@@ -82,13 +91,7 @@ TEST(KernelCacheTest, EveryFlippedByteIsCorrupt) {
   }
 }
 
-TEST(KernelCacheTest, EveryTruncationIsCorrupt) {
-  TempDir dir;
-  KernelCache cache(dir.path);
-  std::string error;
-  ASSERT_TRUE(cache.store("key", sampleEntry(), error)) << error;
-  std::string path = cache.pathFor("key");
-  std::string good = readFile(path);
+TEST_F(StoredSampleTest, EveryTruncationIsCorrupt) {
   for (size_t n = 0; n < good.size(); ++n) {
     writeFile(path, good.substr(0, n));
     CachedKernel entry;

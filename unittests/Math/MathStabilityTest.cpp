@@ -50,16 +50,6 @@ std::vector<float> eval(const Function &f, Impl impl, int width, const std::vect
   return out;
 }
 
-/// Distance in representable floats between a and b.
-int64_t floatSteps(float a, float b) {
-  auto ordered = [](float v) {
-    int32_t i;
-    std::memcpy(&i, &v, sizeof i);
-    return i < 0 ? int64_t(INT32_MIN) - i : int64_t(i);
-  };
-  return std::llabs(ordered(a) - ordered(b));
-}
-
 uint32_t bits(float v) {
   uint32_t u;
   std::memcpy(&u, &v, sizeof u);
