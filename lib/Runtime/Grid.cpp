@@ -6,6 +6,7 @@
 //===----------------------------------------------------------------------===//
 
 #include "OslRuntime/Grid.h"
+#include "OslRuntime/Closure.h"
 #include "OslRuntime/ThreadPool.h"
 
 #include <algorithm>
@@ -333,6 +334,8 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
       // A lane the kernel leaves unwritten must read 0, not whatever this
       // thread's previous batch left: that would depend on the schedule.
       std::fill(out, out + static_cast<size_t>(totalChannels) * width, 0.0f);
+      // Closures a batch builds (Ci) are not images: drop them per batch.
+      threadClosureArena().reset();
       kernel(g, out, nactive);
       for (size_t o = 0; o < outputs.size(); ++o) {
         int channels = outputs[o].channels;

@@ -33,11 +33,14 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
                     std::string &error) {
   auto requested = options.outputs;
   if (requested.empty()) {
-    if (shader.outputs.empty()) {
-      error = "shader '" + shader.name + "' has no output parameters";
+    auto image = std::find_if(shader.outputs.begin(), shader.outputs.end(),
+                              [](const OutputSpec &o) { return !o.closure; });
+    if (image == shader.outputs.end()) {
+      error = "shader '" + shader.name + "' has no output parameters" +
+              (shader.outputs.empty() ? "" : " (its Ci is a closure: render it with --scene)");
       return false;
     }
-    requested.push_back({shader.outputs.front().name, shader.name + ".png"});
+    requested.push_back({image->name, shader.name + ".png"});
   }
   for (auto &[name, file] : requested) {
     auto it = std::find_if(shader.outputs.begin(), shader.outputs.end(),
@@ -46,6 +49,10 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
       error = "shader '" + shader.name + "' has no output '" + name + "'; outputs:";
       for (const OutputSpec &o : shader.outputs)
         error += " " + o.name;
+      return false;
+    }
+    if (it->closure) {
+      error = "output '" + name + "' is a closure, not an image; render it with --scene";
       return false;
     }
     files.push_back({size_t(it - shader.outputs.begin()), file});
