@@ -123,6 +123,8 @@ int main(int argc, char **argv) {
     llvm::errs() << "osl-run: error: " << error << "\n" << kUsage;
     return 2;
   }
+  if (!options.scenePath.empty())
+    return renderScene(options);
   auto buffer = llvm::MemoryBuffer::getFile(options.shaderPath, /*IsText=*/true);
   if (!buffer)
     return fail("cannot read '" + options.shaderPath + "': " +
