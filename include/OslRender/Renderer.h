@@ -32,6 +32,9 @@ struct RenderOptions {
   /// Longest path (bounces); Russian roulette ends most paths earlier.
   int maxBounces = 64;
   bool progress = true;
+  /// Time the kernel calls (RenderStats::shadingSeconds); two clock reads
+  /// per batch.
+  bool timeShading = false;
 };
 
 struct RenderStats {
@@ -40,6 +43,7 @@ struct RenderStats {
   long batches = 0;
   double activeLaneFraction = 0; // shaded points / (batches x width)
   double seconds = 0;            // the render loop, shaders compiled already
+  double shadingSeconds = 0;     // in compiled kernels (summed over threads), if timed
 };
 
 class Renderer {

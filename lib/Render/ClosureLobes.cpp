@@ -12,6 +12,7 @@
 #include "OslRuntime/StringCall.h"
 
 #include <algorithm>
+#include <deque>
 
 namespace osl::render {
 namespace {
@@ -53,8 +54,19 @@ void addMicrofacet(ShadingResult &out, Vec3 w, Vec3 n, Vec3 u, int dist, float a
 void addClosure(const ClosureArena &arena, int32_t handle, const ShadingPoint &at,
                 ShadingResult &out, Vec3 scale) {
   bool backfacing = at.backfacing;
-  std::vector<ClosurePrimitive> prims;
+  // Reused per thread (layer() nests, so each depth has its own list).
+  static thread_local std::deque<std::vector<ClosurePrimitive>> lists; // stable references
+  static thread_local size_t depth = 0;
+  if (lists.size() <= depth)
+    lists.resize(depth + 1);
+  std::vector<ClosurePrimitive> &prims = lists[depth];
+  prims.clear();
   arena.flatten(handle, prims);
+  struct Nest {
+    size_t &d;
+    explicit Nest(size_t &d) : d(++d) {}
+    ~Nest() { --d; }
+  } nest(depth);
   for (const ClosurePrimitive &p : prims) {
     Vec3 w = Vec3(p.weight) * scale;
     if (!(std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z)))

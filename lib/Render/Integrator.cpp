@@ -97,6 +97,7 @@ public:
   void run(const std::vector<int> &pixels, int s0, int s1, float *sum);
 
   long batches = 0, shaded = 0;
+  double shadingSeconds = 0;
 
 private:
   void shade(int shader, const std::vector<ShadeRequest> &requests,
@@ -117,6 +118,12 @@ private:
   std::vector<std::vector<ShadeRequest>> queues;
   std::vector<std::vector<ShadeRequest>> lightQueries;
   std::vector<ShadeRequest> misses;
+  /// Rows of the globals the renderer sets.
+  const int rowP = findGlobal("P")->row, rowI = findGlobal("I")->row,
+            rowN = findGlobal("N")->row, rowNg = findGlobal("Ng")->row,
+            rowDPdu = findGlobal("dPdu")->row, rowDPdv = findGlobal("dPdv")->row,
+            rowU = findGlobal("u")->row, rowV = findGlobal("v")->row,
+            rowBackfacing = findGlobal("backfacing")->row;
 };
 
 void PathWave::shade(int shader, const std::vector<ShadeRequest> &requests,
@@ -128,19 +135,26 @@ void PathWave::shade(int shader, const std::vector<ShadeRequest> &requests,
     std::fill(globals.begin(), globals.end(), 0.0f);
     for (int lane = 0; lane < n; ++lane) {
       const ShadeRequest &q = requests[start + lane];
-      setTriple(findGlobal("P")->row, lane, q.p);
-      setTriple(findGlobal("I")->row, lane, q.i);
-      setTriple(findGlobal("N")->row, lane, q.n);
-      setTriple(findGlobal("Ng")->row, lane, q.ng);
-      setTriple(findGlobal("dPdu")->row, lane, q.dPdu);
-      setTriple(findGlobal("dPdv")->row, lane, q.dPdv);
-      setRow(findGlobal("u")->row, lane, q.u);
-      setRow(findGlobal("v")->row, lane, q.v);
-      setRow(findGlobal("backfacing")->row, lane, q.backfacing ? 1.0f : 0.0f);
+      setTriple(rowP, lane, q.p);
+      setTriple(rowI, lane, q.i);
+      setTriple(rowN, lane, q.n);
+      setTriple(rowNg, lane, q.ng);
+      setTriple(rowDPdu, lane, q.dPdu);
+      setTriple(rowDPdv, lane, q.dPdv);
+      setRow(rowU, lane, q.u);
+      setRow(rowV, lane, q.v);
+      setRow(rowBackfacing, lane, q.backfacing ? 1.0f : 0.0f);
     }
     std::fill(outputs.begin(), outputs.end(), 0.0f);
     arena.reset();
-    k.shader->kernel(globals.data(), outputs.data(), n);
+    if (r.options.timeShading) {
+      auto t0 = std::chrono::steady_clock::now();
+      k.shader->kernel(globals.data(), outputs.data(), n);
+      shadingSeconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    } else {
+      k.shader->kernel(globals.data(), outputs.data(), n);
+    }
     ++batches;
     shaded += n;
     for (int lane = 0; lane < n; ++lane) {
@@ -390,6 +404,7 @@ void Renderer::render(std::vector<float> &rgb, RenderStats &stats) {
   for (auto &w : waves) {
     stats.batches += w->batches;
     stats.shadedPoints += w->shaded;
+    stats.shadingSeconds += w->shadingSeconds;
   }
   stats.activeLaneFraction =
       stats.batches ? double(stats.shadedPoints) / (double(stats.batches) * laneWidth) : 0;

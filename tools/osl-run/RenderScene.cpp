@@ -38,6 +38,7 @@ int osl::renderScene(const RunOptions &options) {
   ropt.aa = options.aa;
   ropt.threads = options.grid.threads;
   ropt.seed = uint32_t(options.seed);
+  ropt.timeShading = options.stats;
 
   Stats stats;
   Stats *statsPtr = options.stats ? &stats : nullptr;
@@ -68,7 +69,11 @@ int osl::renderScene(const RunOptions &options) {
                                  rstats.paths / std::max(1e-9, rstats.seconds))
                  << llvm::format("shaded points: %ld in %ld batches, %.1f%% of lanes active\n",
                                  rstats.shadedPoints, rstats.batches,
-                                 100 * rstats.activeLaneFraction);
+                                 100 * rstats.activeLaneFraction)
+                 << llvm::format("in shading kernels: %.1f ms (%.1f ns per shaded point)\n",
+                                 rstats.shadingSeconds * 1e3,
+                                 rstats.shadingSeconds * 1e9 /
+                                     std::max(1L, rstats.shadedPoints));
   }
   return textureFileErrors() > 0 || stringErrors() > 0 ? 1 : 0;
 }
