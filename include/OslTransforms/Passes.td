@@ -169,6 +169,20 @@ def EvaluateInDouble : Pass<"osl-evaluate-in-double", "::mlir::ModuleOp"> {
   let dependentDialects = ["::mlir::arith::ArithDialect"];
 }
 
+def ContractFma : Pass<"osl-contract-fma", "::mlir::ModuleOp"> {
+  let summary = "Fuse a*b+c into one fused multiply-add (--math=fast)";
+  let description = [{
+    testshade computes a*b+c with two roundings, and the default levels
+    reproduce it; OSL's batched backend fuses them. At --math=fast this
+    pass does too, before LLVM sees the kernel: `addf(mulf(a, b), c)`
+    (either order) becomes `math.fma(a, b, c)` and `subf(mulf(a, b), c)`
+    `math.fma(a, b, -c)`, when the product has no other use. Deciding here,
+    on the same ops at every width, keeps widths bit-identical (LLVM's own
+    contraction may decide differently for scalars and vectors).
+  }];
+  let dependentDialects = ["::mlir::math::MathDialect", "::mlir::arith::ArithDialect"];
+}
+
 def LowerToLLVM : Pass<"osl-lower-to-llvm", "::mlir::ModuleOp"> {
   let summary = "Lower vector/arith/math/scf code to the LLVM dialect";
   let description = [{

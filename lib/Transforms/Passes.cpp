@@ -48,6 +48,8 @@ void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
     pm.addPass(createEvaluateInDouble());
   pm.addPass(createCanonicalizerPass());
   pm.addPass(createCSEPass());
+  if (math == MathLevel::Fast)
+    pm.addPass(createContractFma());
   pm.addPass(createLowerToLLVM());
 }
 
