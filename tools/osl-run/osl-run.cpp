@@ -57,7 +57,8 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
 /// result. False after an error.
 bool emit(ShaderCompiler &compiler, const RunOptions &options, llvm::StringRef source,
           Stats *statsPtr) {
-  if (!compiler.parse(source, options.shaderPath))
+  if (!(options.isGroup ? compiler.parseGroup(options.group)
+                        : compiler.parse(source, options.shaderPath)))
     return false;
   if (options.emit == "mlir") {
     compiler.module().print(llvm::outs());
@@ -116,10 +117,14 @@ int main(int argc, char **argv) {
     llvm::errs() << "osl-run: error: " << error << "\n" << kUsage;
     return 2;
   }
-  auto buffer = llvm::MemoryBuffer::getFile(options.shaderPath, /*IsText=*/true);
-  if (!buffer)
-    return fail("cannot read '" + options.shaderPath + "': " +
-                buffer.getError().message());
+  std::unique_ptr<llvm::MemoryBuffer> source = llvm::MemoryBuffer::getMemBuffer("");
+  if (!options.isGroup) {
+    auto buffer = llvm::MemoryBuffer::getFile(options.shaderPath, /*IsText=*/true);
+    if (!buffer)
+      return fail("cannot read '" + options.shaderPath + "': " +
+                  buffer.getError().message());
+    source = std::move(*buffer);
+  }
 
   options.compile.camera = {options.grid.xres, options.grid.yres};
   Stats stats;
@@ -127,10 +132,11 @@ int main(int argc, char **argv) {
   ShaderCompiler compiler(options.compile, llvm::errs(), statsPtr);
   std::unique_ptr<CompiledShader> shader;
   if (options.emit.empty()) {
-    shader = compiler.compile((*buffer)->getBuffer(), options.shaderPath);
+    shader = options.isGroup ? compiler.compileGroup(options.group)
+                             : compiler.compile(source->getBuffer(), options.shaderPath);
     if (!shader)
       return 1;
-  } else if (!emit(compiler, options, (*buffer)->getBuffer(), statsPtr)) {
+  } else if (!emit(compiler, options, source->getBuffer(), statsPtr)) {
     return 1;
   } else {
     return 0;
@@ -179,6 +185,11 @@ int main(int argc, char **argv) {
                  << " iteration(s)\n";
     stats.print(llvm::errs());
     llvm::errs() << "kernel cache: " << cacheUseText(compiler.cacheUse()) << "\n";
+    const GroupStats &g = compiler.groupStats();
+    if (options.isGroup && g.opsBefore > 0)
+      llvm::errs() << "group: before specialisation " << g.layersBefore << " layers, "
+                   << g.opsBefore << " ops; after " << g.layersAfter << " layers, "
+                   << g.opsAfter << " ops\n";
     double points = double(options.grid.xres) * options.grid.yres * options.iters;
     llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
   }
