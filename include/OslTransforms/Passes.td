@@ -34,7 +34,8 @@ def LinkShaderGroup : Pass<"osl-link-group", "::mlir::ModuleOp"> {
     per point. A layer nobody reads is not inlined at all.
 
     With `lazy=false` (osl-run -O0/-O1) every layer is inlined at the top
-    level in group order. With `opaque-params` (-O0) each unconnected
+    level in group order and keeps all its outputs (as "layer.output"), so
+    that every layer runs. With `opaque-params` (-O0) each unconnected
     parameter whose value is a constant becomes a load from a writable
     external global, so nothing is specialised on it; parameters marked
     `osl.userdata` (lockgeom=0) are always loaded that way.
@@ -48,6 +49,23 @@ def LinkShaderGroup : Pass<"osl-link-group", "::mlir::ModuleOp"> {
                  Option<"opaqueParams", "opaque-params", "bool", "false",
                         "load every unconnected constant parameter from memory">];
   let dependentDialects = ["::mlir::LLVM::LLVMDialect", "::mlir::func::FuncDialect"];
+}
+
+def FoldConstants : Pass<"osl-fold-constants", "::mlir::func::FuncOp"> {
+  let summary = "Evaluate osl operations on constants; decide constant control flow";
+  let description = [{
+    Render-time specialisation: once instance values are constants, an
+    exactly defined lane operation (arithmetic, comparisons, logic, bit
+    operations, conversions, building and taking apart triples) whose
+    operands are all constants is replaced by the arith ops its lowering
+    would emit (LaneMath), which fold; so the folded value has the bits the
+    kernel would have computed. Transcendental functions are left alone:
+    their folders would use the host's libm, not OSL's algorithms. A select
+    or an osl.if on a constant condition becomes the chosen value or arm,
+    which is how a value that looked varying becomes uniform before
+    osl-varying-propagation runs.
+  }];
+  let dependentDialects = ["::mlir::arith::ArithDialect"];
 }
 
 def VaryingPropagation : Pass<"osl-varying-propagation", "::mlir::func::FuncOp"> {

@@ -390,11 +390,13 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
 }
 
 bool ShaderCompiler::specialiseGroup() {
-  // The same passes the pipeline starts with; running them first lets the
-  // layers that are left be counted while the ops still carry their layer.
+  // Constant parameters folded through the whole group (the pipeline
+  // starts with the same binding, then finds nothing left to do); done here
+  // so that the layers left can be counted while ops still carry their layer.
   mlir::PassManager pm(&context);
   mlir::OpPassManager &fn = pm.nest<mlir::func::FuncOp>();
   fn.addPass(mlir::osl::createBindParams());
+  fn.addPass(mlir::osl::createFoldConstants());
   fn.addPass(mlir::createCanonicalizerPass());
   fn.addPass(mlir::createCSEPass());
   if (mlir::failed(pm.run(*mlirModule)))

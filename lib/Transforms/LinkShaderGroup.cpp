@@ -199,7 +199,10 @@ struct LinkShaderGroupPass
       std::string groupName = &l == &layers.back()
                                   ? out.getName().str()
                                   : (l.name + "." + out.getName()).str();
-      if (!l.entry || (!keepAllOutputs && !requestedOutputs.contains(groupName)))
+      // Unspecialised (not lazy), every output is written, so every layer
+      // really runs, as in OSL at -O0.
+      bool keep = !lazy || (l.entry && (keepAllOutputs || requestedOutputs.contains(groupName)));
+      if (!keep)
         out.erase();
       else
         out.setName(groupName);

@@ -37,7 +37,13 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
       error = "shader '" + shader.name + "' has no output parameters";
       return false;
     }
-    requested.push_back({shader.outputs.front().name, shader.name + ".png"});
+    // A group's root layer writes plain names; other layers' outputs
+    // ("layer.name") come first in the kernel when every layer runs.
+    auto first = std::find_if(shader.outputs.begin(), shader.outputs.end(),
+                              [](const OutputSpec &o) { return o.name.find('.') == std::string::npos; });
+    if (first == shader.outputs.end())
+      first = shader.outputs.begin();
+    requested.push_back({first->name, shader.name + ".png"});
   }
   for (auto &[name, file] : requested) {
     auto it = std::find_if(shader.outputs.begin(), shader.outputs.end(),
