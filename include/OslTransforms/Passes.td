@@ -26,7 +26,8 @@ def LinkShaderGroup : Pass<"osl-link-group", "::mlir::ModuleOp"> {
     (default: the last layer, the root) run at the top level in order and
     keep their osl.output ops (the root's under their own names, the others'
     as "layer.output"); a module attribute `osl.group_outputs` (a list of
-    such names) keeps only those. Every other layer is inlined where its
+    such names) keeps only those (a layer named there runs unconditionally
+    too; an unknown name is an error). Every other layer is inlined where its
     outputs are first needed: before the earliest op, in the innermost block
     enclosing all its reads, that is outside every loop. Reads inside one
     arm of a varying if therefore run the layer only on the lanes that take

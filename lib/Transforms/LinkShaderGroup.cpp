@@ -86,6 +86,13 @@ struct LinkShaderGroupPass
       anyEntry |= l.entry = l.func->hasAttr(kEntryAttr);
     if (!anyEntry)
       layers.back().entry = true;
+    // Asking for "layer.name" makes that layer run for it.
+    for (auto &name : requestedOutputs) {
+      auto [layer, output] = name.getKey().rsplit('.');
+      auto it = layerIndex.find(layer);
+      if (!output.empty() && it != layerIndex.end())
+        layers[it->second].entry = true;
+    }
     if (failed(checkConnections()))
       return signalPassFailure();
 
@@ -110,6 +117,8 @@ struct LinkShaderGroupPass
         if (!l.entry)
           placeLazily(l);
 
+    if (failed(checkRequestedOutputs()))
+      return signalPassFailure();
     makeParamsOpaque();
     std::string rootName = layers.back().name.str();
     for (Layer &l : layers)
@@ -171,6 +180,20 @@ struct LinkShaderGroupPass
     return success(ok);
   }
 
+  LogicalResult checkRequestedOutputs() {
+    llvm::StringSet<> written;
+    std::string names;
+    for (const std::string &name : available)
+      if (written.insert(name).second)
+        names += " " + name;
+    for (auto &name : requestedOutputs)
+      if (!written.contains(name.getKey()))
+        return group.emitError("the group has no output '")
+               << name.getKey() << "' (for another layer's, write LAYER.NAME); outputs:"
+               << names;
+    return success();
+  }
+
   static OutputOp findOutput(func::FuncOp f, StringRef name) {
     OutputOp found;
     f.walk([&](OutputOp out) {
@@ -201,6 +224,8 @@ struct LinkShaderGroupPass
                                   : (l.name + "." + out.getName()).str();
       // Unspecialised (not lazy), every output is written, so every layer
       // really runs, as in OSL at -O0.
+      if (l.entry || !lazy)
+        available.push_back(groupName);
       bool keep = !lazy || (l.entry && (keepAllOutputs || requestedOutputs.contains(groupName)));
       if (!keep)
         out.erase();
@@ -299,6 +324,8 @@ struct LinkShaderGroupPass
   llvm::StringMap<size_t> layerIndex;
   llvm::StringMap<llvm::StringMap<Value>> placed;
   llvm::StringSet<> requestedOutputs;
+  /// Outputs of the layers that run unconditionally, as the group names them.
+  std::vector<std::string> available;
   bool keepAllOutputs = true;
   func::FuncOp group;
 };
