@@ -110,7 +110,7 @@ bool ShaderGroup::validate(std::string &error) const {
 namespace {
 
 /// Splits on whitespace, keeping "quoted strings" (without quotes) and
-/// `[[...]]` annotations as single tokens.
+/// `[[...]]` annotations as single tokens; `#` and `//` start comments.
 std::vector<std::string> tokenize(llvm::StringRef text) {
   std::vector<std::string> tokens;
   size_t i = 0;
@@ -118,6 +118,10 @@ std::vector<std::string> tokenize(llvm::StringRef text) {
     char c = text[i];
     if (isspace(static_cast<unsigned char>(c))) {
       ++i;
+    } else if (c == '#' || text.substr(i).starts_with("//")) {
+      // A comment runs to the end of the line (group files).
+      size_t end = text.find('\n', i);
+      i = end == llvm::StringRef::npos ? text.size() : end + 1;
     } else if (c == ';') {
       tokens.push_back(";");
       ++i;
