@@ -473,6 +473,55 @@ def Osl_StringCallOp : Osl_Op<"string_call", [Pure]> {
 }
 
 //===----------------------------------------------------------------------===//
+// Closures
+//===----------------------------------------------------------------------===//
+
+def Osl_ClosureEmptyOp : Osl_Op<"closure_empty", [Pure]> {
+  let summary = "the empty closure (what `Ci = 0` assigns)";
+  let results = (outs Osl_ClosureType:$result);
+  let assemblyFormat = "attr-dict `:` type($result)";
+}
+
+def Osl_ClosureComponentOp : Osl_Op<"closure_component", [Pure]> {
+  let summary = "a closure of OSL's standard library with weight 1";
+  let description = [{
+    `name` is one of the closures of kClosures (OslRuntime/ClosureCall.h).
+    The operands are its positional parameters then every keyword parameter
+    of its signature, in that order (the front end fills absent keywords
+    with 0 or ""): triples for `n` and `c`, f32 for `f`, i32 for `i` and
+    string handles (i32) for `s`, closures for `k`. The result is varying
+    when an operand is.
+  }];
+  let arguments = (ins StrAttr:$name, Variadic<Osl_Value>:$args);
+  let results = (outs Osl_AnyClosure:$result);
+  let assemblyFormat = [{
+    $name `(` $args `)` attr-dict `:` functional-type($args, $result)
+  }];
+  let hasVerifier = 1;
+}
+
+def Osl_ClosureMulOp : Osl_Op<"closure_mul", [Pure]> {
+  let summary = "closure * color (a float weight is converted to a color first)";
+  let arguments = (ins Osl_AnyClosure:$closure, Osl_Triple:$weight);
+  let results = (outs Osl_AnyClosure:$result);
+  let assemblyFormat = [{
+    $closure `,` $weight attr-dict `:` type($closure) `,` type($weight) `->` type($result)
+  }];
+  let hasVerifier = 1;
+}
+
+def Osl_ClosureAddOp : Osl_Op<"closure_add", [Pure]> {
+  let summary = "closure + closure";
+  let arguments = (ins Osl_AnyClosure:$lhs, Osl_AnyClosure:$rhs);
+  let results = (outs Osl_AnyClosure:$result);
+  let assemblyFormat = [{
+    $lhs `,` $rhs attr-dict `:` type($lhs) `,` type($rhs) `->` type($result)
+  }];
+  let hasVerifier = 1;
+  let hasFolder = 1;
+}
+
+//===----------------------------------------------------------------------===//
 // Color
 //===----------------------------------------------------------------------===//
 

@@ -5,13 +5,23 @@
 include "OslDialect/OslDialect.td"
 include "mlir/IR/AttrTypeBase.td"
 
+def Osl_ClosureType : TypeDef<Osl_Dialect, "Closure"> {
+  let mnemonic = "closure";
+  let summary = "an OSL closure color: a weighted sum of BSDFs, lights...";
+  let description = [{
+    `!osl.closure` is a closure color; `!osl.varying<!osl.closure>` one per
+    point. Lowered to an i32 handle into the runtime's closure arena
+    (OslRuntime/ClosureCall.h), 0 being the empty closure.
+  }];
+}
+
 def Osl_VaryingType : TypeDef<Osl_Dialect, "Varying"> {
   let mnemonic = "varying";
   let summary = "one value per shading point of a batch";
   let description = [{
     `!osl.varying<f32>` holds a value that may differ between the points of
-    a batch. Its element is one of the uniform OSL types: f32, i32, i1 or
-    vector<3xf32>. Lowered to vector<W x T> (triples: vector<3 x W x f32>).
+    a batch. Its element is one of the uniform OSL types: f32, i32, i1,
+    vector<3xf32> or !osl.closure. Lowered to vector<W x T> (triples: vector<3 x W x f32>).
   }];
   let parameters = (ins "::mlir::Type":$elementType);
   let builders = [TypeBuilderWithInferredContext<(ins "::mlir::Type":$elementType), [{
@@ -23,7 +33,11 @@ def Osl_VaryingType : TypeDef<Osl_Dialect, "Varying"> {
 
 /// A uniform OSL type or a varying one.
 def Osl_Value : Type<CPred<"::mlir::osl::isOslType($_self)">,
-    "OSL value (f32, i32, i1, vector<3xf32>, or !osl.varying of one)">;
+    "OSL value (f32, i32, i1, vector<3xf32>, !osl.closure, or !osl.varying of one)">;
+/// A closure, uniform or varying.
+def Osl_AnyClosure : Type<
+    CPred<"::llvm::isa<::mlir::osl::ClosureType>(::mlir::osl::getUniformType($_self))">,
+    "!osl.closure or !osl.varying<!osl.closure>">;
 /// Boolean (i1), uniform or varying.
 def Osl_Bool : Type<
     CPred<"::mlir::osl::getUniformType($_self).isInteger(1) && ::mlir::osl::isOslType($_self)">,

@@ -46,6 +46,9 @@ struct GridOptions {
 struct OutputSpec {
   std::string name;
   int channels;
+  /// A closure (Ci): its one row holds closure handles (OslRuntime/Closure.h)
+  /// as float bits, not an image.
+  bool closure = false;
 };
 
 struct ShadeResult {

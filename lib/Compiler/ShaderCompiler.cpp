@@ -1,5 +1,6 @@
 //===- ShaderCompiler.cpp - OSL source to a callable batch kernel ---------===//
 #include "OslCompiler/ShaderCompiler.h"
+#include "OslRuntime/ClosureCall.h"
 #include "OslCompiler/KernelCache.h"
 
 #include "OslDialect/OslDialect.h"
@@ -102,7 +103,8 @@ void ShaderCompiler::collectOutputs() {
         outputSpecs.back().name == out.getName())
       outputSpecs.back().channels += channels;
     else
-      outputSpecs.push_back({out.getName().str(), channels});
+      outputSpecs.push_back({out.getName().str(), channels,
+                             mlir::isa<mlir::osl::ClosureType>(t)});
   });
 }
 
@@ -149,7 +151,10 @@ bool ShaderCompiler::defineRuntimeSymbols(Jit &target) {
            {"osl_rt_gettextureinfo", reinterpret_cast<void *>(&osl_rt_gettextureinfo)},
            {"osl_rt_string_intern", reinterpret_cast<void *>(&osl_rt_string_intern)},
            {"osl_rt_string_call", reinterpret_cast<void *>(&osl_rt_string_call)},
-           {"osl_rt_count_lanes", reinterpret_cast<void *>(&osl_rt_count_lanes)}})) {
+           {"osl_rt_count_lanes", reinterpret_cast<void *>(&osl_rt_count_lanes)},
+           {"osl_rt_closure_component", reinterpret_cast<void *>(&osl_rt_closure_component)},
+           {"osl_rt_closure_mul", reinterpret_cast<void *>(&osl_rt_closure_mul)},
+           {"osl_rt_closure_add", reinterpret_cast<void *>(&osl_rt_closure_add)}})) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return false;
   }

@@ -7,6 +7,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
+#include "OslRuntime/ClosureCall.h"
 #include "OslRuntime/GlobalsLayout.h"
 #include "OslRuntime/StringCall.h"
 
@@ -592,4 +593,57 @@ LogicalResult DerivOp::verify() {
   if (!isFloatLike(getUniformType(getValue().getType())))
     return emitOpError("only floats and triples have derivatives");
   return success();
+}
+
+//===----------------------------------------------------------------------===//
+// Closures
+//===----------------------------------------------------------------------===//
+
+/// The IR type of a closure parameter of kind `kind` (ClosureCall.h).
+static Type closureKindType(Builder &b, char kind) {
+  switch (kind) {
+  case 'n':
+  case 'c': return VectorType::get({3}, b.getF32Type());
+  case 'f': return b.getF32Type();
+  case 'k': return ClosureType::get(b.getContext());
+  default: return b.getI32Type(); // i, s
+  }
+}
+
+/// A closure op's result is varying exactly when an operand is.
+static LogicalResult verifyClosureUniformity(Operation *op) {
+  bool varying = llvm::any_of(op->getOperandTypes(), isVarying);
+  if (isVarying(op->getResult(0).getType()) != varying)
+    return op->emitOpError("result must be ") << (varying ? "varying" : "uniform")
+                                              << " like its operands";
+  return success();
+}
+
+LogicalResult ClosureComponentOp::verify() {
+  int32_t id = ::osl::closureId(getName());
+  if (id < 0)
+    return emitOpError("unknown closure '") << getName() << "'";
+  char kinds[::osl::kMaxClosureParams];
+  int32_t n = ::osl::closureParamKinds(id, kinds, ::osl::kMaxClosureParams);
+  if (int32_t(getArgs().size()) != n)
+    return emitOpError("closure '") << getName() << "' takes " << n
+                                    << " operands (positional, then keywords), got "
+                                    << getArgs().size();
+  Builder b(getContext());
+  for (auto [i, arg] : llvm::enumerate(getArgs()))
+    if (getUniformType(arg.getType()) != closureKindType(b, kinds[i]))
+      return emitOpError("operand ") << i << " of kind '" << kinds[i] << "' must be "
+                                     << closureKindType(b, kinds[i]);
+  return verifyClosureUniformity(*this);
+}
+
+LogicalResult ClosureMulOp::verify() { return verifyClosureUniformity(*this); }
+LogicalResult ClosureAddOp::verify() { return verifyClosureUniformity(*this); }
+
+OpFoldResult ClosureAddOp::fold(FoldAdaptor) {
+  // empty + c = c, when c already has the result's uniformity.
+  for (auto [empty, other] : {std::pair(getLhs(), getRhs()), std::pair(getRhs(), getLhs())})
+    if (empty.getDefiningOp<ClosureEmptyOp>() && other.getType() == getType())
+      return other;
+  return {};
 }

@@ -6,7 +6,7 @@ using namespace mlir::osl;
 
 static bool isUniformOslType(Type type) {
   return type.isF32() || type.isInteger(32) || type.isInteger(1) ||
-         isTriple(type);
+         isTriple(type) || isa<ClosureType>(type);
 }
 
 bool mlir::osl::isTriple(Type type) {
@@ -38,8 +38,8 @@ LogicalResult
 VaryingType::verify(function_ref<InFlightDiagnostic()> emitError,
                     Type elementType) {
   if (!isUniformOslType(elementType))
-    return emitError() << "varying element must be f32, i32, i1 or "
-                          "vector<3xf32>, got "
+    return emitError() << "varying element must be f32, i32, i1, "
+                          "vector<3xf32> or !osl.closure, got "
                        << elementType;
   return success();
 }

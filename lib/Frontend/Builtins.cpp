@@ -10,6 +10,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
+#include "OslRuntime/ClosureCall.h"
 #include "OslRuntime/StringCall.h"
 #include "OslTransforms/ColorBuilder.h"
 
@@ -437,8 +438,7 @@ const char *const kUnsupported[] = {
     "setmessage", "getmessage", "trace", "transformu",
     "splineinverse", "fresnel",
     "pointcloud_search", "pointcloud_get", "pointcloud_write", "dict_find",
-    "dict_next", "dict_value", "isconnected", "isconstant", "random", "emission",
-    "diffuse", "background", "exit", "arraylength", "spline", "noise",
+    "dict_next", "dict_value", "isconnected", "isconstant", "random", "exit", "arraylength", "spline", "noise",
     "snoise", "cellnoise", "hashnoise", "transform", "ptransform", "vtransform",
     "ntransform", "displace", "bump", "fmin", "fmax", "nsnoise",
     "gabor", "pgabor", "sincos",
@@ -1074,7 +1074,8 @@ std::optional<double> lookupFloatConstant(llvm::StringRef name) {
 bool isBuiltinName(llvm::StringRef name) {
   if (name == "determinant" || name == "transpose" || name == "getmatrix" ||
       name == "texture" || name == "texture3d" || name == "environment" ||
-      name == "gettextureinfo" || ::osl::stringFunctionCode(name) >= 0)
+      name == "gettextureinfo" || ::osl::stringFunctionCode(name) >= 0 ||
+      ::osl::closureId(name) >= 0)
     return true;
   for (const Builtin &b : builtinTable())
     if (name == b.name)
@@ -1098,6 +1099,10 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
   auto texture = emitTextureBuiltin(g, call, expected, textureBuiltin);
   if (textureBuiltin)
     return texture;
+  bool closureBuiltin = true;
+  auto closure = emitClosureBuiltin(g, call, closureBuiltin);
+  if (closureBuiltin)
+    return closure;
   bool stringBuiltin = true;
   auto string = emitStringBuiltin(g, call, stringBuiltin);
   if (stringBuiltin)

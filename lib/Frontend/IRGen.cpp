@@ -78,6 +78,8 @@ Value IRGen::constTriple(float x, float y, float z, SrcLoc l) {
 }
 
 RValue IRGen::zeroValue(OslType t, SrcLoc l) {
+  if (t.base == BaseType::Closure && !t.isArray())
+    return emptyClosure(*this, l);
   if (t.isString())
     return RValue::string("");
   if (t.isArray() && t.base == BaseType::String) {
@@ -249,6 +251,13 @@ std::optional<RValue> IRGen::coerce(RValue v, OslType to, SrcLoc l,
                  (ctxText.empty() ? "" : " " + ctxText));
     return std::nullopt;
   };
+  // OSL lets a closure be assigned the number 0: the empty closure.
+  if (to.base == BaseType::Closure && !to.isArray() && v.type.isScalar()) {
+    auto k = getConstScalar(v.value);
+    if (!k || *k != 0)
+      return fail();
+    return emptyClosure(*this, l);
+  }
   if (conversionCost(v.type, to) < 0)
     return fail();
   if (to.isStructLike())
@@ -497,6 +506,10 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
       return error(shader.loc, "shader '" + shader.name + "' has no parameter '" +
                                    o.name + "'");
   }
+  // Ci, the shader's closure result: written as output "Ci" if assigned.
+  Var *ci = declareVar(root, "Ci", OslType(BaseType::Closure), shader.loc,
+                       emptyClosure(*this, shader.loc));
+  Value emptyCi = ci->val.value;
   Scope *paramScope = newScope(root);
   current = paramScope;
   for (const Param &p : shader.params)
@@ -528,6 +541,8 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
     }
     b.create<OutputOp>(loc(p.loc), p.name, v->val.value);
   }
+  if (ci->val.value != emptyCi)
+    b.create<OutputOp>(loc(endLoc), "Ci", ci->val.value);
   b.create<func::ReturnOp>(loc(endLoc));
   // Literals converted at compile time leave their original constant
   // unused; drop those (innermost first, so nothing dangles).

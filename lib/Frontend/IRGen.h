@@ -429,6 +429,14 @@ std::optional<RValue> emitMatrixBuiltin(IRGen &gen, const Expr &call, bool &know
 /// regex_search, regex_match (StringBuiltins.cpp); `known` is false when
 /// `call` is none of them.
 std::optional<RValue> emitStringBuiltin(IRGen &gen, const Expr &call, bool &known);
+/// The closures of OSL's standard library (ClosureBuiltins.cpp); `known`
+/// is false when `call` is none of them.
+std::optional<RValue> emitClosureBuiltin(IRGen &gen, const Expr &call, bool &known);
+/// closure + closure, closure * color or float, color or float * closure.
+std::optional<RValue> emitClosureArith(IRGen &gen, llvm::StringRef op, RValue lhs,
+                                       RValue rhs, SrcLoc l);
+/// The empty closure (0 assigned to a closure).
+RValue emptyClosure(IRGen &gen, SrcLoc l);
 /// texture(), texture3d(), environment() and gettextureinfo()
 /// (TextureBuiltins.cpp); `known`
 /// is false when `call` is none of them.

@@ -193,6 +193,9 @@ std::optional<OslType> IRGen::unify(OslType a, OslType b2) {
                : std::nullopt;
   if (a.isTriple() && b2.isTriple())
     return a;
+  // `c ? diffuse(N) : 0`: the number must be 0 (coerce checks).
+  if ((a.isClosure() && b2.isScalar()) || (a.isScalar() && b2.isClosure()))
+    return OslType(BaseType::Closure);
   if (!a.isNumeric() || !b2.isNumeric())
     return std::nullopt;
   if (a.isTriple())
@@ -248,7 +251,7 @@ std::optional<RValue> IRGen::emitTernary(const Expr &e, const OslType *expected)
       m.push_back(select(*cb, ca->elems[k], cbv->elems[k], e.loc));
     return matrixValue(m);
   }
-  if (!t || !t->isNumeric()) {
+  if (!t || !(t->isNumeric() || t->isClosure())) {
     error(e.loc, "incompatible types in conditional expression: '" + a->type.str() +
                      "' and '" + bv->type.str() + "'");
     return std::nullopt;
@@ -267,6 +270,8 @@ std::optional<RValue> IRGen::emitBinaryOp(llvm::StringRef op, RValue l, RValue r
                   r.type.str() + "'");
     return std::nullopt;
   };
+  if (l.type.base == BaseType::Closure || r.type.base == BaseType::Closure)
+    return emitClosureArith(*this, op, l, r, sl);
   Location ml = loc(sl);
   bool isEq = op == "==" || op == "!=";
   if (l.type.isString() || r.type.isString()) {

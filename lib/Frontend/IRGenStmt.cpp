@@ -246,11 +246,11 @@ bool IRGen::emitScoped(const std::vector<StmtPtr> &stmts, bool tail) {
 
 bool IRGen::emitDecl(const Stmt &s) {
   OslType base = s.declType;
-  if (base.base == BaseType::Closure)
-    return error(s.loc, "type '" + base.str() + "' is not supported yet");
   for (const Declarator &d : s.decls) {
     OslType t = base;
     t.arrayLen = d.arrayLen;
+    if (t.base == BaseType::Closure && t.isArray())
+      return error(d.loc, "arrays of closures are not supported yet");
     if (t.base == BaseType::Matrix && t.isArray())
       return error(d.loc, "arrays of matrices are not supported yet");
     if (!checkStructType(t, d.loc))
@@ -465,7 +465,7 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
   size_t resultLeaves = 0;
   if (wantValue) {
     auto t = unify(tv->type, ev->type);
-    if (!t || !(t->isNumeric() || t->isMatrix())) {
+    if (!t || !(t->isNumeric() || t->isMatrix() || t->isClosure())) {
       error(l, "incompatible types in conditional expression: '" + tv->type.str() +
                    "' and '" + ev->type.str() + "'");
       return std::nullopt;

@@ -1,6 +1,7 @@
 //===- Types.cpp - OSL types ------------------------------------------------===//
 #include "Types.h"
 #include "Ast.h"
+#include "OslDialect/OslDialect.h"
 
 #include "mlir/IR/BuiltinTypes.h"
 
@@ -42,6 +43,7 @@ mlir::Type osl::frontend::irType(mlir::Builder &b, OslType type) {
   case BaseType::Vector:
   case BaseType::Normal:
   case BaseType::Color: return mlir::VectorType::get({3}, b.getF32Type());
+  case BaseType::Closure: return mlir::osl::ClosureType::get(b.getContext());
   default: return {};
   }
 }

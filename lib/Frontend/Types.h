@@ -28,7 +28,7 @@ enum class BaseType {
   Color,
   String,
   Matrix,  // 4x4 floats (RValue::elems, row-major)
-  Closure, // parsed, not supported by the IR yet
+  Closure, // closure color: !osl.closure
   Bool,    // internal: the i1 result of a comparison; OSL calls it int
   Struct,  // a user struct (OslType::structDecl)
 };
@@ -75,6 +75,7 @@ struct OslType {
   bool isNumeric() const { return isScalar() || isTriple(); }
   bool isString() const { return !isArray() && base == BaseType::String; }
   bool isVoid() const { return base == BaseType::Void; }
+  bool isClosure() const { return !isArray() && base == BaseType::Closure; }
   bool operator==(const OslType &o) const {
     return base == o.base && arrayLen == o.arrayLen && structDecl == o.structDecl;
   }

@@ -6,6 +6,8 @@
 //===----------------------------------------------------------------------===//
 
 #include "OslRuntime/Grid.h"
+#include "OslRuntime/Closure.h"
+#include "OslRuntime/Progress.h"
 #include "OslRuntime/ThreadPool.h"
 
 #include <algorithm>
@@ -166,63 +168,6 @@ struct AlignedFloats {
   float *get() const { return data.get(); }
 };
 
-/// Progress bar on stderr for long interactive runs; silent otherwise so
-/// logs and piped output stay clean.
-class Progress {
-public:
-  Progress(bool wanted, long total)
-      : enabled(wanted && isatty(STDERR_FILENO) && total > 0), total(total),
-        start(std::chrono::steady_clock::now()) {}
-
-  void add(long pixels) {
-    if (!enabled)
-      return;
-    long now = done.fetch_add(pixels) + pixels;
-    double t = elapsed();
-    if (t < 1.0 || t - lastPrint.load() < 0.1)
-      return;
-    std::unique_lock<std::mutex> lock(printMutex, std::try_to_lock);
-    if (!lock.owns_lock())
-      return;
-    lastPrint = t;
-    draw(now);
-    shown = true;
-  }
-
-  void finish() {
-    if (!shown)
-      return;
-    draw(total);
-    std::fputc('\n', stderr);
-  }
-
-private:
-  double elapsed() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                         start)
-        .count();
-  }
-  void draw(long n) {
-    constexpr int kBar = 40;
-    int fill = static_cast<int>(kBar * n / total);
-    char bar[kBar + 1];
-    for (int i = 0; i < kBar; ++i)
-      bar[i] = i < fill ? '=' : ' ';
-    bar[kBar] = 0;
-    std::fprintf(stderr, "\rshading [%s] %3d%%", bar,
-                 static_cast<int>(100 * n / total));
-    std::fflush(stderr);
-  }
-
-  bool enabled;
-  long total;
-  std::chrono::steady_clock::time_point start;
-  std::atomic<long> done{0};
-  std::atomic<double> lastPrint{0};
-  std::mutex printMutex;
-  bool shown = false;
-};
-
 /// Pixel-major image values from the kernel's channel rows: pixel `lane`
 /// gets rows[c * width + lane] as channel c. Runs once per output per
 /// batch, so it is cloned for AVX-512 and AVX2 (picked at load time) where
@@ -318,7 +263,7 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
     outRows.emplace_back(static_cast<size_t>(totalChannels) * width);
   }
 
-  Progress progress(opt.progress, npixels);
+  Progress progress(opt.progress, npixels, "shading");
   auto start = std::chrono::steady_clock::now();
   pool.parallelForWithWorker(static_cast<int>(ntiles), [&](int tile,
                                                            int worker) {
@@ -333,6 +278,8 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
       // A lane the kernel leaves unwritten must read 0, not whatever this
       // thread's previous batch left: that would depend on the schedule.
       std::fill(out, out + static_cast<size_t>(totalChannels) * width, 0.0f);
+      // Closures a batch builds (Ci) are not images: drop them per batch.
+      threadClosureArena().reset();
       kernel(g, out, nactive);
       for (size_t o = 0; o < outputs.size(); ++o) {
         int channels = outputs[o].channels;

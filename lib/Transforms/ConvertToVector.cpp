@@ -10,6 +10,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/GlobalsLayout.h"
+#include "OslRuntime/ClosureCall.h"
 #include "OslRuntime/StringCall.h"
 #include "OslRuntime/TextureCall.h"
 #include "OslTransforms/ColorBuilder.h"
@@ -42,10 +43,14 @@ class VaryingTypeConverter : public TypeConverter {
 public:
   explicit VaryingTypeConverter(int64_t width) : width(width) {
     addConversion([](Type t) { return t; });
+    // A closure is an i32 handle into the closure arena (ClosureCall.h).
+    addConversion([](ClosureType t) -> Type { return IntegerType::get(t.getContext(), 32); });
     addConversion([width](VaryingType t) -> Type {
       Type e = t.getElementType();
       if (isTriple(e))
         return VectorType::get({3, width}, Float32Type::get(t.getContext()));
+      if (isa<ClosureType>(e))
+        e = IntegerType::get(t.getContext(), 32);
       return VectorType::get({width}, e);
     });
     auto cast = [](OpBuilder &b, Type type, ValueRange inputs,
@@ -227,8 +232,12 @@ struct OutputLowering : public OslPattern<OutputOp> {
     SmallVector<Value> rows =
         lanes.unpack(adaptor.getValue(), op.getValue().getType(), /*varying=*/true);
     Value mask = activeLanes(rewriter, loc, op, width);
+    bool closure = isa<ClosureType>(getUniformType(op.getValue().getType()));
     for (auto [i, row] : llvm::enumerate(rows)) {
-      Value value = lane::convert(rewriter, loc, row, rewriter.getF32Type());
+      // A closure's handle keeps its bits (the renderer reads them back).
+      Value value = closure ? rewriter.create<LLVM::BitcastOp>(
+                                  loc, VectorType::get({width}, rewriter.getF32Type()), row)
+                            : lane::convert(rewriter, loc, row, rewriter.getF32Type());
       Value addr = rowAddress(rewriter, loc, kernelArg(op, 1),
                               firstRow.lookup(op) + i, width);
       rewriter.create<LLVM::MaskedStoreOp>(loc, value, addr, mask, 4);
@@ -890,6 +899,84 @@ struct SplineFamilyLowering : public OslPattern<Op> {
   }
 };
 
+
+//===----------------------------------------------------------------------===//
+// Closures
+//===----------------------------------------------------------------------===//
+
+/// Stores `operands` (converted, with their osl types) as 32-bit rows of a
+/// block for a closure entry point, calls `entry` with the block, and reads
+/// the result row of handles back. Uniform ops run one lane.
+Value callClosureEntry(ConversionPatternRewriter &rewriter, Operation *op, int64_t width,
+                       StringRef entry, ArrayRef<Value> leading, ValueRange converted,
+                       ValueRange original) {
+  Location loc = op->getLoc();
+  bool varying = isVarying(op->getResult(0).getType());
+  int64_t lanes = varying ? width : 1;
+  Lanes unpacker{rewriter, loc, width};
+  SmallVector<Value> rows;
+  for (auto [c, o] : llvm::zip(converted, original))
+    for (Value comp : unpacker.unpack(c, o.getType(), varying))
+      rows.push_back(comp);
+  Value block = entryBlockRows(rewriter, loc, op, int64_t(rows.size() + 1) * lanes);
+  for (auto [i, comp] : llvm::enumerate(rows))
+    rewriter.create<LLVM::StoreOp>(loc, comp, rowAddress(rewriter, loc, block, i, lanes), 4);
+  Value mask = varying ? activeLanes(rewriter, loc, op, width)
+                       : rewriter.create<arith::ConstantIntOp>(loc, 1, 1).getResult();
+  MLIRContext *ctx = rewriter.getContext();
+  Type i32 = rewriter.getI32Type();
+  auto ptr = LLVM::LLVMPointerType::get(ctx);
+  SmallVector<Type> params(leading.size(), i32);
+  params.append({ptr, i32, i32});
+  LLVM::LLVMFuncOp callee =
+      runtimeDeclaration(rewriter, op, entry, LLVM::LLVMVoidType::get(ctx), params);
+  SmallVector<Value> args(leading.begin(), leading.end());
+  args.append({block, rewriter.create<arith::ConstantIntOp>(loc, lanes, 32),
+               maskBits(rewriter, loc, mask)});
+  rewriter.create<LLVM::CallOp>(loc, callee, args);
+  Type laneType = varying ? Type(VectorType::get({lanes}, i32)) : i32;
+  auto load = rewriter.create<LLVM::LoadOp>(
+      loc, laneType, rowAddress(rewriter, loc, block, int64_t(rows.size()), lanes), 4);
+  load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+  return load.getResult();
+}
+
+struct ClosureEmptyLowering : public OslPattern<ClosureEmptyOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(ClosureEmptyOp op, OpAdaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    rewriter.replaceOpWithNewOp<arith::ConstantIntOp>(op, 0, 32);
+    return success();
+  }
+};
+
+/// osl.closure_component: osl_rt_closure_component(id, rows, lanes, mask).
+struct ClosureComponentLowering : public OslPattern<ClosureComponentOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(ClosureComponentOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Value id = rewriter.create<arith::ConstantIntOp>(op.getLoc(),
+                                                     ::osl::closureId(op.getName()), 32);
+    rewriter.replaceOp(op, callClosureEntry(rewriter, op, width, "osl_rt_closure_component",
+                                            {id}, adaptor.getArgs(), op.getArgs()));
+    return success();
+  }
+};
+
+/// osl.closure_mul and osl.closure_add: their entry point on the operands' rows.
+template <typename Op>
+struct ClosureArithLowering : public OslPattern<Op> {
+  ClosureArithLowering(const VaryingTypeConverter &converter, MLIRContext *ctx, StringRef entry)
+      : OslPattern<Op>(converter, ctx), entry(entry) {}
+  LogicalResult matchAndRewrite(Op op, typename Op::Adaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    rewriter.replaceOp(op, callClosureEntry(rewriter, op, this->width, entry, {},
+                                            adaptor.getOperands(), op->getOperands()));
+    return success();
+  }
+  StringRef entry;
+};
+
 void populateLaneOpPatterns(const VaryingTypeConverter &converter,
                             RewritePatternSet &patterns) {
   MLIRContext *ctx = patterns.getContext();
@@ -910,6 +997,9 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
   LANE(PowOp, pow); LANE(FmodOp, fmod); LANE(StepOp, step); LANE(MixOp, mix);
   LANE(ClampOp, clamp); LANE(SmoothStepOp, smoothstep); LANE(SelectOp, select);
 #undef LANE
+  patterns.add<ClosureArithLowering<ClosureMulOp>>(converter, ctx, "osl_rt_closure_mul");
+  patterns.add<ClosureArithLowering<ClosureAddOp>>(converter, ctx, "osl_rt_closure_add");
+  patterns.add<ClosureEmptyLowering, ClosureComponentLowering>(converter, ctx);
   patterns.add<GlobalLowering, BatchMaskLowering, AnyLowering, CountLanesLowering,
                BroadcastLowering,
                CmpLowering, ConvertLowering, ConstructLowering, ExtractLowering,

@@ -48,7 +48,7 @@ func.func @global_wrong_shape() {
 
 // -----
 
-// expected-error @+1 {{varying element must be f32, i32, i1 or vector<3xf32>, got 'f64'}}
+// expected-error @+1 {{varying element must be f32, i32, i1, vector<3xf32> or !osl.closure, got 'f64'}}
 func.func @varying_of_f64(%a: !osl.varying<f64>) {
   return
 }
@@ -286,5 +286,47 @@ func.func @while_condition_without_operands(%x: f32) {
   ^bb0(%a: f32):
     osl.yield %a : f32
   }
+  return
+}
+
+// -----
+
+func.func @unknown_closure(%n: vector<3xf32>) {
+  // expected-error @+1 {{unknown closure 'velvet'}}
+  %0 = osl.closure_component "velvet"(%n) : (vector<3xf32>) -> !osl.closure
+  return
+}
+
+// -----
+
+// Keyword parameters are operands too: dielectric_bsdf takes its 8
+// positional parameters, then label, thinfilm_thickness and thinfilm_ior.
+func.func @closure_operand_count(%n: vector<3xf32>) {
+  // expected-error @+1 {{closure 'dielectric_bsdf' takes 11 operands (positional, then keywords), got 1}}
+  %0 = osl.closure_component "dielectric_bsdf"(%n) : (vector<3xf32>) -> !osl.closure
+  return
+}
+
+// -----
+
+func.func @closure_operand_kind(%f: f32) {
+  // expected-error @+1 {{operand 0 of kind 'n' must be 'vector<3xf32>'}}
+  %0 = osl.closure_component "diffuse"(%f) : (f32) -> !osl.closure
+  return
+}
+
+// -----
+
+func.func @closure_uniformity(%n: !osl.varying<vector<3xf32>>) {
+  // expected-error @+1 {{result must be varying like its operands}}
+  %0 = osl.closure_component "diffuse"(%n) : (!osl.varying<vector<3xf32>>) -> !osl.closure
+  return
+}
+
+// -----
+
+func.func @closure_weight_is_a_color(%c: !osl.closure, %f: f32) {
+  // expected-error @+1 {{operand #1 must be vector<3xf32> or !osl.varying<vector<3xf32>>}}
+  %0 = osl.closure_mul %c, %f : !osl.closure, f32 -> !osl.closure
   return
 }

@@ -379,3 +379,36 @@ func.func @count_lanes() {
   osl.count_lanes %m : !osl.varying<i1>
   return
 }
+
+// -----
+
+// A closure is an i32 handle per lane: each closure op is one runtime call
+// per batch on rows of 32-bit values, and Ci's handles are stored with
+// their bits (a bitcast, not a conversion to float). A uniform closure
+// takes one lane; the empty closure is handle 0.
+// CHECK-LABEL: osl.shader_name = "closures"
+// CHECK: llvm.call @osl_rt_closure_component(%{{.+}}, %{{.+}}, %{{.+}}, %{{.+}}) : (i32, !llvm.ptr, i32, i32) -> ()
+// CHECK: llvm.load %{{.+}} : !llvm.ptr -> vector<8xi32>
+// CHECK: llvm.call @osl_rt_closure_mul(%{{.+}}, %{{.+}}, %{{.+}}) : (!llvm.ptr, i32, i32) -> ()
+// CHECK: llvm.call @osl_rt_closure_component
+// CHECK: llvm.load %{{.+}} : !llvm.ptr -> i32
+// CHECK: llvm.call @osl_rt_closure_add
+// CHECK: arith.constant 0 : i32
+// CHECK: arith.select %{{.+}}, %{{.+}}, %{{.+}} : vector<8xi1>, vector<8xi32>
+// CHECK: llvm.bitcast %{{.+}} : vector<8xi32> to vector<8xf32>
+// CHECK: llvm.intr.masked.store
+func.func @closures() {
+  %N = osl.global "N" : !osl.varying<vector<3xf32>>
+  %u = osl.global "u" : !osl.varying<f32>
+  %half = arith.constant 5.000000e-01 : f32
+  %w = arith.constant dense<[1.0, 0.5, 0.25]> : vector<3xf32>
+  %d = osl.closure_component "diffuse"(%N) : (!osl.varying<vector<3xf32>>) -> !osl.varying<!osl.closure>
+  %dw = osl.closure_mul %d, %w : !osl.varying<!osl.closure>, vector<3xf32> -> !osl.varying<!osl.closure>
+  %e = osl.closure_component "emission"() : () -> !osl.closure
+  %sum = osl.closure_add %dw, %e : !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<!osl.closure>
+  %empty = osl.closure_empty : !osl.closure
+  %c = osl.cmp "gt", %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %ci = osl.select %c, %sum, %empty : !osl.varying<i1>, !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<!osl.closure>
+  osl.output "Ci" = %ci : !osl.varying<!osl.closure>
+  return
+}

@@ -19,9 +19,24 @@ using namespace osl;
 
 const char *const osl::kUsage =
     "usage: osl-run SHADER.osl [options]\n"
+    "       osl-run [--param NAME V] --shader SHADER LAYER... [--connect A OUT B IN]\n"
+    "               [options]   (a shader group, see below)\n"
+    "       osl-run --scene SCENE.xml -o OUT.exr [render options]\n"
     "Compiles an OSL shader and shades a grid of points with it, like\n"
-    "testshade, writing each requested output as an image.\n"
+    "testshade, writing each requested output as an image; or path traces\n"
+    "a testrender scene whose shaders answer with closures.\n"
     "\n"
+    "render options (with --scene):\n"
+    "  -o FILE                the image (exr, png, tif...)\n"
+    "  --path DIR             where the scene's shaders are (NAME.osl);\n"
+    "                         repeatable; then the scene's folder, its\n"
+    "                         shaders/ folder and the current one\n"
+    "  -r W H                 resolution (default 256 256)\n"
+    "  -aa N                  N x N paths per pixel (default 1)\n"
+    "  --seed N               random seed (default 0)\n"
+    "  --width, -t, --math, --stats, --cache-dir, --no-cache as below\n"
+    "\n"
+    "shading options:\n"
     "  -g X Y                 grid size (default 512 512)\n"
     "  -o NAME FILE           write output NAME to FILE (exr, tif, png...;\n"
     "                         'null' discards); default: first output to\n"
@@ -133,9 +148,42 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
             (n > 1 ? "s" : "");
     return false;
   };
+  bool render = false;
+  for (int i = 1; i < argc; ++i)
+    render |= std::strcmp(argv[i], "--scene") == 0;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
-    if (a == "-g") {
+    if (a == "--scene") {
+      if (!need(i, 1, "--scene"))
+        return false;
+      o.scenePath = argv[++i];
+    } else if (render && a == "-o") {
+      if (!need(i, 1, "-o"))
+        return false;
+      o.sceneOutput = argv[++i];
+    } else if (a == "--path") {
+      if (!need(i, 1, "--path"))
+        return false;
+      o.shaderDirs.push_back(argv[++i]);
+    } else if (a == "-r") {
+      if (!need(i, 2, "-r") || !parseInt(argv[i + 1], o.renderX) ||
+          !parseInt(argv[i + 2], o.renderY) || o.renderX < 1 || o.renderY < 1 ||
+          o.renderX > 65536 || o.renderY > 65536) {
+        error = "-r needs two positive integers";
+        return false;
+      }
+      i += 2;
+    } else if (a == "-aa") {
+      if (!need(i, 1, "-aa") || !parseInt(argv[++i], o.aa) || o.aa < 1 || o.aa > 1024) {
+        error = "-aa needs a positive count (N x N paths per pixel)";
+        return false;
+      }
+    } else if (a == "--seed") {
+      if (!need(i, 1, "--seed") || !parseInt(argv[++i], o.seed)) {
+        error = "--seed needs an integer";
+        return false;
+      }
+    } else if (a == "-g") {
       if (!need(i, 2, "-g"))
         return false;
       if (!parseInt(argv[i + 1], o.grid.xres) || !parseInt(argv[i + 2], o.grid.yres) ||
@@ -301,7 +349,21 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       return false;
     }
   }
-  if (o.isGroup) {
+  if (render) {
+    if (!o.shaderPath.empty() || o.isGroup) {
+      error = "--scene takes its shaders from the scene, not '" +
+              (o.isGroup ? std::string("--shader/--group") : o.shaderPath) + "'";
+      return false;
+    }
+    if (o.sceneOutput.empty()) {
+      error = "--scene needs -o FILE";
+      return false;
+    }
+    if (!o.outputs.empty() || o.gridGiven || !o.emit.empty()) {
+      error = "-g, -o NAME FILE and --emit are for shading a grid, not --scene";
+      return false;
+    }
+  } else if (o.isGroup) {
     if (!o.shaderPath.empty()) {
       error = "a shader given both positionally ('" + o.shaderPath + "') and as a group layer";
       return false;

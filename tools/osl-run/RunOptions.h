@@ -33,9 +33,21 @@ struct RunOptions {
     std::string layer, name, value;
   };
   std::vector<Reparam> reparams;
+
+  /// Render mode (--scene FILE.xml -o OUT): testrender's flags.
+  std::string scenePath;
+  std::string sceneOutput;
+  std::vector<std::string> shaderDirs; // --path
+  int renderX = 256, renderY = 256;    // -r
+  int aa = 1;                          // -aa: aa x aa paths per pixel
+  int seed = 0;
 };
 
-/// testshade-style arguments. On error returns false with a message.
+/// Renders options.scenePath (RenderScene.cpp); the process exit status.
+int renderScene(const RunOptions &options);
+
+/// testshade-style arguments (testrender's with --scene). On error returns
+/// false with a message.
 bool parseRunOptions(int argc, char **argv, RunOptions &options,
                      std::string &error);
 

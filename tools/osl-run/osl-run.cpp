@@ -33,17 +33,21 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
                     std::string &error) {
   auto requested = options.outputs;
   if (requested.empty()) {
-    if (shader.outputs.empty()) {
-      error = "shader '" + shader.name + "' has no output parameters";
+    auto image = std::find_if(shader.outputs.begin(), shader.outputs.end(),
+                              [](const OutputSpec &o) { return !o.closure; });
+    if (image == shader.outputs.end()) {
+      error = "shader '" + shader.name + "' has no output parameters" +
+              (shader.outputs.empty() ? "" : " (its Ci is a closure: render it with --scene)");
       return false;
     }
     // A group's root layer writes plain names; other layers' outputs
     // ("layer.name") come first in the kernel when every layer runs.
-    auto first = std::find_if(shader.outputs.begin(), shader.outputs.end(),
-                              [](const OutputSpec &o) { return o.name.find('.') == std::string::npos; });
-    if (first == shader.outputs.end())
-      first = shader.outputs.begin();
-    requested.push_back({first->name, shader.name + ".png"});
+    auto rootImage = std::find_if(image, shader.outputs.end(), [](const OutputSpec &o) {
+      return !o.closure && o.name.find('.') == std::string::npos;
+    });
+    if (rootImage != shader.outputs.end())
+      image = rootImage;
+    requested.push_back({image->name, shader.name + ".png"});
   }
   for (auto &[name, file] : requested) {
     auto it = std::find_if(shader.outputs.begin(), shader.outputs.end(),
@@ -52,6 +56,10 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
       error = "shader '" + shader.name + "' has no output '" + name + "'; outputs:";
       for (const OutputSpec &o : shader.outputs)
         error += " " + o.name;
+      return false;
+    }
+    if (it->closure) {
+      error = "output '" + name + "' is a closure, not an image; render it with --scene";
       return false;
     }
     files.push_back({size_t(it - shader.outputs.begin()), file});
@@ -123,6 +131,8 @@ int main(int argc, char **argv) {
     llvm::errs() << "osl-run: error: " << error << "\n" << kUsage;
     return 2;
   }
+  if (!options.scenePath.empty())
+    return renderScene(options);
   std::unique_ptr<llvm::MemoryBuffer> source = llvm::MemoryBuffer::getMemBuffer("");
   if (!options.isGroup) {
     auto buffer = llvm::MemoryBuffer::getFile(options.shaderPath, /*IsText=*/true);

@@ -1,0 +1,41 @@
+//===- Geometry.h - Ray hits, surface frames and light sampling -*- C++ -*-===//
+#ifndef OSLRENDER_GEOMETRY_H
+#define OSLRENDER_GEOMETRY_H
+
+#include "OslRender/Scene.h"
+
+#include <limits>
+
+namespace osl::render {
+
+struct Hit {
+  int prim = -1;
+  float t = std::numeric_limits<float>::infinity();
+};
+
+/// The nearest primitive along o + t d (t > 0). `self` (the primitive the
+/// ray leaves) is skipped, except a sphere's far side: a ray refracted into
+/// a sphere leaves through it.
+Hit intersect(const Scene &scene, Vec3 o, Vec3 d, int self);
+
+/// A hit point's geometry as the shader sees it.
+struct SurfaceGeometry {
+  Vec3 p, n, dPdu, dPdv; // n: outward, unit
+  float u = 0, v = 0;
+};
+SurfaceGeometry surfaceAt(const Primitive &prim, Vec3 p);
+
+/// A direction from `x` toward light `prim` and its solid-angle pdf (0 if
+/// it cannot be sampled from there).
+struct LightSample {
+  Vec3 dir;
+  float pdf = 0;
+};
+LightSample sampleLight(const Primitive &prim, Vec3 x, float rx, float ry);
+/// The pdf sampleLight would give the direction from `x` that hits the
+/// light at `p`.
+float lightPdf(const Primitive &prim, Vec3 x, Vec3 p);
+
+} // namespace osl::render
+
+#endif // OSLRENDER_GEOMETRY_H

@@ -1,0 +1,96 @@
+//===- Closure.h - Closure storage and the renderer's view -------*- C++ -*-===//
+//
+// Each shading thread has one closure arena. A renderer resets it before a
+// batch, runs the kernel, then reads each lane's `Ci` handle (a closure
+// output's row holds handles, as the bits of its floats) and flattens it
+// into (primitive, weight, parameters) entries. Nodes and parameters live
+// in two vectors that keep their capacity across resets, so shading
+// allocates nothing per point once the arena has grown to the largest
+// batch.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLRUNTIME_CLOSURE_H
+#define OSLRUNTIME_CLOSURE_H
+
+#include "OslRuntime/ClosureCall.h"
+
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace osl {
+
+/// One primitive of a flattened closure: which closure, its accumulated
+/// weight, and its parameters in closureParamKinds order.
+struct ClosurePrimitive {
+  int32_t id = -1;
+  std::array<float, 3> weight{};
+  const uint32_t *words = nullptr; // the parameters' 32-bit words
+
+  /// Word offset of parameter `i` (triples take three words).
+  int32_t offset(int32_t i) const;
+  float floatParam(int32_t i) const {
+    float f;
+    std::memcpy(&f, words + offset(i), 4);
+    return f;
+  }
+  std::array<float, 3> tripleParam(int32_t i) const {
+    std::array<float, 3> t;
+    std::memcpy(t.data(), words + offset(i), 12);
+    return t;
+  }
+  int32_t intParam(int32_t i) const { return int32_t(words[offset(i)]); }
+  /// A string parameter's handle (stringText in StringCall.h gives its text).
+  int32_t stringParam(int32_t i) const { return int32_t(words[offset(i)]); }
+  /// A closure parameter (layer's top and base): a handle to flatten.
+  int32_t closureParam(int32_t i) const { return int32_t(words[offset(i)]); }
+  const char *name() const { return kClosures[id].name; }
+};
+
+class ClosureArena {
+public:
+  /// Forgets every node (keeps the storage). Handles issued before are void.
+  void reset() {
+    nodes.clear();
+    words.clear();
+  }
+  /// A primitive of closure `id` with weight 1; `params` holds its words.
+  int32_t component(int32_t id, const uint32_t *params, int32_t count);
+  /// `closure` scaled by `weight` (0 stays 0).
+  int32_t mul(int32_t closure, const float weight[3]);
+  /// The sum of two closures (an empty side gives the other).
+  int32_t add(int32_t a, int32_t b);
+  /// Appends the primitives of `handle` to `out`, depth first, with their
+  /// weights multiplied through. Deterministic: the same tree gives the
+  /// same list whatever the batch width that built it.
+  void flatten(int32_t handle, std::vector<ClosurePrimitive> &out) const;
+  size_t nodeCount() const { return nodes.size(); }
+
+private:
+  enum Kind : int32_t { kPrimitive, kMul, kAdd };
+  struct Node {
+    Kind kind;
+    int32_t id;   // kPrimitive: the closure; kMul, kAdd: the first operand
+    int32_t b;    // kPrimitive: first word of its parameters; kAdd: the second operand
+    float w[3];   // kMul: the weight
+  };
+  void flattenScaled(int32_t handle, const float w[3], std::vector<ClosurePrimitive> &out) const;
+  std::vector<Node> nodes;
+  std::vector<uint32_t> words;
+};
+
+/// This thread's arena (the one compiled kernels build in).
+ClosureArena &threadClosureArena();
+
+/// The closure handle a kernel stored in an output row's float.
+inline int32_t closureHandleFromOutput(float value) {
+  int32_t h;
+  std::memcpy(&h, &value, 4);
+  return h;
+}
+
+} // namespace osl
+
+#endif // OSLRUNTIME_CLOSURE_H

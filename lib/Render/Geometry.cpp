@@ -1,0 +1,130 @@
+//===- Geometry.cpp - Spheres and quads -----------------------------------===//
+#include "OslRender/Geometry.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace osl::render {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+/// Nearest positive distance to a sphere; `self` keeps the far root only.
+float hitSphere(const Primitive &s, Vec3 o, Vec3 d, bool self) {
+  Vec3 oc = s.center - o;
+  double b = dot(oc, d);
+  double det = b * b - double(dot(oc, oc)) + double(s.radius) * s.radius;
+  if (det < 0)
+    return -1;
+  det = std::sqrt(det);
+  double near = b - det, far = b + det;
+  // Leaving the surface, the near root is ~0 (or the far one, going out):
+  // a hit must be a real distance away.
+  double eps = 1e-4 * s.radius;
+  if (self)
+    return far > eps && b > 0 ? float(far) : -1;
+  if (near > eps)
+    return float(near);
+  return far > eps ? float(far) : -1;
+}
+
+float hitQuad(const Primitive &q, Vec3 o, Vec3 d) {
+  Vec3 n = cross(q.edgeX, q.edgeY);
+  float dn = dot(d, n);
+  if (dn == 0)
+    return -1;
+  float t = dot(q.corner - o, n) / dn;
+  if (!(t > 0))
+    return -1;
+  Vec3 h = o + d * t - q.corner;
+  float u = dot(h, q.edgeX) / dot(q.edgeX, q.edgeX);
+  float v = dot(h, q.edgeY) / dot(q.edgeY, q.edgeY);
+  return u >= 0 && u <= 1 && v >= 0 && v <= 1 ? t : -1;
+}
+
+} // namespace
+
+Hit intersect(const Scene &scene, Vec3 o, Vec3 d, int self) {
+  Hit hit;
+  for (int i = 0; i < int(scene.prims.size()); ++i) {
+    const Primitive &p = scene.prims[i];
+    float t;
+    if (p.kind == Primitive::Sphere)
+      t = hitSphere(p, o, d, i == self);
+    else
+      t = i == self ? -1 : hitQuad(p, o, d);
+    if (t > 0 && t < hit.t) {
+      hit.t = t;
+      hit.prim = i;
+    }
+  }
+  return hit;
+}
+
+SurfaceGeometry surfaceAt(const Primitive &prim, Vec3 p) {
+  SurfaceGeometry g;
+  g.p = p;
+  if (prim.kind == Primitive::Sphere) {
+    Vec3 n = normalize(p - prim.center);
+    g.n = n;
+    float phi = std::atan2(n.z, n.x);
+    g.u = phi / (2 * kPi) + (phi < 0 ? 1 : 0);
+    g.v = std::acos(std::clamp(n.y, -1.0f, 1.0f)) / kPi;
+    float r = prim.radius;
+    g.dPdu = Vec3(-n.z, 0, n.x) * (2 * kPi * r);
+    g.dPdv = cross(g.dPdu, n);
+    g.dPdv = normalize(g.dPdv) * (kPi * r);
+  } else {
+    g.n = normalize(cross(prim.edgeX, prim.edgeY));
+    Vec3 h = p - prim.corner;
+    g.u = dot(h, prim.edgeX) / dot(prim.edgeX, prim.edgeX);
+    g.v = dot(h, prim.edgeY) / dot(prim.edgeY, prim.edgeY);
+    g.dPdu = prim.edgeX;
+    g.dPdv = prim.edgeY;
+  }
+  return g;
+}
+
+LightSample sampleLight(const Primitive &prim, Vec3 x, float rx, float ry) {
+  LightSample s;
+  if (prim.kind == Primitive::Sphere) {
+    Vec3 toC = prim.center - x;
+    float d2 = dot(toC, toC), r2 = prim.radius * prim.radius;
+    if (d2 <= r2)
+      return s; // inside the light: not sampled
+    float cosMax = std::sqrt(std::max(0.0f, 1 - r2 / d2));
+    float cosT = 1 - rx * (1 - cosMax), sinT = std::sqrt(std::max(0.0f, 1 - cosT * cosT));
+    float phi = 2 * kPi * ry;
+    Frame f(toC / std::sqrt(d2));
+    s.dir = f.toWorld(Vec3(sinT * std::cos(phi), sinT * std::sin(phi), cosT));
+    s.pdf = 1 / (2 * kPi * (1 - cosMax));
+    return s;
+  }
+  Vec3 p = prim.corner + prim.edgeX * rx + prim.edgeY * ry;
+  Vec3 d = p - x;
+  float d2 = dot(d, d);
+  if (!(d2 > 0))
+    return s;
+  s.dir = d / std::sqrt(d2);
+  s.pdf = lightPdf(prim, x, p);
+  return s;
+}
+
+float lightPdf(const Primitive &prim, Vec3 x, Vec3 p) {
+  if (prim.kind == Primitive::Sphere) {
+    Vec3 toC = prim.center - x;
+    float d2 = dot(toC, toC), r2 = prim.radius * prim.radius;
+    if (d2 <= r2)
+      return 0;
+    float cosMax = std::sqrt(std::max(0.0f, 1 - r2 / d2));
+    return 1 / (2 * kPi * (1 - cosMax));
+  }
+  Vec3 n = cross(prim.edgeX, prim.edgeY);
+  float area = length(n);
+  Vec3 d = p - x;
+  float d2 = dot(d, d);
+  float cosL = std::fabs(dot(n / area, d / std::sqrt(d2)));
+  return cosL > 1e-6f ? d2 / (area * cosL) : 0;
+}
+
+} // namespace osl::render

@@ -1,0 +1,413 @@
+//===- Integrator.cpp - Wavefront path tracing with batched shading -------===//
+#include "OslRender/Bsdf.h"
+#include "OslRender/Geometry.h"
+#include "OslRender/Renderer.h"
+#include "OslRender/Sampler.h"
+#include "OslRuntime/Closure.h"
+#include "OslRuntime/GlobalsLayout.h"
+#include "OslRuntime/Progress.h"
+#include "OslRuntime/ThreadPool.h"
+
+#include "llvm/Support/FileSystem.h"
+#include "llvm/Support/MemoryBuffer.h"
+#include "llvm/Support/Path.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace osl::render {
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kPi = 3.14159265358979f;
+/// Paths per wave: enough to fill batches per shader, small enough to stay in cache.
+constexpr int kWavePaths = 4096;
+constexpr int kTileSize = 8;
+constexpr int kRouletteBounce = 5;
+
+/// testrender's pixel filter: a uniform number warped to a tent on [-1, 1).
+float tent(float u) {
+  u *= 2;
+  return u < 1 ? std::sqrt(u) - 1 : 1 - std::sqrt(2 - u);
+}
+
+float powerHeuristic(float a, float b) {
+  if (std::isinf(a))
+    return 1;
+  float a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0 ? a2 / (a2 + b2) : 0;
+}
+
+struct Path {
+  int pixel = 0;
+  Vec3 o, d, throughput{1, 1, 1}, radiance;
+  float bsdfPdf = kInf; // of the last bounce; infinite for the camera and specular lobes
+  int bounce = 0, self = -1;
+  bool alive = true;
+  Hit hit;
+  Sampler rng;
+};
+
+/// What one lane of a shading batch gets: the point's globals.
+struct ShadeRequest {
+  int path = 0;
+  Vec3 p, i, n, ng, dPdu, dPdv;
+  float u = 0, v = 0;
+  bool backfacing = false;
+  Vec3 contrib; // light queries: what the light's emission is multiplied by
+};
+
+/// The globals of a hit: the normal faces the incoming ray (testrender).
+ShadeRequest hitRequest(const Primitive &prim, Vec3 o, Vec3 d, float t) {
+  SurfaceGeometry g = surfaceAt(prim, o + d * t);
+  ShadeRequest r;
+  r.p = g.p;
+  r.i = d;
+  r.n = r.ng = g.n;
+  r.dPdu = g.dPdu;
+  r.dPdv = g.dPdv;
+  r.u = g.u;
+  r.v = g.v;
+  if (dot(d, g.n) > 0) {
+    r.n = r.ng = -g.n;
+    r.backfacing = true;
+  }
+  return r;
+}
+
+} // namespace
+
+/// One worker's paths and buffers, reused from wave to wave.
+class PathWave {
+public:
+  PathWave(const Renderer &r)
+      : r(r), scene(r.scene), width(r.laneWidth),
+        globals(size_t(kGlobalRows) * r.laneWidth), queues(scene.shaders.size()) {
+    int rows = 1;
+    for (const Renderer::Kernel &k : r.kernels)
+      rows = std::max(rows, k.outputRows);
+    outputs.resize(size_t(rows) * width);
+  }
+
+  /// Traces samples [s0, s1) of every pixel in `pixels`, adding their
+  /// radiance to `sum` (3 floats per pixel of the image).
+  void run(const std::vector<int> &pixels, int s0, int s1, float *sum);
+
+  long batches = 0, shaded = 0;
+  double shadingSeconds = 0;
+
+private:
+  void shade(int shader, const std::vector<ShadeRequest> &requests,
+             const std::function<void(const ShadeRequest &, int32_t)> &use);
+  void setRow(int row, int lane, float v) { globals[size_t(row) * width + lane] = v; }
+  void setTriple(int row, int lane, Vec3 v) {
+    setRow(row, lane, v.x);
+    setRow(row + 1, lane, v.y);
+    setRow(row + 2, lane, v.z);
+  }
+
+  const Renderer &r;
+  const Scene &scene;
+  int width;
+  std::vector<float> globals, outputs;
+  std::vector<Path> paths;
+  std::vector<ShadingResult> results;
+  std::vector<std::vector<ShadeRequest>> queues;
+  std::vector<std::vector<ShadeRequest>> lightQueries;
+  std::vector<ShadeRequest> misses;
+  /// Rows of the globals the renderer sets.
+  const int rowP = findGlobal("P")->row, rowI = findGlobal("I")->row,
+            rowN = findGlobal("N")->row, rowNg = findGlobal("Ng")->row,
+            rowDPdu = findGlobal("dPdu")->row, rowDPdv = findGlobal("dPdv")->row,
+            rowU = findGlobal("u")->row, rowV = findGlobal("v")->row,
+            rowBackfacing = findGlobal("backfacing")->row;
+};
+
+void PathWave::shade(int shader, const std::vector<ShadeRequest> &requests,
+                     const std::function<void(const ShadeRequest &, int32_t)> &use) {
+  const Renderer::Kernel &k = r.kernels[shader];
+  ClosureArena &arena = threadClosureArena();
+  for (size_t start = 0; start < requests.size(); start += width) {
+    int n = int(std::min<size_t>(width, requests.size() - start));
+    std::fill(globals.begin(), globals.end(), 0.0f);
+    for (int lane = 0; lane < n; ++lane) {
+      const ShadeRequest &q = requests[start + lane];
+      setTriple(rowP, lane, q.p);
+      setTriple(rowI, lane, q.i);
+      setTriple(rowN, lane, q.n);
+      setTriple(rowNg, lane, q.ng);
+      setTriple(rowDPdu, lane, q.dPdu);
+      setTriple(rowDPdv, lane, q.dPdv);
+      setRow(rowU, lane, q.u);
+      setRow(rowV, lane, q.v);
+      setRow(rowBackfacing, lane, q.backfacing ? 1.0f : 0.0f);
+    }
+    std::fill(outputs.begin(), outputs.end(), 0.0f);
+    arena.reset();
+    if (r.options.timeShading) {
+      auto t0 = std::chrono::steady_clock::now();
+      k.shader->kernel(globals.data(), outputs.data(), n);
+      shadingSeconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    } else {
+      k.shader->kernel(globals.data(), outputs.data(), n);
+    }
+    ++batches;
+    shaded += n;
+    for (int lane = 0; lane < n; ++lane) {
+      int32_t handle = k.ciRow < 0 ? 0
+                                   : closureHandleFromOutput(
+                                         outputs[size_t(k.ciRow) * width + lane]);
+      use(requests[start + lane], handle);
+    }
+  }
+}
+
+void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
+  const RenderOptions &opt = r.options;
+  const Camera &cam = scene.camera;
+  // testrender's camera: the image plane at distance 1 spans
+  // tan(fov/2) vertically (and by the aspect ratio horizontally).
+  Vec3 dir = normalize(cam.lookAt - cam.eye);
+  float k = std::tan(cam.fovDegrees * kPi / 360);
+  Vec3 cx = normalize(cross(dir, cam.up)) * (float(opt.xres) * k / float(opt.yres));
+  Vec3 cy = normalize(cross(cx, dir)) * k;
+
+  paths.clear();
+  for (int pixel : pixels)
+    for (int s = s0; s < s1; ++s) {
+      Path p;
+      p.pixel = pixel;
+      p.rng = Sampler(uint32_t(pixel), uint32_t(s), opt.seed);
+      Vec3 j = p.rng.get();
+      float jx = tent(j.x), jy = tent(j.y);
+      float px = (float(pixel % opt.xres) + 0.5f + jx) / float(opt.xres);
+      float py = (float(pixel / opt.xres) + 0.5f + jy) / float(opt.yres);
+      p.o = cam.eye;
+      p.d = normalize(cx * (px - 0.5f) + cy * (0.5f - py) + dir);
+      paths.push_back(p);
+    }
+  results.resize(paths.size());
+  lightQueries.resize(scene.shaders.size());
+
+  for (int bounce = 0;; ++bounce) {
+    for (auto &q : queues)
+      q.clear();
+    misses.clear();
+    bool any = false;
+    for (int i = 0; i < int(paths.size()); ++i) {
+      Path &p = paths[i];
+      if (!p.alive)
+        continue;
+      any = true;
+      p.hit = intersect(scene, p.o, p.d, p.self);
+      if (p.hit.prim < 0) {
+        p.alive = false;
+        if (scene.background >= 0) {
+          ShadeRequest q;
+          q.path = i;
+          q.i = p.d;
+          q.p = p.d;
+          misses.push_back(q);
+        }
+        continue;
+      }
+      int shader = scene.prims[p.hit.prim].shader;
+      if (shader < 0) {
+        p.alive = false;
+        continue;
+      }
+      ShadeRequest q = hitRequest(scene.prims[p.hit.prim], p.o, p.d, p.hit.t);
+      q.path = i;
+      queues[shader].push_back(q);
+    }
+    if (!any)
+      break;
+
+    // Escaped paths see the background (not importance sampled, so the
+    // BSDF's sample takes it whole).
+    if (scene.background >= 0)
+      shade(scene.background, misses, [&](const ShadeRequest &q, int32_t handle) {
+        ShadingResult bg;
+        addClosure(threadClosureArena(), handle, {-q.i, Vec3(), false}, bg);
+        paths[q.path].radiance += paths[q.path].throughput * bg.background;
+      });
+
+    for (size_t s = 0; s < queues.size(); ++s)
+      shade(int(s), queues[s], [&](const ShadeRequest &q, int32_t handle) {
+        ShadingResult &res = results[q.path];
+        res.clear();
+        addClosure(threadClosureArena(), handle, {-q.i, q.n, q.backfacing}, res);
+      });
+
+    for (auto &q : lightQueries)
+      q.clear();
+    for (size_t s = 0; s < queues.size(); ++s)
+      for (const ShadeRequest &q : queues[s]) {
+        Path &p = paths[q.path];
+        ShadingResult &res = results[q.path];
+        const Primitive &prim = scene.prims[p.hit.prim];
+        float k = 1;
+        if (prim.isLight && !std::isinf(p.bsdfPdf))
+          k = powerHeuristic(p.bsdfPdf, lightPdf(prim, p.o, q.p));
+        p.radiance += p.throughput * res.emission * k;
+        Vec3 wo = -q.i;
+        if (bounce >= opt.maxBounces || !res.prepare(wo)) {
+          p.alive = false;
+          continue;
+        }
+        Vec3 bsdfRandom = p.rng.get();
+        for (int l = 0; l < int(scene.prims.size()); ++l) {
+          const Primitive &light = scene.prims[l];
+          if (l == p.hit.prim || !light.isLight || light.shader < 0)
+            continue;
+          Vec3 lr = p.rng.get();
+          LightSample ls = sampleLight(light, q.p, lr.x, lr.y);
+          if (!(ls.pdf > 0))
+            continue;
+          BsdfEval e = res.eval(wo, ls.dir);
+          Vec3 contrib = p.throughput * e.value * (powerHeuristic(ls.pdf, e.pdf) / ls.pdf);
+          if (!(contrib.sum() > 0))
+            continue;
+          Hit shadow = intersect(scene, q.p, ls.dir, p.hit.prim);
+          if (shadow.prim != l)
+            continue;
+          ShadeRequest lq = hitRequest(light, q.p, ls.dir, shadow.t);
+          lq.path = q.path;
+          lq.contrib = contrib;
+          lightQueries[light.shader].push_back(lq);
+        }
+        BsdfSample smp = res.sample(wo, bsdfRandom.x, bsdfRandom.y, bsdfRandom.z);
+        p.throughput *= smp.weight;
+        p.bsdfPdf = smp.pdf;
+        p.o = q.p;
+        p.d = smp.wi;
+        p.self = p.hit.prim;
+        if (!(p.throughput.x > 0) && !(p.throughput.y > 0) && !(p.throughput.z > 0)) {
+          p.alive = false;
+          continue;
+        }
+        if (bounce + 1 >= kRouletteBounce) {
+          float survive = std::min(1.0f, p.throughput.max());
+          if (p.rng.get().x >= survive) {
+            p.alive = false;
+            continue;
+          }
+          p.throughput = p.throughput / survive;
+        }
+      }
+
+    for (size_t s = 0; s < lightQueries.size(); ++s)
+      shade(int(s), lightQueries[s], [&](const ShadeRequest &q, int32_t handle) {
+        ShadingResult light;
+        addClosure(threadClosureArena(), handle, {-q.i, q.n, q.backfacing}, light);
+        paths[q.path].radiance += q.contrib * light.emission;
+      });
+  }
+
+  for (const Path &p : paths) {
+    Vec3 c = p.radiance;
+    if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)))
+      continue; // one bad sample must not turn a pixel into NaN
+    sum[3 * p.pixel] += c.x;
+    sum[3 * p.pixel + 1] += c.y;
+    sum[3 * p.pixel + 2] += c.z;
+  }
+}
+
+//===----------------------------------------------------------------------===//
+// Renderer
+//===----------------------------------------------------------------------===//
+
+bool Renderer::compileShaders(const std::vector<std::string> &searchPaths,
+                              const CompileOptions &compile, llvm::raw_ostream &errs,
+                              Stats *stats) {
+  kernels.clear();
+  for (const ShaderInstance &inst : scene.shaders) {
+    std::string found;
+    for (const std::string &dir : searchPaths) {
+      llvm::SmallString<256> path(dir);
+      llvm::sys::path::append(path, inst.shader + ".osl");
+      if (llvm::sys::fs::exists(path)) {
+        found = std::string(path);
+        break;
+      }
+    }
+    if (found.empty()) {
+      errs << "error: shader '" << inst.shader << "' (scene line " << inst.line
+           << "): no " << inst.shader << ".osl in";
+      for (const std::string &dir : searchPaths)
+        errs << " " << dir;
+      errs << " (use --path DIR)\n";
+      return false;
+    }
+    auto buffer = llvm::MemoryBuffer::getFile(found);
+    if (!buffer) {
+      errs << "error: cannot read " << found << "\n";
+      return false;
+    }
+    CompileOptions opts = compile;
+    opts.params = inst.params;
+    ShaderCompiler compiler(opts, errs, stats);
+    Kernel k;
+    k.shader = compiler.compile((*buffer)->getBuffer(), found);
+    if (!k.shader)
+      return false;
+    int row = 0;
+    for (const OutputSpec &o : k.shader->outputs) {
+      if (o.closure && o.name == "Ci")
+        k.ciRow = row;
+      row += o.channels;
+    }
+    k.outputRows = row;
+    laneWidth = k.shader->width;
+    kernels.push_back(std::move(k));
+  }
+  return true;
+}
+
+void Renderer::render(std::vector<float> &rgb, RenderStats &stats) {
+  const RenderOptions &opt = options;
+  int spp = opt.aa * opt.aa;
+  rgb.assign(size_t(opt.xres) * opt.yres * 3, 0.0f);
+  int tilesX = (opt.xres + kTileSize - 1) / kTileSize;
+  int tilesY = (opt.yres + kTileSize - 1) / kTileSize;
+  int tiles = tilesX * tilesY;
+  // Samples per wave: a fixed split of each pixel's samples (the same at
+  // every width and thread count, so sums add up in the same order).
+  int samplesPerWave = std::max(1, std::min(spp, kWavePaths / (kTileSize * kTileSize)));
+
+  ThreadPool pool(opt.threads);
+  std::vector<std::unique_ptr<PathWave>> waves;
+  for (int i = 0; i < pool.size(); ++i)
+    waves.push_back(std::make_unique<PathWave>(*this));
+  Progress progress(opt.progress, long(tiles), "rendering");
+  auto start = std::chrono::steady_clock::now();
+  pool.parallelForWithWorker(tiles, [&](int tile, int worker) {
+    int tx = tile % tilesX, ty = tile / tilesX;
+    std::vector<int> pixels;
+    for (int y = ty * kTileSize; y < std::min(opt.yres, (ty + 1) * kTileSize); ++y)
+      for (int x = tx * kTileSize; x < std::min(opt.xres, (tx + 1) * kTileSize); ++x)
+        pixels.push_back(y * opt.xres + x);
+    for (int s = 0; s < spp; s += samplesPerWave)
+      waves[worker]->run(pixels, s, std::min(spp, s + samplesPerWave), rgb.data());
+    progress.add(1);
+  });
+  progress.finish();
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (float &v : rgb)
+    v /= float(spp);
+  stats.paths = long(opt.xres) * opt.yres * spp;
+  for (auto &w : waves) {
+    stats.batches += w->batches;
+    stats.shadedPoints += w->shaded;
+    stats.shadingSeconds += w->shadingSeconds;
+  }
+  stats.activeLaneFraction =
+      stats.batches ? double(stats.shadedPoints) / (double(stats.batches) * laneWidth) : 0;
+}
+
+} // namespace osl::render
