@@ -239,6 +239,10 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       if (auto file = llvm::MemoryBuffer::getFile(text, /*IsText=*/true)) {
         dir = llvm::sys::path::parent_path(text).str();
         text = (*file)->getBuffer().str();
+      } else if (text.find(';') == std::string::npos) {
+        error = "--group: cannot read '" + text + "': " + file.getError().message() +
+                " (statements end in ';')";
+        return false;
       }
       if (!o.group.parseStatements(text, dir, error))
         return false;
