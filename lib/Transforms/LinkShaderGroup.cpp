@@ -150,6 +150,9 @@ struct LinkShaderGroupPass
           return;
         }
         if (param->hasAttr("osl.index")) {
+          // One message for the array, not one per element.
+          if (!reportedArrays.insert((l.name + "." + param.getName()).str()).second)
+            return;
           param.emitError("array input '") << param.getName() << "' of layer '" << l.name
                                            << "' cannot be connected yet";
           ok = false;
@@ -324,6 +327,7 @@ struct LinkShaderGroupPass
   llvm::StringMap<size_t> layerIndex;
   llvm::StringMap<llvm::StringMap<Value>> placed;
   llvm::StringSet<> requestedOutputs;
+  llvm::StringSet<> reportedArrays;
   /// Outputs of the layers that run unconditionally, as the group names them.
   std::vector<std::string> available;
   bool keepAllOutputs = true;
