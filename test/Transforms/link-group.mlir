@@ -193,3 +193,42 @@ module {
     return
   }
 }
+
+// -----
+
+// Reads in two sibling ifs: one copy, before the first, so that no lane
+// runs the layer twice (a lane that takes neither arm runs it too).
+// CHECK-LABEL: func.func @root_reads_in_two_ifs
+// CHECK: osl.global "time"
+// CHECK: osl.if
+// CHECK-NOT: osl.global "time"
+// CHECK: osl.if
+// CHECK-NOT: osl.global "time"
+// CHECK: osl.output "Cout"
+module {
+  func.func @up() attributes {osl.layer = "up"} {
+    %t = osl.global "time" : !osl.varying<f32>
+    osl.output "out" = %t : !osl.varying<f32>
+    return
+  }
+  func.func @root_reads_in_two_ifs() attributes {osl.layer = "root_reads_in_two_ifs"} {
+    %u = osl.global "u" : !osl.varying<f32>
+    %half = arith.constant 0.5 : f32
+    %in = osl.param "in"(%half) {osl.connect = ["up", "out"]} : f32
+    %c1 = osl.cmp "gt", %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+    %a = osl.if %c1 : !osl.varying<i1> -> !osl.varying<f32> {
+      osl.yield %in : f32
+    } else {
+      osl.yield %u : !osl.varying<f32>
+    }
+    %c2 = osl.cmp "lt", %a, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+    %b = osl.if %c2 : !osl.varying<i1> -> !osl.varying<f32> {
+      %m = osl.mul %in, %a : f32, !osl.varying<f32> -> !osl.varying<f32>
+      osl.yield %m : !osl.varying<f32>
+    } else {
+      osl.yield %a : !osl.varying<f32>
+    }
+    osl.output "Cout" = %b : !osl.varying<f32>
+    return
+  }
+}
