@@ -36,10 +36,10 @@ struct Stats;
 enum class LlvmPipeline {
   /// What MLIR's lowering leaves to do: SROA, CSE, instcombine, CFG
   /// cleanup, LICM. The kernel arrives vectorized and inlined, so O3's
-  /// vectorizers, inliner and unrollers mostly cost compile time; but NaN
-  /// payloads are not yet the same at every width with it (seed 5017).
+  /// vectorizers, inliner and unrollers mostly cost compile time (the
+  /// default of CompileOptions).
   Kernel,
-  /// LLVM's full O3 pipeline (the default of CompileOptions).
+  /// LLVM's full O3 pipeline.
   O3,
 };
 

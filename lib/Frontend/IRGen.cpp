@@ -624,8 +624,8 @@ std::optional<RValue> IRGen::overrideValue(const Param &p, const std::string &te
 
 bool IRGen::emitParam(const Param &p, Scope *scope) {
   OslType t = p.type;
-  if ((t.base == BaseType::Matrix && t.isArray()) || t.base == BaseType::Closure ||
-      t.isStructLike())
+  if ((t.base == BaseType::Matrix && t.isArray()) || t.isStructLike() ||
+      (t.base == BaseType::Closure && t.isArray()))
     return error(p.loc, "shader parameters of type '" + t.str() + "' are not supported yet");
   if (t.isVoid())
     return error(p.loc, "parameters cannot have type 'void'");
@@ -636,6 +636,8 @@ bool IRGen::emitParam(const Param &p, Scope *scope) {
     if (o.name == p.name)
       ov = &o;
   std::optional<RValue> init;
+  if (ov && t.isClosure())
+    return error(p.loc, "closure parameter '" + p.name + "' cannot be given a value");
   if (ov) {
     if (t.arrayLen == 0) {
       // Length from the default's initializer list.
@@ -660,7 +662,8 @@ bool IRGen::emitParam(const Param &p, Scope *scope) {
       op->setAttr("osl.index", b.getI64IntegerAttr(int64_t(i)));
       val.elems[i] = op.getResult();
     }
-  } else if (!t.isString()) {
+  } else if (!t.isString() && !t.isClosure()) {
+    // (A closure parameter is its default: instance values are numbers.)
     Value d = val.value;
     val.value = b.create<ParamOp>(loc(p.loc), d.getType(), p.name, d).getResult();
   }

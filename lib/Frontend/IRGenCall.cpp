@@ -188,7 +188,7 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
   frame.loopBase = loopStack.size();
   if (!fn.returnType.isVoid()) {
     if ((fn.returnType.base == BaseType::Matrix && fn.returnType.isArray()) ||
-        fn.returnType.base == BaseType::Closure) {
+        (fn.returnType.base == BaseType::Closure && fn.returnType.isArray())) {
       error(fn.loc, "functions returning '" + fn.returnType.str() +
                         "' are not supported yet");
       return std::nullopt;

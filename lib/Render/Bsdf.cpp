@@ -39,6 +39,18 @@ bool refract(Vec3 wo, Vec3 n, float eta, Vec3 &wi) {
 
 float sqr(float x) { return x * x; }
 
+/// A sampled direction with its evaluation: weight f*cos/pdf, or no
+/// sample where the pdf vanishes.
+BsdfSample sampled(Vec3 wiWorld, const BsdfEval &e) {
+  BsdfSample s;
+  if (!(e.pdf > 0))
+    return s;
+  s.wi = wiWorld;
+  s.pdf = e.pdf;
+  s.weight = e.value / e.pdf;
+  return s;
+}
+
 float conductorChannel(float c, float n, float k) {
   float c2 = c * c, s2 = 1 - c2;
   float t0 = n * n - k * k - s2;
@@ -160,13 +172,7 @@ BsdfSample sampleMicrofacet(const Lobe &l, Vec3 wo, float rx, float ry, float rz
   } else if (!refract(wo, m, l.eta, wi) || wi.z >= 0) {
     return s;
   }
-  BsdfEval e = evalMicrofacet(l, wo, wi);
-  if (!(e.pdf > 0))
-    return s;
-  s.wi = frame.toWorld(wi);
-  s.pdf = e.pdf;
-  s.weight = e.value / e.pdf;
-  return s;
+  return sampled(frame.toWorld(wi), evalMicrofacet(l, wo, wi));
 }
 
 //===----------------------------------------------------------------------===//
@@ -187,20 +193,13 @@ BsdfEval evalWard(const Lobe &l, Vec3 wo, Vec3 wi) {
 }
 
 BsdfSample sampleWard(const Lobe &l, Vec3 wo, float rx, float ry, const Frame &frame) {
-  BsdfSample s;
   float phi = std::atan2(l.b * std::sin(2 * kPi * ry), l.a * std::cos(2 * kPi * ry));
   float c = std::cos(phi), sn = std::sin(phi);
   float tan2 = -std::log(std::max(1e-7f, 1 - rx)) / (sqr(c / l.a) + sqr(sn / l.b));
   float cosh = 1 / std::sqrt(1 + tan2), sinh = std::sqrt(tan2) * cosh;
   Vec3 h(sinh * c, sinh * sn, cosh);
   Vec3 wi = reflect(wo, h);
-  BsdfEval e = evalWard(l, wo, wi);
-  if (!(e.pdf > 0))
-    return s;
-  s.wi = frame.toWorld(wi);
-  s.pdf = e.pdf;
-  s.weight = e.value / e.pdf;
-  return s;
+  return sampled(frame.toWorld(wi), evalWard(l, wo, wi));
 }
 
 //===----------------------------------------------------------------------===//
@@ -339,12 +338,7 @@ BsdfSample sampleLobe(const Lobe &l, Vec3 woWorld, float rx, float ry, float rz)
     break;
   }
   }
-  BsdfEval e = evalLobe(l, woWorld, s.wi);
-  if (!(e.pdf > 0))
-    return BsdfSample();
-  s.pdf = e.pdf;
-  s.weight = e.value / e.pdf;
-  return s;
+  return sampled(s.wi, evalLobe(l, woWorld, s.wi));
 }
 
 //===----------------------------------------------------------------------===//

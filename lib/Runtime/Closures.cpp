@@ -8,6 +8,7 @@ namespace {
 /// Word offsets of every closure's parameters, computed once.
 struct ParamOffsets {
   int32_t offset[kClosureCount][kMaxClosureParams + 1] = {};
+  int32_t words[kClosureCount] = {};
   ParamOffsets() {
     for (int32_t id = 0; id < kClosureCount; ++id) {
       char kinds[kMaxClosureParams];
@@ -18,6 +19,7 @@ struct ParamOffsets {
         words += closureParamRows(kinds[i]);
       }
       offset[id][n] = words;
+      this->words[id] = words;
     }
   }
 };
@@ -28,11 +30,7 @@ const ParamOffsets &paramOffsets() {
 }
 
 /// Words the parameters of closure `id` take.
-int32_t paramWords(int32_t id) {
-  char kinds[kMaxClosureParams];
-  int32_t n = closureParamKinds(id, kinds, kMaxClosureParams);
-  return paramOffsets().offset[id][n];
-}
+int32_t paramWords(int32_t id) { return paramOffsets().words[id]; }
 
 } // namespace
 

@@ -238,6 +238,16 @@ struct OutputLowering : public OslPattern<OutputOp> {
       Value value = closure ? rewriter.create<LLVM::BitcastOp>(
                                   loc, VectorType::get({width}, rewriter.getF32Type()), row)
                             : lane::convert(rewriter, loc, row, rewriter.getF32Type());
+      // One NaN for every NaN: scalar and vector code (and LLVM's folds at
+      // each width) may leave different NaN payloads, and the widths must
+      // agree bit for bit. A NaN's payload is visible nowhere else.
+      if (!closure && isa<FloatType>(getElementTypeOrSelf(row.getType()))) {
+        Value nan = lane::constant(rewriter, loc, value.getType(),
+                                   std::numeric_limits<double>::quiet_NaN());
+        Value isNan =
+            rewriter.create<arith::CmpFOp>(loc, arith::CmpFPredicate::UNO, value, value);
+        value = rewriter.create<arith::SelectOp>(loc, isNan, nan, value);
+      }
       Value addr = rowAddress(rewriter, loc, kernelArg(op, 1),
                               firstRow.lookup(op) + i, width);
       rewriter.create<LLVM::MaskedStoreOp>(loc, value, addr, mask, 4);

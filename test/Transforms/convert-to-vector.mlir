@@ -412,3 +412,20 @@ func.func @closures() {
   osl.output "Ci" = %ci : !osl.varying<!osl.closure>
   return
 }
+
+// -----
+
+// A float output stores one canonical NaN for every NaN (the widths must
+// agree bit for bit, and scalar and vector code may leave different
+// payloads); int outputs and closures need no such step.
+// CHECK-LABEL: osl.shader_name = "canonical_nan"
+// CHECK: %[[NAN:.+]] = arith.constant dense<0x7FC00000> : vector<8xf32>
+// CHECK: %[[ISNAN:.+]] = arith.cmpf uno, %[[V:.+]], %[[V]] : vector<8xf32>
+// CHECK: %[[OUT:.+]] = arith.select %[[ISNAN]], %[[NAN]], %[[V]] : vector<8xi1>, vector<8xf32>
+// CHECK: llvm.intr.masked.store %[[OUT]]
+func.func @canonical_nan() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %l = osl.log %u : !osl.varying<f32> -> !osl.varying<f32>
+  osl.output "f" = %l : !osl.varying<f32>
+  return
+}

@@ -27,35 +27,34 @@ Vec3 viewAt(float cosTheta) {
   return Vec3(std::sqrt(1 - cosTheta * cosTheta), 0, cosTheta);
 }
 
+/// The mean of `estimate` over kSamples quasi-random points (a stream per `stream`).
+template <typename Fn> double meanOverSamples(uint32_t stream, Fn estimate) {
+  double sum = 0;
+  for (int i = 0; i < kSamples; ++i)
+    sum += estimate(Sampler(stream, uint32_t(i), 3).get());
+  return sum / kSamples;
+}
+
 /// Mean sampled weight (luminance) of `result` toward wo.
 double sampledAlbedo(ShadingResult result, Vec3 wo) {
   if (!result.prepare(wo))
     return 0;
-  double sum = 0;
-  for (int i = 0; i < kSamples; ++i) {
-    Sampler s(7, uint32_t(i), 3);
-    Vec3 r = s.get();
+  return meanOverSamples(7, [&](Vec3 r) {
     BsdfSample smp = result.sample(wo, r.x, r.y, r.z);
-    if (smp.pdf > 0)
-      sum += luminance(smp.weight);
-  }
-  return sum / kSamples;
+    return smp.pdf > 0 ? double(luminance(smp.weight)) : 0.0;
+  });
 }
 
 /// The same albedo from evaluation over uniformly drawn directions.
 double evaluatedAlbedo(ShadingResult result, Vec3 wo) {
   if (!result.prepare(wo))
     return 0;
-  double sum = 0;
-  for (int i = 0; i < kSamples; ++i) {
-    Sampler s(11, uint32_t(i), 5);
-    Vec3 r = s.get();
+  return meanOverSamples(11, [&](Vec3 r) {
     float z = 1 - 2 * r.x, rad = std::sqrt(std::max(0.0f, 1 - z * z));
     float phi = 2 * 3.14159265f * r.y;
     Vec3 wi(rad * std::cos(phi), rad * std::sin(phi), z);
-    sum += luminance(result.eval(wo, wi).value) * 4 * 3.14159265;
-  }
-  return sum / kSamples;
+    return luminance(result.eval(wo, wi).value) * 4 * 3.14159265;
+  });
 }
 
 struct LobeCase {
