@@ -11,6 +11,7 @@
 #ifndef OSLCOMPILER_SHADERCOMPILER_H
 #define OSLCOMPILER_SHADERCOMPILER_H
 
+#include "OslCompiler/ShaderGroup.h"
 #include "OslFrontend/Frontend.h"
 #include "OslRuntime/GlobalsLayout.h"
 #include "OslRuntime/Grid.h"
@@ -20,6 +21,7 @@
 
 #include "mlir/IR/MLIRContext.h"
 #include "mlir/IR/OwningOpRef.h"
+#include "llvm/ADT/STLFunctionalExtras.h"
 
 #include <memory>
 #include <string>
@@ -70,6 +72,15 @@ enum class CacheUse {
   Rebuilt, // the entry was corrupt or stale: compiled and replaced
 };
 
+/// What specialisation did to a group (osl-run --stats): operations in
+/// the layers as the front end wrote them, and in the one group function
+/// after linking, constant parameters, folding and dead-code elimination;
+/// layers counted after are those with an operation left.
+struct GroupStats {
+  int layersBefore = 0, opsBefore = 0;
+  int layersAfter = 0, opsAfter = 0;
+};
+
 /// One shader compiled for one width. Keeps its JIT alive.
 class CompiledShader {
 public:
@@ -105,6 +116,17 @@ public:
   std::unique_ptr<CompiledShader> compile(llvm::StringRef source,
                                           llvm::StringRef filename);
 
+  /// A shader group: every layer through the front end, then linked into
+  /// one function (osl-link-group) as `group.optimization` says. Shader
+  /// files are read here; false after printing diagnostics.
+  bool parseGroup(const ShaderGroup &group);
+  /// parseGroup and the other three stages, or the cached kernel.
+  std::unique_ptr<CompiledShader> compileGroup(const ShaderGroup &group);
+  /// The kernel cache's key for a group: every layer's source, parameters,
+  /// connections, entries, requested outputs and the optimization level.
+  std::string groupCacheKey(const ShaderGroup &group) const;
+  const GroupStats &groupStats() const { return groupCounts; }
+
   /// The kernel cache's key for `source` under this compiler's options:
   /// everything the kernel depends on. Empty if the source does not
   /// preprocess.
@@ -119,6 +141,15 @@ public:
 private:
   std::unique_ptr<CompiledShader> compileStages(llvm::StringRef source,
                                                 llvm::StringRef filename);
+  /// The cache around `stages` (compileStages or a group's).
+  std::unique_ptr<CompiledShader>
+  compileCached(const std::string &key,
+                llvm::function_ref<std::unique_ptr<CompiledShader>()> stages);
+  /// The lines of every cache key that come from the options.
+  std::string optionsKey() const;
+  void collectOutputs();
+  /// Bind, fold and count a linked group (GroupStats).
+  bool specialiseGroup();
   std::unique_ptr<CompiledShader> loadObject(std::string object, std::string name,
                                              std::vector<OutputSpec> outputs);
   bool defineRuntimeSymbols(Jit &target);
@@ -136,6 +167,8 @@ private:
   std::unique_ptr<Jit> jit;
   std::vector<OutputSpec> outputSpecs;
   std::string shaderName;
+  bool isGroup = false;
+  GroupStats groupCounts;
 };
 
 } // namespace osl

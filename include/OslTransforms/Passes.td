@@ -17,6 +17,58 @@ def BindParams : Pass<"osl-bind-params", "::mlir::func::FuncOp"> {
   let dependentDialects = ["::mlir::arith::ArithDialect"];
 }
 
+def LinkShaderGroup : Pass<"osl-link-group", "::mlir::ModuleOp"> {
+  let summary = "Link the layers of a shader group into one shader function";
+  let description = [{
+    The module holds one func per layer, in group order, each marked
+    `osl.layer = "name"`; a connected input is an osl.param marked
+    `osl.connect = ["fromLayer", "fromOutput"]`. Layers marked `osl.entry`
+    (default: the last layer, the root) run at the top level in order and
+    keep their osl.output ops (the root's under their own names, the others'
+    as "layer.output"); a module attribute `osl.group_outputs` (a list of
+    such names) keeps only those (a layer named there runs unconditionally
+    too; an unknown name is an error). Every other layer is inlined where its
+    outputs are first needed: before the earliest op, in the innermost block
+    enclosing all its reads, that is outside every loop. Reads inside one
+    arm of a varying if therefore run the layer only on the lanes that take
+    that arm (osl-insert-mask-stack masks it) and a layer runs at most once
+    per point. A layer nobody reads is not inlined at all.
+
+    With `lazy=false` (osl-run -O0/-O1) every layer is inlined at the top
+    level in group order and keeps all its outputs (as "layer.output"), so
+    that every layer runs. With `opaque-params` (-O0) each unconnected
+    parameter whose value is a constant becomes a load from a writable
+    external global, so nothing is specialised on it; parameters marked
+    `osl.userdata` (lockgeom=0) are always loaded that way.
+
+    Errors: an unknown layer or output, a connection to the same or an
+    earlier layer (a cycle), and a type mismatch between output and input.
+  }];
+  let options = [Option<"lazy", "lazy", "bool", "true",
+                        "inline upstream layers where their outputs are read "
+                        "and drop unread layers">,
+                 Option<"opaqueParams", "opaque-params", "bool", "false",
+                        "load every unconnected constant parameter from memory">];
+  let dependentDialects = ["::mlir::LLVM::LLVMDialect", "::mlir::func::FuncDialect"];
+}
+
+def FoldConstants : Pass<"osl-fold-constants", "::mlir::func::FuncOp"> {
+  let summary = "Evaluate osl operations on constants; decide constant control flow";
+  let description = [{
+    Render-time specialisation: once instance values are constants, an
+    exactly defined lane operation (arithmetic, comparisons, logic, bit
+    operations, conversions, building and taking apart triples) whose
+    operands are all constants is replaced by the arith ops its lowering
+    would emit (LaneMath), which fold; so the folded value has the bits the
+    kernel would have computed. Transcendental functions are left alone:
+    their folders would use the host's libm, not OSL's algorithms. A select
+    or an osl.if on a constant condition becomes the chosen value or arm,
+    which is how a value that looked varying becomes uniform before
+    osl-varying-propagation runs.
+  }];
+  let dependentDialects = ["::mlir::arith::ArithDialect"];
+}
+
 def VaryingPropagation : Pass<"osl-varying-propagation", "::mlir::func::FuncOp"> {
   let summary = "Infer which values are varying";
   let description = [{

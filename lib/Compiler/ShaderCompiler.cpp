@@ -16,6 +16,8 @@
 #include "mlir/Target/LLVMIR/Dialect/Builtin/BuiltinToLLVMIRTranslation.h"
 #include "mlir/Target/LLVMIR/Dialect/LLVMIR/LLVMToLLVMIRTranslation.h"
 #include "mlir/Target/LLVMIR/Export.h"
+#include "mlir/Transforms/Passes.h"
+#include "llvm/ADT/StringSet.h"
 #include "llvm/IR/LLVMContext.h"
 #include "llvm/Config/llvm-config.h"
 #include "llvm/IR/Module.h"
@@ -25,6 +27,21 @@
 using namespace osl;
 
 namespace {
+/// Prints pass errors with the shader's file:line:col, as the front end does.
+mlir::ScopedDiagnosticHandler printErrors(mlir::MLIRContext &context, llvm::raw_ostream &errs) {
+  return mlir::ScopedDiagnosticHandler(&context, [&errs](mlir::Diagnostic &d) {
+    if (d.getSeverity() == mlir::DiagnosticSeverity::Error) {
+      if (auto loc = mlir::dyn_cast<mlir::FileLineColLoc>(d.getLocation()))
+        errs << loc.getFilename().getValue() << ":" << loc.getLine() << ":"
+             << loc.getColumn();
+      else
+        d.getLocation().print(errs);
+      errs << ": error: " << d.str() << "\n";
+    }
+    return mlir::success();
+  });
+}
+
 std::string paramBindings(const std::vector<ParamOverride> &) {
   // The front end already turned overrides into constants.
   return "";
@@ -68,6 +85,12 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
   }
   if (!mlirModule)
     return false;
+  isGroup = false;
+  collectOutputs();
+  return true;
+}
+
+void ShaderCompiler::collectOutputs() {
   // Output rows follow the order of osl.output ops, as in the lowering.
   outputSpecs.clear();
   mlirModule->walk([&](mlir::func::FuncOp f) { shaderName = f.getSymName().str(); });
@@ -83,7 +106,6 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
       outputSpecs.push_back({out.getName().str(), channels,
                              mlir::isa<mlir::osl::ClosureType>(t)});
   });
-  return true;
 }
 
 bool ShaderCompiler::lower() {
@@ -93,17 +115,9 @@ bool ShaderCompiler::lower() {
                                     options.reference, options.countLanes, options.math);
   // Pass failures report through the context's diagnostics, with the
   // shader's file:line:col locations.
-  mlir::ScopedDiagnosticHandler handler(&context, [&](mlir::Diagnostic &d) {
-    if (d.getSeverity() == mlir::DiagnosticSeverity::Error) {
-      if (auto loc = mlir::dyn_cast<mlir::FileLineColLoc>(d.getLocation()))
-        errs << loc.getFilename().getValue() << ":" << loc.getLine() << ":"
-             << loc.getColumn();
-      else
-        d.getLocation().print(errs);
-      errs << ": error: " << d.str() << "\n";
-    }
-    return mlir::success();
-  });
+  auto handler = printErrors(context, errs);
+  if (isGroup && !specialiseGroup())
+    return false;
   return mlir::succeeded(pm.run(*mlirModule));
 }
 
@@ -210,6 +224,16 @@ std::string ShaderCompiler::cacheKey(llvm::StringRef source, llvm::StringRef fil
                          : preprocessedFingerprint(source, filename, options.includePaths);
   if (text.empty())
     return "";
+  std::string key = optionsKey();
+  llvm::raw_string_ostream os(key);
+  for (const ParamOverride &p : options.params)
+    os << "param " << p.name.size() << ":" << p.name << " " << p.value.size() << ":" << p.value
+       << "\n";
+  os << "source" << text;
+  return key;
+}
+
+std::string ShaderCompiler::optionsKey() const {
   std::string key;
   llvm::raw_string_ostream os(key);
   // Every option the kernel depends on, one per line.
@@ -221,10 +245,6 @@ std::string ShaderCompiler::cacheKey(llvm::StringRef source, llvm::StringRef fil
      << int(options.llvmPipeline)
      << "\ncolorspace " << options.colorSpace << "\ncamera " << options.camera.xres << " "
      << options.camera.yres << "\n";
-  for (const ParamOverride &p : options.params)
-    os << "param " << p.name.size() << ":" << p.name << " " << p.value.size() << ":" << p.value
-       << "\n";
-  os << "source" << text;
   return key;
 }
 
@@ -238,7 +258,12 @@ std::unique_ptr<CompiledShader> ShaderCompiler::compile(llvm::StringRef source,
   }
   if (key.empty())
     return compileStages(source, filename);
+  return compileCached(key, [&] { return compileStages(source, filename); });
+}
 
+std::unique_ptr<CompiledShader>
+ShaderCompiler::compileCached(const std::string &key,
+                              llvm::function_ref<std::unique_ptr<CompiledShader>()> stages) {
   KernelCache cache(options.cacheDir);
   CachedKernel entry;
   CacheLookup found;
@@ -255,7 +280,7 @@ std::unique_ptr<CompiledShader> ShaderCompiler::compile(llvm::StringRef source,
   }
   cacheUsed = found == CacheLookup::Miss ? CacheUse::Miss : CacheUse::Rebuilt;
   keepObject = true;
-  std::unique_ptr<CompiledShader> shader = compileStages(source, filename);
+  std::unique_ptr<CompiledShader> shader = stages();
   keepObject = false;
   if (!shader || shader->jit->compiledObject().empty())
     return shader;
@@ -267,4 +292,198 @@ std::unique_ptr<CompiledShader> ShaderCompiler::compile(llvm::StringRef source,
   if (!cache.store(key, stored, error))
     errs << "warning: kernel cache: " << error << "\n";
   return shader;
+}
+
+//===----------------------------------------------------------------------===//
+// Shader groups
+//===----------------------------------------------------------------------===//
+
+namespace {
+int countOps(mlir::Operation *root) {
+  int n = 0;
+  root->walk([&](mlir::Operation *op) {
+    if (!mlir::isa<mlir::func::FuncOp, mlir::func::ReturnOp, mlir::ModuleOp>(op))
+      ++n;
+  });
+  return n;
+}
+} // namespace
+
+bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
+  ScopedTimer timer(stats, "front end");
+  std::string error;
+  if (!group.validate(error)) {
+    errs << "error: " << error << "\n";
+    return false;
+  }
+  mlirModule = mlir::ModuleOp::create(mlir::UnknownLoc::get(&context));
+  mlir::OpBuilder b(&context);
+  groupCounts = GroupStats();
+  groupCounts.layersBefore = int(group.layers.size());
+  for (const GroupLayer &layer : group.layers) {
+    auto buffer = llvm::MemoryBuffer::getFile(layer.shaderPath, /*IsText=*/true);
+    if (!buffer) {
+      errs << "error: layer '" << layer.name << "': cannot read '" << layer.shaderPath
+           << "': " << buffer.getError().message() << "\n";
+      return false;
+    }
+    auto parsed = parseOslShader((*buffer)->getBuffer(), layer.shaderPath, context,
+                                 layer.params, errs, options.includePaths, options.camera,
+                                 options.colorSpace);
+    if (!parsed) {
+      errs << "note: in layer '" << layer.name << "'\n";
+      return false;
+    }
+    auto funcs = llvm::to_vector(parsed->getOps<mlir::func::FuncOp>());
+    if (funcs.size() != 1) {
+      errs << "error: layer '" << layer.name << "': expected one shader in '"
+           << layer.shaderPath << "'\n";
+      return false;
+    }
+    mlir::func::FuncOp func = funcs.front();
+    std::string shader = func.getSymName().str();
+    func.setSymName("layer." + layer.name);
+    func->setAttr("osl.layer", b.getStringAttr(layer.name));
+    if (llvm::is_contained(group.entries, layer.name))
+      func->setAttr("osl.entry", b.getUnitAttr());
+    groupCounts.opsBefore += countOps(func);
+    // Mark connected inputs and userdata; each must name a parameter.
+    auto markParam = [&](const std::string &name, llvm::StringRef attr,
+                         mlir::Attribute value) {
+      bool found = false;
+      func.walk([&](mlir::osl::ParamOp p) {
+        if (p.getName() == name) {
+          p->setAttr(attr, value);
+          found = true;
+        }
+      });
+      if (!found)
+        errs << "error: layer '" << layer.name << "' (shader '" << shader
+             << "') has no parameter '" << name << "'\n";
+      return found;
+    };
+    for (const GroupConnection &c : group.connections)
+      if (c.toLayer == layer.name &&
+          !markParam(c.toInput, "osl.connect",
+                     b.getStrArrayAttr({c.fromLayer, c.fromOutput})))
+        return false;
+    for (const std::string &name : layer.userdata)
+      if (!markParam(name, "osl.userdata", b.getUnitAttr()))
+        return false;
+    for (mlir::Operation &op : llvm::make_early_inc_range(*parsed->getBody())) {
+      op.remove();
+      mlirModule->getBody()->push_back(&op);
+    }
+  }
+  if (!group.outputs.empty())
+    (*mlirModule)->setAttr("osl.group_outputs", b.getStrArrayAttr(llvm::to_vector(
+                                                    llvm::map_range(group.outputs, [](auto &s) {
+                                                      return llvm::StringRef(s);
+                                                    }))));
+  mlir::PassManager pm(&context);
+  mlir::osl::LinkShaderGroupOptions link;
+  link.lazy = group.optimization == GroupOptimization::O2;
+  link.opaqueParams = group.optimization == GroupOptimization::O0;
+  pm.addPass(mlir::osl::createLinkShaderGroup(link));
+  auto handler = printErrors(context, errs);
+  if (mlir::failed(pm.run(*mlirModule)))
+    return false;
+  isGroup = true;
+  mlirModule->walk([&](mlir::func::FuncOp f) { shaderName = f.getSymName().str(); });
+  collectOutputs();
+  return true;
+}
+
+bool ShaderCompiler::specialiseGroup() {
+  // Constant parameters folded through the whole group (the pipeline
+  // starts with the same binding, then finds nothing left to do); done here
+  // so that the layers left can be counted while ops still carry their layer.
+  mlir::PassManager pm(&context);
+  mlir::OpPassManager &fn = pm.nest<mlir::func::FuncOp>();
+  fn.addPass(mlir::osl::createBindParams());
+  fn.addPass(mlir::osl::createFoldConstants());
+  fn.addPass(mlir::createCanonicalizerPass());
+  fn.addPass(mlir::createCSEPass());
+  if (mlir::failed(pm.run(*mlirModule)))
+    return false;
+  llvm::StringSet<> layersLeft;
+  int ops = 0;
+  mlirModule->walk([&](mlir::func::FuncOp f) {
+    ops += countOps(f);
+    f.walk([&](mlir::Operation *op) {
+      auto layer = op->getAttrOfType<mlir::StringAttr>("osl.from_layer");
+      if (!layer)
+        return;
+      if (!mlir::isa<mlir::arith::ConstantOp>(op))
+        layersLeft.insert(layer.getValue());
+      op->removeAttr("osl.from_layer");
+    });
+  });
+  groupCounts.opsAfter = ops;
+  groupCounts.layersAfter = int(layersLeft.size());
+  return true;
+}
+
+std::string ShaderCompiler::groupCacheKey(const ShaderGroup &group) const {
+  std::string key = optionsKey();
+  llvm::raw_string_ostream os(key);
+  auto field = [&](const std::string &s) { os << " " << s.size() << ":" << s; };
+  os << "group O" << int(group.optimization) << "\n";
+  for (const GroupLayer &layer : group.layers) {
+    auto buffer = llvm::MemoryBuffer::getFile(layer.shaderPath, /*IsText=*/true);
+    if (!buffer)
+      return ""; // compiling reports it
+    std::string text =
+        preprocessedFingerprint((*buffer)->getBuffer(), layer.shaderPath, options.includePaths);
+    if (text.empty())
+      return "";
+    os << "layer";
+    field(layer.name);
+    for (const ParamOverride &p : layer.params) {
+      os << "\nparam";
+      field(p.name);
+      field(p.value);
+    }
+    for (const std::string &u : layer.userdata) {
+      os << "\nuserdata";
+      field(u);
+    }
+    os << "\nsource";
+    field(text);
+    os << "\n";
+  }
+  for (const GroupConnection &c : group.connections) {
+    os << "connect";
+    for (const std::string *s : {&c.fromLayer, &c.fromOutput, &c.toLayer, &c.toInput})
+      field(*s);
+    os << "\n";
+  }
+  for (const std::string &e : group.entries) {
+    os << "entry";
+    field(e);
+    os << "\n";
+  }
+  for (const std::string &o : group.outputs) {
+    os << "output";
+    field(o);
+    os << "\n";
+  }
+  return key;
+}
+
+std::unique_ptr<CompiledShader> ShaderCompiler::compileGroup(const ShaderGroup &group) {
+  cacheUsed = CacheUse::Off;
+  auto stages = [&]() -> std::unique_ptr<CompiledShader> {
+    if (!parseGroup(group) || !lower() || !translate())
+      return nullptr;
+    return load();
+  };
+  std::string key;
+  if (!options.cacheDir.empty()) {
+    ScopedTimer timer(stats, "kernel cache");
+    key = groupCacheKey(group);
+  }
+  if (key.empty())
+    return stages();
+  return compileCached(key, stages);
 }

@@ -9,6 +9,9 @@
 
 #include "OslCompiler/KernelCache.h"
 
+#include "llvm/Support/MemoryBuffer.h"
+#include "llvm/Support/Path.h"
+
 #include <cstdlib>
 #include <cstring>
 
@@ -16,6 +19,8 @@ using namespace osl;
 
 const char *const osl::kUsage =
     "usage: osl-run SHADER.osl [options]\n"
+    "       osl-run [--param NAME V] --shader SHADER LAYER... [--connect A OUT B IN]\n"
+    "               [options]   (a shader group, see below)\n"
     "       osl-run --scene SCENE.xml -o OUT.exr [render options]\n"
     "Compiles an OSL shader and shades a grid of points with it, like\n"
     "testshade, writing each requested output as an image; or path traces\n"
@@ -38,6 +43,23 @@ const char *const osl::kUsage =
     "                         <shader>.png\n"
     "  --param NAME VALUE     set a parameter (numbers, 'a,b,c' for triples)\n"
     "  --param:type=T NAME V  the same, with testshade's type annotation\n"
+    "                         (and :lockgeom=0 for per-geometry data)\n"
+    "\n"
+    "Shader groups (testshade's flags): each --param applies to the next\n"
+    "--shader; the last layer is the root, whose outputs -o names (another\n"
+    "layer's as LAYER.NAME).\n"
+    "  --shader SHADER LAYER  add a layer (SHADER or SHADER.osl)\n"
+    "  --connect A OUT B IN   layer A's output OUT feeds layer B's input IN\n"
+    "  --group STATEMENTS|FILE\n"
+    "                         'param TYPE NAME VALUE... ; shader NAME LAYER ;\n"
+    "                         connect A.OUT B.IN ;' as a string or a file\n"
+    "  --reparam LAYER NAME V change an instance value (re-specialises)\n"
+    "  --entry LAYER          run LAYER unconditionally (repeatable; default:\n"
+    "                         the last layer)\n"
+    "  -O0 | -O1 | -O2        parameters stay loads and every layer runs |\n"
+    "                         parameters are constants | also lazy layers and\n"
+    "                         no unread layers or outputs (default)\n"
+    "\n"
     "  --width N              lanes per batch: 1, 4, 8 or 16 (default: widest\n"
     "                         the CPU supports)\n"
     "  --math=LEVEL           how math functions are computed: default\n"
@@ -89,6 +111,30 @@ bool parseInt(const char *text, int &out) {
     return false;
   out = int(v);
   return true;
+}
+
+/// "1 0 0" -> "1,0,0": testshade's typed values may be space-separated.
+std::string numberList(std::string value) {
+  std::string out;
+  bool gap = false;
+  for (char c : value) {
+    if (c == ' ' || c == ',') {
+      gap = !out.empty();
+      continue;
+    }
+    if (gap)
+      out += ',';
+    gap = false;
+    out += c;
+  }
+  return out;
+}
+
+/// testshade names shaders without extension.
+std::string shaderFile(std::string name) {
+  if (!llvm::StringRef(name).ends_with(".osl"))
+    name += ".osl";
+  return name;
 }
 
 } // namespace
@@ -155,8 +201,63 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
     } else if (a == "--param" || a.rfind("--param:", 0) == 0) {
       if (!need(i, 2, "--param"))
         return false;
-      o.compile.params.push_back({argv[i + 1], argv[i + 2]});
+      std::string type, value = argv[i + 2];
+      bool userdata = false;
+      llvm::SmallVector<llvm::StringRef> annotations;
+      llvm::StringRef(a).split(annotations, ':');
+      for (llvm::StringRef note : llvm::ArrayRef(annotations).drop_front()) {
+        auto [key, v] = note.split('=');
+        if (key == "type")
+          type = v.str();
+        else if (key == "lockgeom")
+          userdata = v == "0";
+      }
+      if (!type.empty() && type != "string")
+        value = numberList(value);
+      o.compile.params.push_back({argv[i + 1], value});
+      o.group.param(argv[i + 1], value, userdata);
       i += 2;
+    } else if (a == "--shader") {
+      if (!need(i, 2, "--shader") ||
+          !o.group.shader(shaderFile(argv[i + 1]), argv[i + 2], error)) {
+        if (error.empty())
+          error = "--shader needs 2 arguments";
+        return false;
+      }
+      o.isGroup = true;
+      i += 2;
+    } else if (a == "--connect") {
+      if (!need(i, 4, "--connect") ||
+          !o.group.connect({argv[i + 1], argv[i + 2], argv[i + 3], argv[i + 4]}, error))
+        return false;
+      i += 4;
+    } else if (a == "--group") {
+      if (!need(i, 1, "--group"))
+        return false;
+      std::string text = argv[++i], dir;
+      // A file of statements, or the statements themselves.
+      if (auto file = llvm::MemoryBuffer::getFile(text, /*IsText=*/true)) {
+        dir = llvm::sys::path::parent_path(text).str();
+        text = (*file)->getBuffer().str();
+      } else if (text.find(';') == std::string::npos) {
+        error = "--group: cannot read '" + text + "': " + file.getError().message() +
+                " (statements end in ';')";
+        return false;
+      }
+      if (!o.group.parseStatements(text, dir, error))
+        return false;
+      o.isGroup = true;
+    } else if (a == "--reparam") {
+      if (!need(i, 3, "--reparam"))
+        return false;
+      o.reparams.push_back({argv[i + 1], argv[i + 2], argv[i + 3]});
+      i += 3;
+    } else if (a == "--entry") {
+      if (!need(i, 1, "--entry"))
+        return false;
+      o.group.entries.push_back(argv[++i]);
+    } else if (a == "-O0" || a == "-O1" || a == "-O2") {
+      o.group.optimization = GroupOptimization(a[2] - '0');
     } else if (a == "--width" || a.rfind("--width=", 0) == 0) {
       std::string v = a == "--width" ? (need(i, 1, "--width") ? argv[++i] : "")
                                      : a.substr(8);
@@ -253,8 +354,9 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
     }
   }
   if (render) {
-    if (!o.shaderPath.empty()) {
-      error = "--scene takes its shaders from the scene, not '" + o.shaderPath + "'";
+    if (!o.shaderPath.empty() || o.isGroup) {
+      error = "--scene takes its shaders from the scene, not '" +
+              (o.isGroup ? std::string("--shader/--group") : o.shaderPath) + "'";
       return false;
     }
     if (o.sceneOutput.empty()) {
@@ -265,9 +367,29 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       error = "-g, -o NAME FILE and --emit are for shading a grid, not --scene";
       return false;
     }
-  } else if (o.shaderPath.empty()) {
-    error = "no shader given";
-    return false;
+  } else if (o.isGroup) {
+    if (!o.shaderPath.empty()) {
+      error = "a shader given both positionally ('" + o.shaderPath + "') and as a group layer";
+      return false;
+    }
+    for (const RunOptions::Reparam &r : o.reparams)
+      if (!o.group.reparam(r.layer, r.name, r.value, error))
+        return false;
+    if (!o.group.validate(error))
+      return false;
+    if (!o.outputs.empty())
+      for (auto &[name, file] : o.outputs)
+        o.group.outputs.push_back(name);
+    o.compile.params.clear();
+  } else {
+    if (!o.group.connections.empty() || !o.group.entries.empty() || !o.reparams.empty()) {
+      error = "--connect, --entry and --reparam need a group (--shader or --group)";
+      return false;
+    }
+    if (o.shaderPath.empty()) {
+      error = "no shader given";
+      return false;
+    }
   }
   if (!o.gridGiven)
     o.grid.xres = o.grid.yres = 512;

@@ -25,6 +25,14 @@ struct RunOptions {
   /// --no-cache: compile even if the kernel cache has the kernel.
   bool noCache = false;
   bool cacheDirGiven = false;
+  /// --shader/--connect/--group/--entry build a group instead of the one
+  /// positional shader; --reparam values are applied once it is built.
+  ShaderGroup group;
+  bool isGroup = false;
+  struct Reparam {
+    std::string layer, name, value;
+  };
+  std::vector<Reparam> reparams;
 
   /// Render mode (--scene FILE.xml -o OUT): testrender's flags.
   std::string scenePath;

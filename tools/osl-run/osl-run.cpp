@@ -40,6 +40,13 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
               (shader.outputs.empty() ? "" : " (its Ci is a closure: render it with --scene)");
       return false;
     }
+    // A group's root layer writes plain names; other layers' outputs
+    // ("layer.name") come first in the kernel when every layer runs.
+    auto rootImage = std::find_if(image, shader.outputs.end(), [](const OutputSpec &o) {
+      return !o.closure && o.name.find('.') == std::string::npos;
+    });
+    if (rootImage != shader.outputs.end())
+      image = rootImage;
     requested.push_back({image->name, shader.name + ".png"});
   }
   for (auto &[name, file] : requested) {
@@ -64,7 +71,8 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
 /// result. False after an error.
 bool emit(ShaderCompiler &compiler, const RunOptions &options, llvm::StringRef source,
           Stats *statsPtr) {
-  if (!compiler.parse(source, options.shaderPath))
+  if (!(options.isGroup ? compiler.parseGroup(options.group)
+                        : compiler.parse(source, options.shaderPath)))
     return false;
   if (options.emit == "mlir") {
     compiler.module().print(llvm::outs());
@@ -125,10 +133,14 @@ int main(int argc, char **argv) {
   }
   if (!options.scenePath.empty())
     return renderScene(options);
-  auto buffer = llvm::MemoryBuffer::getFile(options.shaderPath, /*IsText=*/true);
-  if (!buffer)
-    return fail("cannot read '" + options.shaderPath + "': " +
-                buffer.getError().message());
+  std::unique_ptr<llvm::MemoryBuffer> source = llvm::MemoryBuffer::getMemBuffer("");
+  if (!options.isGroup) {
+    auto buffer = llvm::MemoryBuffer::getFile(options.shaderPath, /*IsText=*/true);
+    if (!buffer)
+      return fail("cannot read '" + options.shaderPath + "': " +
+                  buffer.getError().message());
+    source = std::move(*buffer);
+  }
 
   options.compile.camera = {options.grid.xres, options.grid.yres};
   Stats stats;
@@ -136,10 +148,11 @@ int main(int argc, char **argv) {
   ShaderCompiler compiler(options.compile, llvm::errs(), statsPtr);
   std::unique_ptr<CompiledShader> shader;
   if (options.emit.empty()) {
-    shader = compiler.compile((*buffer)->getBuffer(), options.shaderPath);
+    shader = options.isGroup ? compiler.compileGroup(options.group)
+                             : compiler.compile(source->getBuffer(), options.shaderPath);
     if (!shader)
       return 1;
-  } else if (!emit(compiler, options, (*buffer)->getBuffer(), statsPtr)) {
+  } else if (!emit(compiler, options, source->getBuffer(), statsPtr)) {
     return 1;
   } else {
     return 0;
@@ -188,6 +201,11 @@ int main(int argc, char **argv) {
                  << " iteration(s)\n";
     stats.print(llvm::errs());
     llvm::errs() << "kernel cache: " << cacheUseText(compiler.cacheUse()) << "\n";
+    const GroupStats &g = compiler.groupStats();
+    if (options.isGroup && g.opsBefore > 0)
+      llvm::errs() << "group: before specialisation " << g.layersBefore << " layers, "
+                   << g.opsBefore << " ops; after " << g.layersAfter << " layers, "
+                   << g.opsAfter << " ops\n";
     double points = double(options.grid.xres) * options.grid.yres * options.iters;
     llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
   }

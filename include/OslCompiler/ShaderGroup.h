@@ -1,0 +1,79 @@
+//===- ShaderGroup.h - Layers of shader instances and their wiring -*- C++ -*-===//
+//
+// A shader group as testshade and renderers build it: layers (a shader with
+// instance parameter values), connections from an upstream layer's output
+// to a downstream layer's input, and the entry layers that run
+// unconditionally (by default the last layer, the root). The whole group
+// compiles to one kernel (ShaderCompiler::compileGroup).
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLCOMPILER_SHADERGROUP_H
+#define OSLCOMPILER_SHADERGROUP_H
+
+#include "OslFrontend/Frontend.h"
+
+#include <string>
+#include <vector>
+
+namespace osl {
+
+struct GroupLayer {
+  /// The shader's file (its source is read when the group compiles).
+  std::string shaderPath;
+  std::string name;
+  std::vector<ParamOverride> params;
+  /// Parameters declared with lockgeom=0: per-geometry data, never folded.
+  std::vector<std::string> userdata;
+};
+
+struct GroupConnection {
+  std::string fromLayer, fromOutput, toLayer, toInput;
+};
+
+/// How much render-time specialisation a group gets (testshade's -O).
+enum class GroupOptimization {
+  O0, // parameters are loads, every layer runs
+  O1, // parameters are constants, every layer runs
+  O2, // also: upstream layers run lazily, unread layers and outputs vanish
+};
+
+struct ShaderGroup {
+  std::vector<GroupLayer> layers;
+  std::vector<GroupConnection> connections;
+  /// Layers that run unconditionally; empty: the last layer.
+  std::vector<std::string> entries;
+  /// The outputs the caller reads: "name" for the root layer's,
+  /// "layer.name" for another layer's. Empty: every output of the entries.
+  std::vector<std::string> outputs;
+  GroupOptimization optimization = GroupOptimization::O2;
+
+  /// Parameter values waiting for the next `shader` statement.
+  std::vector<ParamOverride> pendingParams;
+  std::vector<std::string> pendingUserdata;
+
+  /// testshade's statements, one call each: `--param` then `--shader`.
+  void param(std::string name, std::string value, bool userdata = false);
+  bool shader(std::string shaderPath, std::string layerName, std::string &error);
+  bool connect(GroupConnection c, std::string &error);
+  /// Changes an instance value of a built group (testshade's --reparam);
+  /// compile again to re-specialise.
+  bool reparam(const std::string &layer, const std::string &name, std::string value,
+               std::string &error);
+
+  /// testshade's group syntax (`--group`): `param TYPE NAME VALUE... ;`
+  /// (optionally followed by `[[int lockgeom=0]]`), `shader NAME LAYER ;`,
+  /// `connect FROMLAYER.OUTPUT TOLAYER.INPUT ;`. Shader names without a
+  /// directory or extension are looked up as `DIR/NAME.osl`.
+  bool parseStatements(const std::string &text, const std::string &shaderDir,
+                       std::string &error);
+
+  /// Everything the group needs before it compiles: layers exist, params
+  /// were all used, connections point backwards. Messages name the layer.
+  bool validate(std::string &error) const;
+
+  const GroupLayer *findLayer(const std::string &name) const;
+};
+
+} // namespace osl
+
+#endif // OSLCOMPILER_SHADERGROUP_H

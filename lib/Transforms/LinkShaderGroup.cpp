@@ -1,0 +1,337 @@
+//===- LinkShaderGroup.cpp - One function for a whole shader group -------===//
+//
+// A group compiles to one function so that specialisation (constant
+// parameters, folding, dead code) works across layers, as OSL's runtime
+// optimizer does. Upstream layers are inlined where their outputs are first
+// read rather than up front: that keeps them lazy (a read under a varying
+// if runs the layer only on the lanes that take the arm) and lets an unread
+// layer vanish before any pass sees it.
+//
+//===----------------------------------------------------------------------===//
+#include "OslDialect/OslDialect.h"
+#include "OslTransforms/LaneMath.h"
+#include "OslTransforms/Passes.h"
+
+#include "mlir/IR/Builders.h"
+#include "mlir/IR/IRMapping.h"
+#include "llvm/ADT/StringMap.h"
+#include "llvm/ADT/StringSet.h"
+
+namespace mlir::osl {
+#define GEN_PASS_DEF_LINKSHADERGROUP
+#include "OslTransforms/Passes.h.inc"
+} // namespace mlir::osl
+
+using namespace mlir;
+using namespace mlir::osl;
+
+namespace {
+
+constexpr const char *kLayerAttr = "osl.layer";
+constexpr const char *kEntryAttr = "osl.entry";
+constexpr const char *kConnectAttr = "osl.connect";
+constexpr const char *kUserdataAttr = "osl.userdata";
+constexpr const char *kFromLayerAttr = "osl.from_layer";
+constexpr const char *kGroupOutputsAttr = "osl.group_outputs";
+
+/// OSL's name for a base type, for messages.
+std::string typeName(Type t) {
+  t = getUniformType(t);
+  if (t.isF32())
+    return "float";
+  if (t.isInteger(32))
+    return "int";
+  if (isTriple(t))
+    return "color/point/vector/normal";
+  std::string s;
+  llvm::raw_string_ostream(s) << t;
+  return s;
+}
+
+/// The (layer, output) an osl.param reads, if it is connected.
+std::optional<std::pair<StringRef, StringRef>> connection(ParamOp param) {
+  auto names = param->getAttrOfType<ArrayAttr>(kConnectAttr);
+  if (!names || names.size() != 2)
+    return std::nullopt;
+  return std::make_pair(cast<StringAttr>(names[0]).getValue(),
+                        cast<StringAttr>(names[1]).getValue());
+}
+
+struct Layer {
+  func::FuncOp func;
+  StringRef name;
+  bool entry = false;
+};
+
+struct LinkShaderGroupPass
+    : public mlir::osl::impl::LinkShaderGroupBase<LinkShaderGroupPass> {
+  using mlir::osl::impl::LinkShaderGroupBase<LinkShaderGroupPass>::LinkShaderGroupBase;
+
+  void runOnOperation() override {
+    ModuleOp module = getOperation();
+    for (auto f : module.getOps<func::FuncOp>())
+      if (auto name = f->getAttrOfType<StringAttr>(kLayerAttr)) {
+        layerIndex[name.getValue()] = layers.size();
+        layers.push_back({f, name.getValue()});
+      }
+    if (layers.empty())
+      return; // a single shader: nothing to link
+    if (auto requested = module->getAttrOfType<ArrayAttr>(kGroupOutputsAttr)) {
+      keepAllOutputs = false;
+      for (Attribute a : requested)
+        requestedOutputs.insert(cast<StringAttr>(a).getValue());
+    }
+    bool anyEntry = false;
+    for (Layer &l : layers)
+      anyEntry |= l.entry = l.func->hasAttr(kEntryAttr);
+    if (!anyEntry)
+      layers.back().entry = true;
+    // Asking for "layer.name" makes that layer run for it.
+    for (auto &name : requestedOutputs) {
+      auto [layer, output] = name.getKey().rsplit('.');
+      auto it = layerIndex.find(layer);
+      if (!output.empty() && it != layerIndex.end())
+        layers[it->second].entry = true;
+    }
+    if (failed(checkConnections()))
+      return signalPassFailure();
+
+    OpBuilder b(module.getContext());
+    b.setInsertionPointToEnd(module.getBody());
+    func::FuncOp root = layers.back().func;
+    group = b.create<func::FuncOp>(root.getLoc(), "osl_group", b.getFunctionType({}, {}));
+    if (Attribute type = root->getAttr("osl.shader_type"))
+      group->setAttr("osl.shader_type", type);
+    b.setInsertionPointToStart(group.addEntryBlock());
+    Operation *ret = b.create<func::ReturnOp>(root.getLoc());
+
+    // Entries (every layer when not lazy) run unconditionally, in order.
+    for (Layer &l : layers)
+      if (l.entry || !lazy) {
+        b.setInsertionPoint(ret);
+        placed[l.name] = inlineLayer(l, b);
+      }
+    // The others, last first: by then every layer that reads one is placed.
+    if (lazy)
+      for (Layer &l : llvm::reverse(layers))
+        if (!l.entry)
+          placeLazily(l);
+
+    if (failed(checkRequestedOutputs()))
+      return signalPassFailure();
+    makeParamsOpaque();
+    std::string rootName = layers.back().name.str();
+    for (Layer &l : layers)
+      l.func.erase();
+    group.setSymName(rootName);
+  }
+
+  LogicalResult checkConnections() {
+    bool ok = true;
+    for (auto [index, l] : llvm::enumerate(layers))
+      l.func.walk([&](ParamOp param) {
+        auto from = connection(param);
+        if (!from)
+          return;
+        auto [fromLayer, fromOutput] = *from;
+        auto it = layerIndex.find(fromLayer);
+        if (it == layerIndex.end()) {
+          param.emitError("input '") << param.getName() << "' of layer '" << l.name
+                                     << "' is connected to unknown layer '" << fromLayer
+                                     << "'";
+          ok = false;
+          return;
+        }
+        if (it->second >= index) {
+          param.emitError("connecting layer '")
+              << fromLayer << "' to layer '" << l.name
+              << "' would make a cycle: a layer may only read layers declared before it";
+          ok = false;
+          return;
+        }
+        if (param->hasAttr("osl.index")) {
+          // One message for the array, not one per element.
+          if (!reportedArrays.insert((l.name + "." + param.getName()).str()).second)
+            return;
+          param.emitError("array input '") << param.getName() << "' of layer '" << l.name
+                                           << "' cannot be connected yet";
+          ok = false;
+          return;
+        }
+        OutputOp out = findOutput(layers[it->second].func, fromOutput);
+        if (!out) {
+          param.emitError("layer '") << fromLayer << "' has no output '" << fromOutput
+                                     << "' (connected to input '" << param.getName()
+                                     << "' of layer '" << l.name << "')";
+          ok = false;
+          return;
+        }
+        if (out->hasAttr("osl.index")) {
+          param.emitError("array output '") << fromOutput << "' of layer '" << fromLayer
+                                             << "' cannot be connected yet";
+          ok = false;
+          return;
+        }
+        if (getUniformType(out.getValue().getType()) != getUniformType(param.getType())) {
+          param.emitError("cannot connect output '")
+              << fromLayer << "." << fromOutput << "' ("
+              << typeName(out.getValue().getType()) << ") to input '" << l.name << "."
+              << param.getName() << "' (" << typeName(param.getType()) << ")";
+          ok = false;
+        }
+      });
+    return success(ok);
+  }
+
+  LogicalResult checkRequestedOutputs() {
+    llvm::StringSet<> written;
+    std::string names;
+    for (const std::string &name : available)
+      if (written.insert(name).second)
+        names += " " + name;
+    for (auto &name : requestedOutputs)
+      if (!written.contains(name.getKey()))
+        return group.emitError("the group has no output '")
+               << name.getKey() << "' (for another layer's, write LAYER.NAME); outputs:"
+               << names;
+    return success();
+  }
+
+  static OutputOp findOutput(func::FuncOp f, StringRef name) {
+    OutputOp found;
+    f.walk([&](OutputOp out) {
+      if (out.getName() == name)
+        found = out;
+    });
+    return found;
+  }
+
+  /// Clones layer `l` at `b`; returns its outputs' final values. Entry
+  /// layers keep the outputs the group asks for.
+  llvm::StringMap<Value> inlineLayer(Layer &l, OpBuilder &b) {
+    IRMapping map;
+    llvm::StringMap<Value> outputs;
+    SmallVector<ParamOp> reads;
+    StringAttr tag = b.getStringAttr(l.name);
+    for (Operation &op : l.func.front().without_terminator()) {
+      Operation *copy = b.clone(op, map);
+      copy->walk([&](Operation *inner) { inner->setAttr(kFromLayerAttr, tag); });
+      if (auto param = dyn_cast<ParamOp>(copy); param && connection(param))
+        reads.push_back(param);
+      auto out = dyn_cast<OutputOp>(copy);
+      if (!out)
+        continue;
+      outputs[out.getName()] = out.getValue();
+      std::string groupName = &l == &layers.back()
+                                  ? out.getName().str()
+                                  : (l.name + "." + out.getName()).str();
+      // Unspecialised (not lazy), every output is written, so every layer
+      // really runs, as in OSL at -O0.
+      if (l.entry || !lazy)
+        available.push_back(groupName);
+      bool keep = !lazy || (l.entry && (keepAllOutputs || requestedOutputs.contains(groupName)));
+      if (!keep)
+        out.erase();
+      else
+        out.setName(groupName);
+    }
+    // Reads of layers already at the top level are resolved now; the rest
+    // wait until their layer is placed.
+    for (ParamOp param : reads) {
+      auto [fromLayer, fromOutput] = *connection(param);
+      auto it = placed.find(fromLayer);
+      if (it == placed.end())
+        continue;
+      param.replaceAllUsesWith(it->second.lookup(fromOutput));
+      param.erase();
+    }
+    return outputs;
+  }
+
+  /// Inlines `l` before the first op that needs one of its outputs, outside
+  /// any loop, or nowhere if nothing reads it.
+  void placeLazily(Layer &l) {
+    SmallVector<ParamOp> reads;
+    group.walk([&](ParamOp param) {
+      if (auto from = connection(param); from && from->first == l.name)
+        reads.push_back(param);
+    });
+    SmallVector<Operation *> users;
+    for (ParamOp param : reads)
+      users.append(param->user_begin(), param->user_end());
+    if (users.empty()) {
+      for (ParamOp param : reads)
+        param.erase();
+      return;
+    }
+    // The innermost block enclosing every read, and the first read in it.
+    Block *block = users.front()->getBlock();
+    for (Operation *user : users)
+      while (!block->findAncestorOpInBlock(*user))
+        block = block->getParentOp()->getBlock();
+    Operation *first = nullptr;
+    for (Operation *user : users) {
+      Operation *ancestor = block->findAncestorOpInBlock(*user);
+      if (!first || ancestor->isBeforeInBlock(first))
+        first = ancestor;
+    }
+    // Inside a loop the layer would run once per iteration: hoist it out.
+    for (Operation *p = first->getParentOp(); p != group; p = p->getParentOp())
+      if (!isa<IfOp>(p))
+        first = p;
+    OpBuilder b(first);
+    llvm::StringMap<Value> outputs = inlineLayer(l, b);
+    for (ParamOp param : reads) {
+      param.replaceAllUsesWith(outputs.lookup(connection(param)->second));
+      param.erase();
+    }
+  }
+
+  /// Unspecialised parameters: the value lives in a writable global that
+  /// the optimizer cannot see through, as a renderer's instance data would.
+  void makeParamsOpaque() {
+    ModuleOp module = getOperation();
+    SmallVector<ParamOp> params;
+    group.walk([&](ParamOp p) {
+      if (opaqueParams || p->hasAttr(kUserdataAttr))
+        params.push_back(p);
+    });
+    for (ParamOp param : params) {
+      auto constant = param.getDefaultValue().getDefiningOp<arith::ConstantOp>();
+      if (!constant)
+        continue; // a default computed per point is no instance value
+      std::string symbol = "osl_param." +
+                           param->getAttrOfType<StringAttr>(kFromLayerAttr).getValue().str() +
+                           "." + param.getName().str();
+      if (auto index = param->getAttrOfType<IntegerAttr>("osl.index"))
+        symbol += "." + std::to_string(index.getInt());
+      OpBuilder b(module.getContext());
+      b.setInsertionPointToStart(module.getBody());
+      Type type = getUniformType(param.getType());
+      auto global = b.create<LLVM::GlobalOp>(param.getLoc(), type, /*isConstant=*/false,
+                                             LLVM::Linkage::External, symbol,
+                                             constant.getValue(), /*alignment=*/16);
+      b.setInsertionPoint(param);
+      Value address = b.create<LLVM::AddressOfOp>(param.getLoc(), global);
+      Operation *load = b.create<LLVM::LoadOp>(param.getLoc(), type, address);
+      load->setAttr(kNoDerivativeAttr, b.getUnitAttr());
+      Value value = load->getResult(0);
+      if (isVarying(param.getType()))
+        value = b.create<BroadcastOp>(param.getLoc(), param.getType(), value);
+      param.replaceAllUsesWith(value);
+      param.erase();
+    }
+  }
+
+  SmallVector<Layer> layers;
+  llvm::StringMap<size_t> layerIndex;
+  llvm::StringMap<llvm::StringMap<Value>> placed;
+  llvm::StringSet<> requestedOutputs;
+  llvm::StringSet<> reportedArrays;
+  /// Outputs of the layers that run unconditionally, as the group names them.
+  std::vector<std::string> available;
+  bool keepAllOutputs = true;
+  func::FuncOp group;
+};
+
+} // namespace
