@@ -12,7 +12,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <vector>
 
 using namespace osl;
 
@@ -47,8 +49,26 @@ shader network(output color Cout = 0)
 }
 )";
 
+/// A directory of this process's own: ctest runs the tests as parallel
+/// processes, and a shared path let one overwrite what another compiled.
+struct ProcessTempDir {
+  std::string path;
+  ProcessTempDir() {
+    std::string pattern = ::testing::TempDir() + "osl-group-XXXXXX";
+    std::vector<char> buffer(pattern.begin(), pattern.end());
+    buffer.push_back(0);
+    path = mkdtemp(buffer.data()) ? std::string(buffer.data()) : "";
+  }
+  ~ProcessTempDir() {
+    std::error_code ec;
+    if (!path.empty())
+      std::filesystem::remove_all(path, ec);
+  }
+};
+
 std::string writeTemp(const std::string &name, const char *text) {
-  std::string path = ::testing::TempDir() + name;
+  static ProcessTempDir dir;
+  std::string path = dir.path + "/" + name;
   std::ofstream(path) << text;
   return path;
 }
