@@ -104,6 +104,10 @@ Value select(OpBuilder &b, Location loc, ValueRange x);
 /// OSL comparison `predicate` (eq, ne, lt, le, gt, ge) on two lane values.
 Value compare(OpBuilder &b, Location loc, StringRef predicate, Value lhs,
               Value rhs);
+/// `compare` on values split into components (a triple's three lane
+/// values): triples are equal when every component is.
+Value compareComponents(OpBuilder &b, Location loc, StringRef predicate, ValueRange lhs,
+                        ValueRange rhs);
 /// Converts between f32, i32 and i1 lane values with OSL's rules.
 Value convert(OpBuilder &b, Location loc, Value x, Type toElement);
 

@@ -302,16 +302,7 @@ struct CmpLowering : public OslPattern<CmpOp> {
     Lanes lanes{rewriter, loc, width};
     auto lhs = lanes.unpack(adaptor.getLhs(), op.getLhs().getType(), varying);
     auto rhs = lanes.unpack(adaptor.getRhs(), op.getRhs().getType(), varying);
-    StringRef pred = op.getPredicate();
-    Value result;
-    // Triples compare equal when every component does.
-    for (auto [l, r] : llvm::zip(lhs, rhs)) {
-      Value c = lane::compare(rewriter, loc, pred == "ne" ? "eq" : pred, l, r);
-      result = result ? rewriter.create<arith::AndIOp>(loc, result, c).getResult() : c;
-    }
-    if (pred == "ne")
-      result = lane::logicalNot(rewriter, loc, {result});
-    rewriter.replaceOp(op, result);
+    rewriter.replaceOp(op, lane::compareComponents(rewriter, loc, op.getPredicate(), lhs, rhs));
     return success();
   }
 };

@@ -100,15 +100,7 @@ struct CmpOfConstants : public OpRewritePattern<CmpOp> {
     Location loc = op.getLoc();
     SmallVector<Value> lhs = constantComponents(b, loc, op.getLhs());
     SmallVector<Value> rhs = constantComponents(b, loc, op.getRhs());
-    StringRef pred = op.getPredicate();
-    Value result;
-    for (auto [l, r] : llvm::zip(lhs, rhs)) {
-      Value c = lane::compare(b, loc, pred == "ne" ? "eq" : pred, l, r);
-      result = result ? b.create<arith::AndIOp>(loc, result, c).getResult() : c;
-    }
-    if (pred == "ne")
-      result = lane::logicalNot(b, loc, {result});
-    b.replaceOp(op, result);
+    b.replaceOp(op, lane::compareComponents(b, loc, op.getPredicate(), lhs, rhs));
     return success();
   }
 };

@@ -456,6 +456,16 @@ Value lane::select(OpBuilder &b, Location loc, ValueRange x) {
   return sel(b, loc, x[0], x[1], x[2]);
 }
 
+Value lane::compareComponents(OpBuilder &b, Location loc, StringRef predicate,
+                              ValueRange lhs, ValueRange rhs) {
+  Value result;
+  for (auto [l, r] : llvm::zip(lhs, rhs)) {
+    Value c = compare(b, loc, predicate == "ne" ? "eq" : predicate, l, r);
+    result = result ? b.create<arith::AndIOp>(loc, result, c).getResult() : c;
+  }
+  return predicate == "ne" ? logicalNot(b, loc, {result}) : result;
+}
+
 Value lane::compare(OpBuilder &b, Location loc, StringRef p, Value lhs, Value rhs) {
   if (isFloat(lhs)) {
     auto pred = llvm::StringSwitch<arith::CmpFPredicate>(p)
