@@ -18,23 +18,36 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include <unistd.h>
+
 using namespace osl;
 
 namespace {
 
 constexpr int kVoxels = 16;
 
-/// The volume, written once per test run.
+/// The volume, written once per test process. ctest runs each test in its
+/// own process, in parallel, so the file name carries the process id: with
+/// one shared name a test could read the file while another rewrote it.
 const std::string &volumePath() {
-  static std::string path = [] {
-    std::string p =
-        (std::filesystem::temp_directory_path() / "osl-mlir-volume-test.vdb").string();
-    std::string command = std::string(OSL_MAKE_VOLUME) + " " + p + " " +
-                          std::to_string(kVoxels);
-    EXPECT_EQ(std::system(command.c_str()), 0) << command;
-    return p;
-  }();
-  return path;
+  /// Owns the file: written on first use, removed when the process exits.
+  struct VolumeFile {
+    std::string path;
+    VolumeFile() {
+      path = (std::filesystem::temp_directory_path() /
+              ("osl-mlir-volume-test-" + std::to_string(getpid()) + ".vdb"))
+                 .string();
+      std::string command = std::string(OSL_MAKE_VOLUME) + " " + path + " " +
+                            std::to_string(kVoxels);
+      EXPECT_EQ(std::system(command.c_str()), 0) << command;
+    }
+    ~VolumeFile() {
+      std::error_code ignored;
+      std::filesystem::remove(path, ignored);
+    }
+  };
+  static VolumeFile file;
+  return file.path;
 }
 
 /// Shades a 13x11 grid (partial last batch) with `body` and returns its
