@@ -19,11 +19,14 @@ namespace mlir::osl {
 /// kDualRuleOslAtan2 on math.atan2, kDualRuleValueOnly on a select that
 /// overrides a value in a special case without changing its derivative
 /// (the derivative is the false operand's), kDualRuleNone on an op whose
-/// result has no derivative in OSL (blackbody, wavelength_color).
+/// result has no derivative in OSL (blackbody, wavelength_color),
+/// kDualRuleSignFlip on the bitcast that ends bitcast(xor(bitcast(v), s))
+/// where s holds only sign bits (its derivative is v's, flipped alike).
 inline constexpr const char *kDualRuleAttr = "osl.dual_rule";
 inline constexpr const char *kDualRuleOslAtan2 = "osl_atan2";
 inline constexpr const char *kDualRuleValueOnly = "value_only";
 inline constexpr const char *kDualRuleNone = "none";
+inline constexpr const char *kDualRuleSignFlip = "sign_flip";
 /// Marks loads that are not shader globals (constant tables, texture
 /// results): osl-derivatives gives them no derivative.
 inline constexpr const char *kNoDerivativeAttr = "osl.no_derivative";

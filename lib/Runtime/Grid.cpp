@@ -255,9 +255,14 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
   int tileBatches = chooseTileBatches(opt, nbatches, width, pool.size());
   long ntiles = (nbatches + tileBatches - 1) / tileBatches;
 
-  // One globals and one outputs buffer per thread, reused for every batch.
+  // Two globals and two outputs buffers per thread, reused for every
+  // batch. A batch's globals are written before the batch ahead of it runs,
+  // and its outputs are copied into the images after the batch behind it
+  // ran: a load right after the stores it reads waits for them to reach
+  // the cache, and doing so at every kernel entry and exit cost the marble
+  // about 10% at width 16 (measured). One batch apart, they are long there.
   std::vector<AlignedFloats> globals, outRows;
-  for (int w = 0; w < pool.size(); ++w) {
+  for (int w = 0; w < 2 * pool.size(); ++w) {
     globals.emplace_back(static_cast<size_t>(kGlobalRows) * width);
     writer.writeConstantRows(globals.back().get());
     outRows.emplace_back(static_cast<size_t>(totalChannels) * width);
@@ -267,27 +272,36 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
   auto start = std::chrono::steady_clock::now();
   pool.parallelForWithWorker(static_cast<int>(ntiles), [&](int tile,
                                                            int worker) {
-    float *g = globals[worker].get();
-    float *out = outRows[worker].get();
+    auto globalsOf = [&](long b) { return globals[2 * worker + (b & 1)].get(); };
+    auto outputsOf = [&](long b) { return outRows[2 * worker + (b & 1)].get(); };
+    auto activeIn = [&](long b) {
+      return static_cast<int>(std::min<long>(width, npixels - b * width));
+    };
+    auto copyOutputs = [&](long b) {
+      for (size_t o = 0; o < outputs.size(); ++o) {
+        int channels = outputs[o].channels;
+        interleaveRows(result.images[o].data() + b * width * channels,
+                       outputsOf(b) + static_cast<size_t>(firstRow[o]) * width, channels,
+                       width, activeIn(b));
+      }
+    };
     long firstBatch = static_cast<long>(tile) * tileBatches;
     long endBatch = std::min(nbatches, firstBatch + tileBatches);
+    writer.writeBatch(globalsOf(firstBatch), firstBatch * width, activeIn(firstBatch));
     for (long b = firstBatch; b < endBatch; ++b) {
-      long first = b * width;
-      int nactive = static_cast<int>(std::min<long>(width, npixels - first));
-      writer.writeBatch(g, first, nactive);
+      if (b + 1 < endBatch)
+        writer.writeBatch(globalsOf(b + 1), (b + 1) * width, activeIn(b + 1));
       // A lane the kernel leaves unwritten must read 0, not whatever this
       // thread's previous batch left: that would depend on the schedule.
+      float *out = outputsOf(b);
       std::fill(out, out + static_cast<size_t>(totalChannels) * width, 0.0f);
       // Closures a batch builds (Ci) are not images: drop them per batch.
       threadClosureArena().reset();
-      kernel(g, out, nactive);
-      for (size_t o = 0; o < outputs.size(); ++o) {
-        int channels = outputs[o].channels;
-        interleaveRows(result.images[o].data() + first * channels,
-                       out + static_cast<size_t>(firstRow[o]) * width, channels, width,
-                       nactive);
-      }
+      kernel(globalsOf(b), out, activeIn(b));
+      if (b > firstBatch)
+        copyOutputs(b - 1);
     }
+    copyOutputs(endBatch - 1);
     progress.add((std::min(npixels, endBatch * width)) - firstBatch * width);
   });
   result.seconds = std::chrono::duration<double>(

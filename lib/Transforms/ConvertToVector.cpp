@@ -231,7 +231,8 @@ struct OutputLowering : public OslPattern<OutputOp> {
     Lanes lanes{rewriter, loc, width};
     SmallVector<Value> rows =
         lanes.unpack(adaptor.getValue(), op.getValue().getType(), /*varying=*/true);
-    Value mask = activeLanes(rewriter, loc, op, width);
+    bool unconditional = isa<func::FuncOp>(op->getParentOp());
+    Value mask = unconditional ? Value() : activeLanes(rewriter, loc, op, width);
     bool closure = isa<ClosureType>(getUniformType(op.getValue().getType()));
     for (auto [i, row] : llvm::enumerate(rows)) {
       // A closure's handle keeps its bits (the renderer reads them back).
@@ -250,7 +251,14 @@ struct OutputLowering : public OslPattern<OutputOp> {
       }
       Value addr = rowAddress(rewriter, loc, kernelArg(op, 1),
                               firstRow.lookup(op) + i, width);
-      rewriter.create<LLVM::MaskedStoreOp>(loc, value, addr, mask, 4);
+      // The caller owns whole rows and reads only the active lanes, so an
+      // output written once at the end of the shader stores every lane:
+      // a plain store forwards to the caller's next load of the row, where
+      // a masked store makes that load wait until the store has retired.
+      if (unconditional)
+        rewriter.create<LLVM::StoreOp>(loc, value, addr, 4);
+      else
+        rewriter.create<LLVM::MaskedStoreOp>(loc, value, addr, mask, 4);
     }
     rewriter.eraseOp(op);
     return success();

@@ -87,6 +87,8 @@ private:
       return Value();
     if (def->getNumRegions() > 0) // loops: not yet
       return fail(user, def->getName().getStringRef());
+    if (rule && rule.getValue() == kDualRuleSignFlip)
+      return deriveSignFlip(def, user);
 
     // Operands' derivatives first (they are placed after their own
     // definitions, so they dominate this one's).
@@ -292,6 +294,24 @@ private:
     if (isa<arith::SIToFPOp, arith::UIToFPOp>(def))
       return cst(0);
     return Value();
+  }
+
+  /// bitcast(xor(bitcast(v), s)) is v with the signs s selects flipped;
+  /// its derivative is v' flipped alike.
+  FailureOr<Value> deriveSignFlip(Operation *def, Operation *user) {
+    auto flip = def->getOperand(0).getDefiningOp<arith::XOrIOp>();
+    auto bits = flip ? flip.getLhs().getDefiningOp<arith::BitcastOp>() : nullptr;
+    if (!bits)
+      return fail(user, "a sign flip that is not bitcast(xor(bitcast(v), s))");
+    FailureOr<Value> dv = derive(bits.getIn(), user);
+    if (failed(dv) || !*dv)
+      return dv;
+    OpBuilder b(def->getContext());
+    b.setInsertionPointAfter(def);
+    Location loc = def->getLoc();
+    Value dbits = b.create<arith::BitcastOp>(loc, bits.getType(), *dv);
+    Value dflip = b.create<arith::XOrIOp>(loc, dbits, flip.getRhs());
+    return b.create<arith::BitcastOp>(loc, def->getResult(0).getType(), dflip).getResult();
   }
 
   /// Derivative of a load of a global's row: the matching derivative row

@@ -33,6 +33,7 @@
 //===----------------------------------------------------------------------===//
 
 #include "OslTransforms/NoiseBuilder.h"
+#include "OslTransforms/LaneMath.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Math/IR/Math.h"
@@ -152,6 +153,18 @@ public:
   }
   /// cond ? -v : v
   Value negateIf(Value v, Value cond) { return select(cond, neg(v), v); }
+  /// -v where bit `bit` of the integer h is set, else v: that bit moved to
+  /// the sign and xor'ed in (negation flips the sign bit and nothing else,
+  /// so the bits are those of negateIf), one or two vector ops fewer than
+  /// a test, a negation and a select.
+  Value negateIfBit(Value v, Value h, unsigned bit) {
+    Value sign = shl(h, 31 - bit);
+    if (bit > 0)
+      sign = iand(sign, 0x80000000u);
+    auto flipped = b.create<arith::BitcastOp>(loc, fty, ixor(bitsOf(v), sign));
+    flipped->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleSignFlip));
+    return flipped;
+  }
 
   // Conversions.
   Value sitofp(Value a) { return b.create<arith::SIToFPOp>(loc, fty, a); }
@@ -219,12 +232,24 @@ public:
 
   /// int(floor(x)), INT_MIN when out of range or NaN.
   Value ifloor(Value x) {
+    Value unused;
+    return floorSplit(x, unused);
+  }
+
+  /// int(floor(x)) as ifloor, and `frac` = x - float(that int), OSL's
+  /// floorfrac. The floor is clamped in float (|floor| < 2^31, else -2^31,
+  /// which is also INT_MIN's value) before one in-range conversion, so the
+  /// fraction needs no conversion back: 7 vector ops where converting,
+  /// selecting the integer and converting back took 8.
+  Value floorSplit(Value x, Value &frac) {
     Value fl = floor(x);
-    Value inRange =
-        band(cmpf(arith::CmpFPredicate::OGE, fl, f(-2147483648.0f)),
-             cmpf(arith::CmpFPredicate::OLT, fl, f(2147483648.0f)));
-    Value asInt = b.create<arith::FPToSIOp>(loc, ity, fl);
-    return select(inRange, asInt, i(0x80000000u));
+    Value inRange = cmpf(arith::CmpFPredicate::OLT, b.create<math::AbsFOp>(loc, fl),
+                         f(2147483648.0f));
+    // + 0 makes floor(-0) = -0 the +0 an integer converts back to, so
+    // frac(-0) stays -0 - (+0) = -0.
+    Value clamped = add(select(inRange, fl, f(-2147483648.0f)), f(0.0f));
+    frac = sub(x, clamped);
+    return b.create<arith::FPToSIOp>(loc, ity, clamped);
   }
 
   Value fade(Value t) {
@@ -257,7 +282,7 @@ using LatticeHashFn = llvm::function_ref<Value(ArrayRef<Value>)>;
 Value grad1(Emitter &e, Value hash, Value x) {
   Value h = e.iand(hash, 15u);
   Value g = e.sitofp(e.iadd(e.iand(h, 7u), 1u));
-  g = e.negateIf(g, e.test(h, 8));
+  g = e.negateIfBit(g, h, 3);
   return e.mul(g, x);
 }
 
@@ -266,7 +291,7 @@ Value grad2(Emitter &e, Value hash, Value x, Value y) {
   Value lt4 = e.ult(h, 4);
   Value u = e.select(lt4, x, y);
   Value v = e.mul(e.f(2.0f), e.select(lt4, y, x));
-  return e.add(e.negateIf(u, e.test(h, 1)), e.negateIf(v, e.test(h, 2)));
+  return e.add(e.negateIfBit(u, h, 0), e.negateIfBit(v, h, 1));
 }
 
 Value grad3(Emitter &e, Value hash, Value x, Value y, Value z) {
@@ -275,7 +300,7 @@ Value grad3(Emitter &e, Value hash, Value x, Value y, Value z) {
   // h == 12 || h == 14  <=>  (h | 2) == 14 for h in [0, 15].
   Value is12or14 = e.eq(e.ior(h, e.i(2)), 14);
   Value v = e.select(e.ult(h, 4), y, e.select(is12or14, x, z));
-  return e.add(e.negateIf(u, e.test(h, 1)), e.negateIf(v, e.test(h, 2)));
+  return e.add(e.negateIfBit(u, h, 0), e.negateIfBit(v, h, 1));
 }
 
 Value grad4(Emitter &e, Value hash, Value x, Value y, Value z, Value w) {
@@ -283,8 +308,8 @@ Value grad4(Emitter &e, Value hash, Value x, Value y, Value z, Value w) {
   Value u = e.select(e.ult(h, 24), x, y);
   Value v = e.select(e.ult(h, 16), y, z);
   Value s = e.select(e.ult(h, 8), z, w);
-  return e.add(e.add(e.negateIf(u, e.test(h, 1)), e.negateIf(v, e.test(h, 2))),
-               e.negateIf(s, e.test(h, 4)));
+  return e.add(e.add(e.negateIfBit(u, h, 0), e.negateIfBit(v, h, 1)),
+               e.negateIfBit(s, h, 2));
 }
 
 /// The lattice cell around a point and the hashes of its 2^dims corners.
@@ -300,8 +325,8 @@ PerlinCell perlinCell(Emitter &e, ValueRange coords, LatticeHashFn hash) {
   cell.dims = coords.size();
   SmallVector<Value, 4> lat, lat1;
   for (Value x : coords) {
-    Value xi = e.ifloor(x);
-    Value fx = e.sub(x, e.sitofp(xi));
+    Value fx;
+    Value xi = e.floorSplit(x, fx);
     lat.push_back(xi);
     lat1.push_back(e.iadd(xi, 1u));
     cell.frac.push_back(fx);
@@ -488,9 +513,9 @@ Value simplexCorner(Emitter &e, ArrayRef<Value> d,
 }
 
 Value simplex1(Emitter &e, Value x, uint32_t seed) {
-  Value i0 = e.ifloor(x);
+  Value x0;
+  Value i0 = e.floorSplit(x, x0);
   Value i1 = e.iadd(i0, 1u);
-  Value x0 = e.sub(x, e.sitofp(i0));
   Value x1 = e.sub(x0, e.f(1.0f));
   auto corner = [&](Value ci, Value d) {
     Value t = e.sub(e.f(1.0f), e.mul(d, d));
@@ -498,7 +523,7 @@ Value simplex1(Emitter &e, Value x, uint32_t seed) {
     Value t4 = e.mul(t2, t2);
     Value h = scramble(e, ci, e.i(seed), e.i(0));
     Value g = e.add(e.f(1.0f), e.sitofp(e.iand(h, 7u)));
-    g = e.negateIf(g, e.test(h, 8));
+    g = e.negateIfBit(g, h, 3);
     return e.mul(e.mul(t4, g), d);
   };
   Value n0 = corner(i0, x0);

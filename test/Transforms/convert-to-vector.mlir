@@ -8,11 +8,12 @@
 // CHECK: llvm.load %{{.+}} : !llvm.ptr -> vector<8xf32>
 // CHECK: llvm.getelementptr %{{.+}}[8]
 // CHECK: llvm.getelementptr %{{.+}}[16]
-// Outputs are masked stores: lanes past nactive are never written.
-// CHECK: %[[LANES:.+]] = arith.constant dense<[0, 1, 2, 3, 4, 5, 6, 7]> : vector<8xi32>
-// CHECK: %[[N:.+]] = vector.broadcast %{{.+}} : i32 to vector<8xi32>
-// CHECK: %[[MASK:.+]] = arith.cmpi slt, %[[LANES]], %[[N]] : vector<8xi32>
-// CHECK: llvm.intr.masked.store %{{.+}}, %{{.+}}, %[[MASK]]
+// Outputs written at the end of the shader store whole rows (the caller
+// reads the first nactive lanes): plain stores, which forward to the
+// caller's loads, where masked ones make them wait.
+// CHECK: llvm.getelementptr %{{.+}}[0] : (!llvm.ptr) -> !llvm.ptr, f32
+// CHECK: llvm.store %{{.+}}, %{{.+}} {alignment = 4 : i64} : vector<8xf32>, !llvm.ptr
+// CHECK-NOT: llvm.intr.masked.store
 // W16: llvm.load %{{.+}} : !llvm.ptr -> vector<16xf32>
 func.func @globals_and_outputs() {
   %P = osl.global "P" : !osl.varying<vector<3xf32>>
@@ -83,7 +84,7 @@ func.func @noise_is_inlined() {
 // CHECK-LABEL: osl.shader_name = "int_output_as_float"
 // CHECK: arith.fptosi %{{.+}} : vector<8xf32> to vector<8xi32>
 // CHECK: arith.sitofp %{{.+}} : vector<8xi32> to vector<8xf32>
-// CHECK: llvm.intr.masked.store
+// CHECK: llvm.store
 func.func @int_output_as_float() {
   %u = osl.global "u" : !osl.varying<f32>
   %i = osl.convert %u : !osl.varying<f32> -> !osl.varying<i32>
@@ -396,7 +397,7 @@ func.func @count_lanes() {
 // CHECK: arith.constant 0 : i32
 // CHECK: arith.select %{{.+}}, %{{.+}}, %{{.+}} : vector<8xi1>, vector<8xi32>
 // CHECK: llvm.bitcast %{{.+}} : vector<8xi32> to vector<8xf32>
-// CHECK: llvm.intr.masked.store
+// CHECK: llvm.store
 func.func @closures() {
   %N = osl.global "N" : !osl.varying<vector<3xf32>>
   %u = osl.global "u" : !osl.varying<f32>
@@ -422,10 +423,27 @@ func.func @closures() {
 // CHECK: %[[NAN:.+]] = arith.constant dense<0x7FC00000> : vector<8xf32>
 // CHECK: %[[ISNAN:.+]] = arith.cmpf uno, %[[V:.+]], %[[V]] : vector<8xf32>
 // CHECK: %[[OUT:.+]] = arith.select %[[ISNAN]], %[[NAN]], %[[V]] : vector<8xi1>, vector<8xf32>
-// CHECK: llvm.intr.masked.store %[[OUT]]
+// CHECK: llvm.store %[[OUT]]
 func.func @canonical_nan() {
   %u = osl.global "u" : !osl.varying<f32>
   %l = osl.log %u : !osl.varying<f32> -> !osl.varying<f32>
   osl.output "f" = %l : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// An output inside a branch stores only the batch's active lanes.
+// CHECK-LABEL: osl.shader_name = "output_in_branch"
+// CHECK: %[[LANES:.+]] = arith.constant dense<[0, 1, 2, 3, 4, 5, 6, 7]> : vector<8xi32>
+// CHECK: %[[N:.+]] = vector.broadcast %{{.+}} : i32 to vector<8xi32>
+// CHECK: %[[MASK:.+]] = arith.cmpi slt, %[[LANES]], %[[N]] : vector<8xi32>
+// CHECK: llvm.intr.masked.store %{{.+}}, %{{.+}}, %[[MASK]]
+func.func @output_in_branch() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %c = arith.constant true
+  scf.if %c {
+    osl.output "f" = %u : !osl.varying<f32>
+  }
   return
 }
