@@ -34,8 +34,9 @@ struct Stats;
 
 /// The LLVM passes run on a kernel before codegen.
 enum class LlvmPipeline {
-  /// What MLIR's lowering leaves to do: SROA, CSE, instcombine, CFG
-  /// cleanup, LICM. The kernel arrives vectorized and inlined, so O3's
+  /// What MLIR's lowering leaves to do: SROA, CSE, CFG cleanup, LICM (the
+  /// MLIR canonicalizer has simplified the arithmetic, so instcombine
+  /// would only cost time). The kernel arrives vectorized and inlined, so O3's
   /// vectorizers, inliner and unrollers mostly cost compile time (the
   /// default of CompileOptions).
   Kernel,

@@ -44,6 +44,16 @@ void buildOslToLLVMPipeline(OpPassManager &pm, int width,
                             const std::string &paramValues = "", bool reference = false,
                             bool countLanes = false, MathLevel math = MathLevel::Default);
 
+/// Its two halves. The osl-level passes (parameters, uniformity, masks)
+/// are where op verifiers report the shader's own errors (an option that
+/// must be uniform is varying), so a JIT verifies after each of them; the
+/// lowering to the LLVM dialect works on IR ten times larger and can be
+/// verified once at its end.
+void buildOslLevelPipeline(OpPassManager &pm, const std::string &paramValues = "",
+                           bool reference = false, bool countLanes = false);
+void buildLoweringPipeline(OpPassManager &pm, int width, bool reference = false,
+                           MathLevel math = MathLevel::Default);
+
 /// Registers every pass and the `osl-to-llvm` pipeline with mlir-opt style
 /// tools.
 void registerOslPasses();

@@ -12,6 +12,7 @@
 #include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
 #include "mlir/IR/Diagnostics.h"
 #include "mlir/Parser/Parser.h"
+#include "mlir/IR/Verifier.h"
 #include "mlir/Pass/PassManager.h"
 #include "mlir/Target/LLVMIR/Dialect/Builtin/BuiltinToLLVMIRTranslation.h"
 #include "mlir/Target/LLVMIR/Dialect/LLVMIR/LLVMToLLVMIRTranslation.h"
@@ -110,15 +111,24 @@ void ShaderCompiler::collectOutputs() {
 
 bool ShaderCompiler::lower() {
   ScopedTimer timer(stats, "mlir passes");
-  mlir::PassManager pm(&context);
-  mlir::osl::buildOslToLLVMPipeline(pm, options.width, paramBindings(options.params),
-                                    options.reference, options.countLanes, options.math);
+  // The osl-level passes are verified after each one: their verifiers
+  // report the shader's errors. The lowering (most of the passes' time) is
+  // verified once at its end unless asked (CompileOptions::verifyEachPass).
+  mlir::PassManager oslLevel(&context);
+  mlir::osl::buildOslLevelPipeline(oslLevel, paramBindings(options.params),
+                                   options.reference, options.countLanes);
+  mlir::PassManager lowering(&context);
+  lowering.enableVerifier(options.verifyEachPass);
+  mlir::osl::buildLoweringPipeline(lowering, options.width, options.reference,
+                                   options.math);
   // Pass failures report through the context's diagnostics, with the
   // shader's file:line:col locations.
   auto handler = printErrors(context, errs);
   if (isGroup && !specialiseGroup())
     return false;
-  return mlir::succeeded(pm.run(*mlirModule));
+  return mlir::succeeded(oslLevel.run(*mlirModule)) &&
+         mlir::succeeded(lowering.run(*mlirModule)) &&
+         mlir::succeeded(mlir::verify(*mlirModule));
 }
 
 bool ShaderCompiler::translate() {

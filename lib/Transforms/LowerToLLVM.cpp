@@ -7,6 +7,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslTransforms/Passes.h"
+#include "OslTransforms/PatternRoots.h"
 
 #include "mlir/Conversion/ArithToLLVM/ArithToLLVM.h"
 #include "mlir/Conversion/ControlFlowToLLVM/ControlFlowToLLVM.h"
@@ -57,7 +58,8 @@ LogicalResult convertToLLVM(ModuleOp module) {
     // differential tester's seed 3619, in reference mode).
     GreedyRewriteConfig config;
     config.enableRegionSimplification = GreedySimplifyRegionLevel::Disabled;
-    if (failed(applyPatternsAndFoldGreedily(module, std::move(patterns), config)))
+    if (osl::hasPatternRoot(module, patterns) &&
+        failed(applyPatternsAndFoldGreedily(module, std::move(patterns), config)))
       return failure();
   }
   LLVMTypeConverter converter(ctx);

@@ -27,6 +27,7 @@
 #include "MathLevels.h"
 #include "OslTransforms/LaneMath.h"
 #include "OslTransforms/Passes.h"
+#include "OslTransforms/PatternRoots.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Math/IR/Math.h"
@@ -259,6 +260,10 @@ struct ApproximateMathPass
     // these can still be folded on constant operands.
     RewritePatternSet patterns(&getContext());
     populateFastMathPatterns(patterns);
+    // Nothing left to rewrite in most shaders once OSL's algorithms are
+    // in; then the canonicalizer after this pass does the folding.
+    if (!hasPatternRoot(getOperation(), patterns))
+      return;
     if (failed(applyPatternsAndFoldGreedily(getOperation(), std::move(patterns))))
       signalPassFailure();
   }

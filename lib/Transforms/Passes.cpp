@@ -25,6 +25,12 @@ struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
 void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
                                        const std::string &paramValues, bool reference,
                                        bool countLanes, MathLevel math) {
+  buildOslLevelPipeline(pm, paramValues, reference, countLanes);
+  buildLoweringPipeline(pm, width, reference, math);
+}
+
+void mlir::osl::buildOslLevelPipeline(OpPassManager &pm, const std::string &paramValues,
+                                      bool reference, bool countLanes) {
   OpPassManager &fn = pm.nest<func::FuncOp>();
   fn.addPass(createBindParams(BindParamsOptions{paramValues}));
   fn.addPass(createCanonicalizerPass());
@@ -36,6 +42,10 @@ void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
   maskOptions.countLanes = countLanes;
   fn.addPass(createInsertMaskStack(maskOptions));
   fn.addPass(createLaneGroupFilter());
+}
+
+void mlir::osl::buildLoweringPipeline(OpPassManager &pm, int width, bool reference,
+                                      MathLevel math) {
   ConvertToVectorOptions vectorOptions;
   vectorOptions.width = reference ? 1 : width;
   vectorOptions.referenceMode = reference;

@@ -46,6 +46,8 @@ bool shade(llvm::StringRef source, llvm::StringRef path, int width, bool referen
   options.width = width;
   options.reference = reference;
   options.camera = {grid.xres, grid.yres};
+  // Random programs are where a pass leaves invalid IR: catch it there.
+  options.verifyEachPass = true;
   llvm::raw_string_ostream errs(errors);
   ShaderCompiler compiler(options, errs);
   std::unique_ptr<CompiledShader> shader = compiler.compile(source, path);

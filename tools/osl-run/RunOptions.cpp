@@ -71,6 +71,8 @@ const char *const osl::kUsage =
     "                         (a reference for measuring errors)\n"
     "  --center               shade pixel centres: u = (x+0.5)/X\n"
     "  -I DIR                 search DIR for #include files\n"
+    "  --verify-each          verify the IR after every compiler pass (for\n"
+    "                         debugging the compiler; slower)\n"
     "  --interpret            reference mode: one point at a time, ordinary\n"
     "                         branches, no masking (what the differential\n"
     "                         tester compares the SIMD kernels with)\n"
@@ -90,8 +92,8 @@ const char *const osl::kUsage =
     "  --no-cache             always compile; read and write no cache\n"
     "  --llvm-pipeline=kernel|O3\n"
     "                         LLVM passes before codegen: only the clean-ups\n"
-    "                         a vectorized kernel needs (default; compiles in\n"
-    "                         about 60% of O3's time), or all of O3\n"
+    "                         a vectorized kernel needs (default; a tenth of\n"
+    "                         O3's optimization time for marble), or all of O3\n"
     "  --lane-stats           count the active lanes of every masked block\n"
     "                         (varying if arms, varying loop iterations) and\n"
     "                         print their mean fraction\n"
@@ -298,6 +300,8 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       o.grid.center = true;
     } else if (a == "--interpret") {
       o.compile.reference = true;
+    } else if (a == "--verify-each") {
+      o.compile.verifyEachPass = true;
     } else if (a == "-I" || (a.size() > 2 && a.rfind("-I", 0) == 0)) {
       if (a == "-I" && !need(i, 1, "-I"))
         return false;

@@ -1,0 +1,22 @@
+//===- PatternRoots.h - Run a pattern set only where it can match ---------===//
+//
+// The greedy driver visits and folds every op of the IR it is given, even
+// when no op is a root of its patterns. In a JIT compile that sweep is a
+// real cost (0.7 ms of the marble's 4 ms of MLIR passes, for a math pass
+// with nothing left to rewrite), so passes check for a root first.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLTRANSFORMS_PATTERNROOTS_H
+#define OSLTRANSFORMS_PATTERNROOTS_H
+
+#include "mlir/IR/PatternMatch.h"
+
+namespace mlir::osl {
+
+/// Whether an op nested in `root` is the root of one of `patterns` (or one
+/// of them matches any op).
+bool hasPatternRoot(Operation *root, RewritePatternSet &patterns);
+
+} // namespace mlir::osl
+
+#endif // OSLTRANSFORMS_PATTERNROOTS_H
