@@ -21,7 +21,9 @@
 #include "mlir/Conversion/VectorToLLVM/ConvertVectorToLLVM.h"
 #include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
 #include "mlir/Dialect/Math/Transforms/Passes.h"
+#include "mlir/Dialect/LLVMIR/LLVMDialect.h"
 #include "mlir/Dialect/Vector/Transforms/LoweringPatterns.h"
+#include "mlir/IR/Matchers.h"
 #include "mlir/Transforms/DialectConversion.h"
 #include "mlir/Transforms/GreedyPatternRewriteDriver.h"
 
@@ -42,6 +44,46 @@ LogicalResult lowerStructuredControlFlow(ModuleOp module) {
   target.addIllegalDialect<scf::SCFDialect>();
   target.markUnknownOpDynamicallyLegal([](Operation *) { return true; });
   return applyPartialConversion(module, target, std::move(patterns));
+}
+
+/// The shift amount of `shift` when it is the same constant in every lane.
+std::optional<uint64_t> constantShift(Value amount) {
+  APInt value;
+  if (!matchPattern(amount, m_ConstantInt(&value)))
+    return std::nullopt;
+  return value.getZExtValue();
+}
+
+/// (x << k) | (x >> (bits - k)) becomes one funnel shift, LLVM's rotate:
+/// the noise hashes are mostly rotates, and handing them to codegen as three
+/// instructions each left its instruction selection to find them again
+/// (a quarter of marble's kernel is rotates).
+void formRotates(ModuleOp module) {
+  SmallVector<arith::OrIOp> ors;
+  module.walk([&](arith::OrIOp op) { ors.push_back(op); });
+  for (arith::OrIOp op : ors) {
+    for (int order = 0; order < 2; ++order) {
+      auto left = op->getOperand(order).getDefiningOp<arith::ShLIOp>();
+      auto right = op->getOperand(1 - order).getDefiningOp<arith::ShRUIOp>();
+      if (!left || !right || left.getLhs() != right.getLhs())
+        continue;
+      std::optional<uint64_t> k = constantShift(left.getRhs());
+      std::optional<uint64_t> rest = constantShift(right.getRhs());
+      unsigned bits = getElementTypeOrSelf(op.getType()).getIntOrFloatBitWidth();
+      if (!k || !rest || *k == 0 || *k >= bits || *k + *rest != bits)
+        continue;
+      OpBuilder b(op);
+      Value x = left.getLhs();
+      Value rotated = b.create<LLVM::FshlOp>(op.getLoc(), op.getType(), x, x, left.getRhs());
+      op.replaceAllUsesWith(rotated);
+      op.erase();
+      if (left->use_empty())
+        left.erase();
+      if (right->use_empty())
+        right.erase();
+      break;
+    }
+  }
 }
 
 LogicalResult convertToLLVM(ModuleOp module) {
@@ -78,6 +120,7 @@ struct LowerToLLVMPass
     : public mlir::osl::impl::LowerToLLVMBase<LowerToLLVMPass> {
   void runOnOperation() override {
     ModuleOp module = getOperation();
+    formRotates(module);
     if (failed(lowerStructuredControlFlow(module)) ||
         failed(convertToLLVM(module)))
       return signalPassFailure();

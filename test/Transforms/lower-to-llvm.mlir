@@ -25,3 +25,27 @@ func.func @triple_rows(%t: vector<3x8xf32>) -> vector<8xf32> {
   %y = vector.extract %t[1] : vector<8xf32> from vector<3x8xf32>
   return %y : vector<8xf32>
 }
+
+// -----
+
+// (x << k) | (x >> (32 - k)) is a rotate: one funnel shift. Shifts that do
+// not add up to the width stay as they are.
+// CHECK-LABEL: llvm.func @rotates
+// CHECK: %[[K:.+]] = llvm.mlir.constant(dense<14> : vector<4xi32>) : vector<4xi32>
+// CHECK: %[[HI:.+]] = llvm.shl %[[X:.+]], %[[K]]
+// CHECK: %[[ROT:.+]] = llvm.intr.fshl(%[[X]], %[[X]], %[[K]]) : (vector<4xi32>, vector<4xi32>, vector<4xi32>) -> vector<4xi32>
+// CHECK: %[[LO:.+]] = llvm.lshr %[[X]]
+// CHECK: %[[NOT:.+]] = llvm.or %[[HI]], %[[LO]]
+// CHECK: llvm.insertvalue %[[ROT]]
+// CHECK: llvm.insertvalue %[[NOT]]
+func.func @rotates(%x: vector<4xi32>) -> (vector<4xi32>, vector<4xi32>) {
+  %k = arith.constant dense<14> : vector<4xi32>
+  %rest = arith.constant dense<18> : vector<4xi32>
+  %three = arith.constant dense<3> : vector<4xi32>
+  %hi = arith.shli %x, %k : vector<4xi32>
+  %lo = arith.shrui %x, %rest : vector<4xi32>
+  %rot = arith.ori %lo, %hi : vector<4xi32>
+  %lo3 = arith.shrui %x, %three : vector<4xi32>
+  %not = arith.ori %hi, %lo3 : vector<4xi32>
+  return %rot, %not : vector<4xi32>, vector<4xi32>
+}
