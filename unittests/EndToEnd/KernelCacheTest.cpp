@@ -9,6 +9,7 @@
 #include "OslCompiler/KernelCache.h"
 #include "OslCompiler/ShaderCompiler.h"
 #include "OslRuntime/ThreadPool.h"
+#include "TempDir.h"
 
 #include "llvm/Support/raw_ostream.h"
 
@@ -21,20 +22,6 @@
 using namespace osl;
 
 namespace {
-
-/// A fresh directory under the system's temporary directory.
-class TempDir {
-public:
-  TempDir() {
-    char pattern[] = "/tmp/osl-kernel-cache-XXXXXX";
-    path = mkdtemp(pattern) ? pattern : "";
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  std::string path;
-};
 
 std::string readFile(const std::string &path) {
   std::ifstream in(path, std::ios::binary);
@@ -50,7 +37,7 @@ CachedKernel sampleEntry() {
 }
 
 TEST(KernelCacheTest, StoredEntryReadsBack) {
-  TempDir dir;
+  test::TempDir dir{"osl-kernel-cache"};
   KernelCache cache(dir.path + "/nested/dir");
   CachedKernel entry;
   EXPECT_EQ(cache.lookup("key", entry), CacheLookup::Miss);
@@ -76,7 +63,7 @@ protected:
     path = cache.pathFor("key");
     good = readFile(path);
   }
-  TempDir dir;
+  test::TempDir dir{"osl-kernel-cache"};
   KernelCache cache{dir.path};
   std::string path, good;
 };
@@ -100,7 +87,7 @@ TEST_F(StoredSampleTest, EveryTruncationIsCorrupt) {
 }
 
 TEST(KernelCacheTest, AnotherKeysEntryIsCorrupt) {
-  TempDir dir;
+  test::TempDir dir{"osl-kernel-cache"};
   KernelCache cache(dir.path);
   std::string error;
   ASSERT_TRUE(cache.store("key A", sampleEntry(), error)) << error;
@@ -111,7 +98,7 @@ TEST(KernelCacheTest, AnotherKeysEntryIsCorrupt) {
 }
 
 TEST(KernelCacheTest, UnwritableDirectoryIsAnError) {
-  TempDir dir;
+  test::TempDir dir{"osl-kernel-cache"};
   writeFile(dir.path + "/file", "x");
   KernelCache cache(dir.path + "/file/sub");
   std::string error;
@@ -156,7 +143,7 @@ std::vector<std::vector<float>> shade(const CompiledShader &shader) {
 }
 
 TEST(KernelCacheTest, SecondCompileLoadsTheSameKernel) {
-  TempDir dir;
+  test::TempDir dir{"osl-kernel-cache"};
   Compiled plain = compileWith("", 8);
   ASSERT_TRUE(plain.shader);
   EXPECT_EQ(plain.use, CacheUse::Off);
@@ -179,7 +166,7 @@ TEST(KernelCacheTest, SecondCompileLoadsTheSameKernel) {
 }
 
 TEST(KernelCacheTest, DamagedEntryIsRebuiltNotRun) {
-  TempDir dir;
+  test::TempDir dir{"osl-kernel-cache"};
   Compiled first = compileWith(dir.path, 8);
   ASSERT_TRUE(first.shader);
   auto files = std::distance(std::filesystem::directory_iterator(dir.path),

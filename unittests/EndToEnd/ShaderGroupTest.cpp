@@ -6,6 +6,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslCompiler/ShaderCompiler.h"
+#include "TempDir.h"
 
 #include "llvm/Support/raw_ostream.h"
 
@@ -49,25 +50,8 @@ shader network(output color Cout = 0)
 }
 )";
 
-/// A directory of this process's own: ctest runs the tests as parallel
-/// processes, and a shared path let one overwrite what another compiled.
-struct ProcessTempDir {
-  std::string path;
-  ProcessTempDir() {
-    std::string pattern = ::testing::TempDir() + "osl-group-XXXXXX";
-    std::vector<char> buffer(pattern.begin(), pattern.end());
-    buffer.push_back(0);
-    path = mkdtemp(buffer.data()) ? std::string(buffer.data()) : "";
-  }
-  ~ProcessTempDir() {
-    std::error_code ec;
-    if (!path.empty())
-      std::filesystem::remove_all(path, ec);
-  }
-};
-
 std::string writeTemp(const std::string &name, const char *text) {
-  static ProcessTempDir dir;
+  static test::TempDir dir("osl-group");
   std::string path = dir.path + "/" + name;
   std::ofstream(path) << text;
   return path;

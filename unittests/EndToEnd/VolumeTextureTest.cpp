@@ -8,6 +8,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslCompiler/ShaderCompiler.h"
 #include "OslRuntime/ThreadPool.h"
+#include "TempDir.h"
 
 #include "llvm/Support/raw_ostream.h"
 
@@ -16,9 +17,6 @@
 #include <cmath>
 #include <cstring>
 #include <cstdlib>
-#include <filesystem>
-
-#include <unistd.h>
 
 using namespace osl;
 
@@ -26,28 +24,17 @@ namespace {
 
 constexpr int kVoxels = 16;
 
-/// The volume, written once per test process. ctest runs each test in its
-/// own process, in parallel, so the file name carries the process id: with
-/// one shared name a test could read the file while another rewrote it.
+/// The volume, written once per test process into its own directory.
 const std::string &volumePath() {
-  /// Owns the file: written on first use, removed when the process exits.
-  struct VolumeFile {
-    std::string path;
-    VolumeFile() {
-      path = (std::filesystem::temp_directory_path() /
-              ("osl-mlir-volume-test-" + std::to_string(getpid()) + ".vdb"))
-                 .string();
-      std::string command = std::string(OSL_MAKE_VOLUME) + " " + path + " " +
-                            std::to_string(kVoxels);
-      EXPECT_EQ(std::system(command.c_str()), 0) << command;
-    }
-    ~VolumeFile() {
-      std::error_code ignored;
-      std::filesystem::remove(path, ignored);
-    }
-  };
-  static VolumeFile file;
-  return file.path;
+  static test::TempDir dir("osl-volume");
+  static std::string path = [] {
+    std::string p = dir.path + "/volume.vdb";
+    std::string command = std::string(OSL_MAKE_VOLUME) + " " + p + " " +
+                          std::to_string(kVoxels);
+    EXPECT_EQ(std::system(command.c_str()), 0) << command;
+    return p;
+  }();
+  return path;
 }
 
 /// Shades a 13x11 grid (partial last batch) with `body` and returns its
