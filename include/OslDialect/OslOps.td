@@ -472,6 +472,28 @@ def Osl_StringCallOp : Osl_Op<"string_call", [Pure]> {
   let hasVerifier = 1;
 }
 
+def Osl_PrintOp : Osl_Op<"print", [AttrSizedOperandSegments,
+                                   MemoryEffects<[MemWrite]>]> {
+  let summary = "printf, fprintf, warning or error, once per active point";
+  let description = [{
+    Formats `args` with OSL's format rules for every active point and sends
+    the text to `stream` (kPrintStreams, OslRuntime/PrintCall.h): printf's
+    standard output, fprintf's file (the first operand names it), or the
+    run's warnings and errors. `kinds` has one letter per operand, as
+    osl.string_call's (an array or matrix is passed element by element,
+    its conversion repeated by the front end). The points' texts
+    come out in point order whatever the width. `mask`, set by
+    osl-insert-mask-stack inside varying control flow, names the points
+    that print.
+  }];
+  let arguments = (ins StrAttr:$stream, StrAttr:$kinds, Variadic<Osl_Value>:$args,
+                       Optional<Osl_Bool>:$mask);
+  let assemblyFormat = [{
+    $stream $kinds `(` $args `)` (`mask` $mask^ `:` type($mask))? attr-dict `:` type($args)
+  }];
+  let hasVerifier = 1;
+}
+
 //===----------------------------------------------------------------------===//
 // Closures
 //===----------------------------------------------------------------------===//

@@ -18,9 +18,12 @@ namespace osl {
 /// float data for 8/16-bit formats. Channels are named R,G,B,A then
 /// channel4..., and a single channel is named Y, as OSL's testshade does.
 /// The path "null" discards the image (testshade's `-o NAME null`).
-/// Returns false with a message in `error` on failure.
+/// `dataType` is the stored type as testshade's -od names it (uint8, half,
+/// float...); empty stores floats. Returns false with a message in `error`
+/// on failure.
 bool writeImage(const std::string &path, int xres, int yres, int channels,
-                const float *data, std::string &error);
+                const float *data, std::string &error,
+                const std::string &dataType = "");
 
 /// A float image read back, pixel-major with channels interleaved.
 struct ImageData {

@@ -19,6 +19,7 @@
 #include <iterator>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace osl {
 
@@ -94,6 +95,11 @@ std::string regexError(const std::string &pattern);
 /// Why format string `format` does not fit `valueKinds` (the kinds of the
 /// values after it), or "" when it does.
 std::string formatError(std::string_view format, std::string_view valueKinds);
+
+/// `format` with its k-th conversion written counts[k] times, separated by
+/// spaces: how OSL prints an array's elements or a matrix's 16 values
+/// under one conversion.
+std::string repeatConversions(std::string_view format, const std::vector<int> &counts);
 
 /// How many errors string calls have reported at run time (each once per
 /// call site and cause), for a tool's exit status.

@@ -5,6 +5,7 @@
 
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/LaneStats.h"
+#include "OslRuntime/PrintCall.h"
 #include "OslRuntime/StringCall.h"
 #include "OslRuntime/TextureCall.h"
 #include "OslTransforms/Passes.h"
@@ -161,6 +162,7 @@ bool ShaderCompiler::defineRuntimeSymbols(Jit &target) {
            {"osl_rt_gettextureinfo", reinterpret_cast<void *>(&osl_rt_gettextureinfo)},
            {"osl_rt_string_intern", reinterpret_cast<void *>(&osl_rt_string_intern)},
            {"osl_rt_string_call", reinterpret_cast<void *>(&osl_rt_string_call)},
+           {"osl_rt_print", reinterpret_cast<void *>(&osl_rt_print)},
            {"osl_rt_count_lanes", reinterpret_cast<void *>(&osl_rt_count_lanes)},
            {"osl_rt_closure_component", reinterpret_cast<void *>(&osl_rt_closure_component)},
            {"osl_rt_closure_mul", reinterpret_cast<void *>(&osl_rt_closure_mul)},

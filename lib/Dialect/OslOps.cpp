@@ -9,6 +9,7 @@
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/ClosureCall.h"
 #include "OslRuntime/GlobalsLayout.h"
+#include "OslRuntime/PrintCall.h"
 #include "OslRuntime/StringCall.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
@@ -505,6 +506,29 @@ LogicalResult StringCallOp::verify() {
   Type result = stringKindType(b, ::osl::kStringFunctions[code].result);
   if (getUniformType(getResult().getType()) != result)
     return emitOpError("result must be ") << result;
+  return success();
+}
+
+LogicalResult PrintOp::verify() {
+  int32_t code = ::osl::printStreamCode(getStream());
+  if (code < 0)
+    return emitOpError("unknown print stream '") << getStream() << "'";
+  StringRef kinds = getKinds();
+  if (kinds.size() != getArgs().size())
+    return emitOpError("needs one kind letter per operand, got '") << kinds << "' for "
+                                                                   << getArgs().size();
+  StringRef leading = ::osl::kPrintStreams[code].operands;
+  if (!kinds.starts_with(leading))
+    return emitOpError("operand kinds '") << kinds << "' must start with '" << leading
+                                          << "' for " << getStream();
+  for (char k : kinds.drop_front(leading.size()))
+    if (!StringRef("sift").contains(k))
+      return emitOpError("unknown operand kind '") << k << "'";
+  Builder b(getContext());
+  for (auto [i, arg] : llvm::enumerate(getArgs()))
+    if (getUniformType(arg.getType()) != stringKindType(b, kinds[i]))
+      return emitOpError("operand ") << i << " of kind '" << kinds[i] << "' must be "
+                                     << stringKindType(b, kinds[i]);
   return success();
 }
 

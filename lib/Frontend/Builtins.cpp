@@ -433,8 +433,7 @@ const std::vector<Builtin> &builtinTable() {
 /// Every OSL library function name the front end knows: those not handled
 /// above are reported as "not supported yet" rather than unknown.
 const char *const kUnsupported[] = {
-    "smooth_linearstep", "raytype", "printf", "fprintf", "error", "warning",
-    "getattribute",
+    "smooth_linearstep", "raytype", "getattribute",
     "setmessage", "getmessage", "trace", "transformu",
     "splineinverse", "fresnel",
     "pointcloud_search", "pointcloud_get", "pointcloud_write", "dict_find",

@@ -15,6 +15,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
+#include "OslRuntime/PrintCall.h"
 #include "OslRuntime/StringCall.h"
 
 #include "llvm/ADT/StringSwitch.h"
@@ -42,6 +43,10 @@ const char *usage(llvm::StringRef name) {
       .Case("stof", "float stof(string)")
       .Case("regex_search", "int regex_search(string subject, string regex)")
       .Case("regex_match", "int regex_match(string subject, string regex)")
+      .Case("printf", "void printf(string fmt, ...)")
+      .Case("fprintf", "void fprintf(string filename, string fmt, ...)")
+      .Case("warning", "void warning(string fmt, ...)")
+      .Case("error", "void error(string fmt, ...)")
       .Default("");
 }
 
@@ -51,8 +56,15 @@ public:
   StringCall(IRGen &g, const Expr &call) : g(g), call(call) {}
 
   std::optional<RValue> emit();
+  /// printf, fprintf, warning and error: one osl.print.
+  std::optional<RValue> emitPrint();
 
 private:
+  bool emitArgs();
+  /// Adds one formatted value: a number, triple or string as one operand;
+  /// an array's elements or a matrix's 16 values each, with the count in
+  /// `valueCounts` so that their conversion is repeated.
+  bool addFormatted(size_t k);
   bool wrong() {
     return g.error(call.loc, "wrong arguments to '" + call.name + "'; candidates: " +
                                  usage(call.name));
@@ -75,6 +87,8 @@ private:
   std::vector<RValue> operands;
   std::vector<SrcLoc> operandLocs;
   std::string kinds;
+  /// Operands per formatted value, when an array or matrix is among them.
+  std::vector<int> valueCounts;
 };
 
 bool StringCall::addOperand(size_t k, char kind) {
@@ -185,13 +199,76 @@ bool StringCall::checkConstantOperands() {
   return true;
 }
 
-std::optional<RValue> StringCall::emit() {
+bool StringCall::emitArgs() {
   for (const auto &a : call.args) {
     auto v = g.emitExpr(*a);
     if (!v)
-      return std::nullopt;
+      return false;
     args.push_back(*v);
   }
+  return true;
+}
+
+bool StringCall::addFormatted(size_t k) {
+  const RValue &v = args[k];
+  if (!v.type.hasElems() || v.type.isStructLike()) {
+    valueCounts.push_back(1);
+    return addFormatValue(k);
+  }
+  SrcLoc l = call.args[k]->begin;
+  OslType elem = v.type.isMatrix() ? OslType(BaseType::Float) : v.type.element();
+  if (elem.isString()) {
+    for (const RValue &f : v.fields)
+      operands.push_back(f), operandLocs.push_back(l), kinds += 's';
+    valueCounts.push_back(int(v.fields.size()));
+    return true;
+  }
+  if (!elem.isNumeric() && !elem.isBool())
+    return g.error(l, "'" + call.name + "' cannot format a value of type '" + v.type.str() + "'");
+  for (Value e : v.elems) {
+    operands.push_back(RValue::num(elem.isBool() ? OslType(BaseType::Int) : elem, e));
+    operandLocs.push_back(l);
+    kinds += elem.isTriple() ? 't' : elem.isFloat() ? 'f' : 'i';
+  }
+  valueCounts.push_back(int(v.elems.size()));
+  return true;
+}
+
+std::optional<RValue> StringCall::emitPrint() {
+  if (!emitArgs())
+    return std::nullopt;
+  int32_t stream = ::osl::printStreamCode(call.name);
+  size_t leading = std::strlen(::osl::kPrintStreams[stream].operands);
+  if (args.size() < leading)
+    return wrong(), std::nullopt;
+  for (size_t k = 0; k < leading; ++k)
+    if (!addOperand(k, 's'))
+      return std::nullopt;
+  for (size_t k = leading; k < args.size(); ++k)
+    if (!addFormatted(k))
+      return std::nullopt;
+  RValue &format = operands[leading - 1];
+  bool repeats = llvm::any_of(valueCounts, [](int n) { return n != 1; });
+  if (format.isKnownString()) {
+    if (repeats)
+      format = RValue::string(::osl::repeatConversions(format.str, valueCounts));
+    std::string why =
+        ::osl::formatError(format.str, llvm::StringRef(kinds).drop_front(leading));
+    if (!why.empty())
+      return g.error(call.args[leading - 1]->begin, why), std::nullopt;
+  } else if (repeats) {
+    return g.error(call.args[leading - 1]->begin,
+                   "an array or matrix can be printed only with a format string known "
+                   "when the shader is compiled"),
+           std::nullopt;
+  }
+  g.builder().create<PrintOp>(g.loc(call.loc), call.name, kinds, materialize(), Value());
+  return RValue::voidValue();
+}
+
+std::optional<RValue> StringCall::emit() {
+  if (!emitArgs())
+    return std::nullopt;
   int32_t code = ::osl::stringFunctionCode(call.name);
   llvm::StringRef name = call.name;
   // Operand kinds by position; format's values take their own kinds.
@@ -245,9 +322,12 @@ namespace osl::frontend {
 
 std::optional<RValue> emitStringBuiltin(IRGen &g, const Expr &call, bool &known) {
   known = ::osl::stringFunctionCode(call.name) >= 0;
-  if (!known)
-    return std::nullopt;
-  return StringCall(g, call).emit();
+  if (known)
+    return StringCall(g, call).emit();
+  known = ::osl::printStreamCode(call.name) >= 0;
+  if (known)
+    return StringCall(g, call).emitPrint();
+  return std::nullopt;
 }
 
 } // namespace osl::frontend

@@ -7,6 +7,7 @@
 
 #include "OslRuntime/Grid.h"
 #include "OslRuntime/Closure.h"
+#include "OslRuntime/PrintCall.h"
 #include "OslRuntime/Progress.h"
 #include "OslRuntime/ThreadPool.h"
 
@@ -15,6 +16,7 @@
 #include <cassert>
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -268,6 +270,19 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
     outRows.emplace_back(static_cast<size_t>(totalChannels) * width);
   }
 
+  // What batches print, emitted in batch order once all have run, so the
+  // text is in point order whatever the threads did.
+  std::mutex printedMutex;
+  std::map<long, BatchPrints> printed;
+  auto takePrints = [&](long b) {
+    BatchPrints prints;
+    takeBatchPrints(prints);
+    if (prints.empty())
+      return;
+    std::lock_guard<std::mutex> lock(printedMutex);
+    printed.emplace(b, std::move(prints));
+  };
+
   Progress progress(opt.progress, npixels, "shading");
   auto start = std::chrono::steady_clock::now();
   pool.parallelForWithWorker(static_cast<int>(ntiles), [&](int tile,
@@ -298,6 +313,7 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
       // Closures a batch builds (Ci) are not images: drop them per batch.
       threadClosureArena().reset();
       kernel(globalsOf(b), out, activeIn(b));
+      takePrints(b);
       if (b > firstBatch)
         copyOutputs(b - 1);
     }
@@ -308,6 +324,10 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
                        std::chrono::steady_clock::now() - start)
                        .count();
   progress.finish();
+  for (const auto &[batch, prints] : printed)
+    emitBatchPrints(prints);
+  if (!printed.empty())
+    std::fflush(stdout); // before anything the caller prints its own way
 }
 
 } // namespace osl

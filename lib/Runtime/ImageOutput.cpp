@@ -12,7 +12,7 @@
 namespace osl {
 
 bool writeImage(const std::string &path, int xres, int yres, int channels,
-                const float *data, std::string &error) {
+                const float *data, std::string &error, const std::string &dataType) {
   // testshade's `-o NAME null` shades the output but writes nothing.
   if (path == "null")
     return true;
@@ -27,7 +27,15 @@ bool writeImage(const std::string &path, int xres, int yres, int channels,
   }
   // Same spec as testshade's output ImageBuf; the names are set explicitly
   // because comparisons match channels by name (EXR sorts them).
-  OIIO::ImageSpec spec(xres, yres, channels, OIIO::TypeDesc::FLOAT);
+  OIIO::TypeDesc type = OIIO::TypeDesc::FLOAT;
+  if (!dataType.empty()) {
+    type = OIIO::TypeDesc(dataType);
+    if (type == OIIO::TypeDesc::UNKNOWN) {
+      error = "unknown image data type '" + dataType + "'";
+      return false;
+    }
+  }
+  OIIO::ImageSpec spec(xres, yres, channels, type);
   static const char *const kRGBA[] = {"R", "G", "B", "A"};
   for (int c = 0; c < channels; ++c)
     spec.channelnames[c] = channels == 1 ? std::string("Y")

@@ -12,6 +12,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslRuntime/StringCall.h"
+#include "OslRuntime/PrintCall.h"
 
 #include <OpenImageIO/ustring.h>
 
@@ -264,6 +265,24 @@ const std::regex *compiledRegex(int32_t handle, std::string_view pattern, std::s
   return it->second.get();
 }
 
+/// Lane `lane`'s operands from rows of `width` 32-bit values.
+void readLane(const char *kinds, const int32_t *rows, int32_t width, int32_t lane,
+              std::vector<Operand> &out) {
+  out.clear();
+  int32_t row = 0;
+  for (const char *k = kinds; *k; ++k) {
+    auto next = [&] { return rows[size_t(row++) * size_t(width) + size_t(lane)]; };
+    Operand &o = out.emplace_back();
+    o.kind = *k;
+    for (int32_t c = 0; c < osl::stringOperandRows(o.kind); ++c) {
+      int32_t bits = next();
+      o.i = bits;
+      o.f[c] = floatBits(bits);
+    }
+    o.s = o.kind == 's' ? internTable().text(o.i) : std::string_view();
+  }
+}
+
 //===----------------------------------------------------------------------===//
 // The functions, one lane at a time
 //===----------------------------------------------------------------------===//
@@ -342,6 +361,29 @@ std::string osl::regexError(const std::string &pattern) {
   return "";
 }
 
+std::string osl::repeatConversions(std::string_view format, const std::vector<int> &counts) {
+  std::string out;
+  size_t next = 0;
+  for (size_t pos = 0; pos < format.size();) {
+    if (format[pos] != '%' || (pos + 1 < format.size() && format[pos + 1] == '%')) {
+      size_t n = format[pos] == '%' ? 2 : 1;
+      out += format.substr(pos, n);
+      pos += n;
+      continue;
+    }
+    size_t at = pos;
+    Conversion c;
+    if (!parseConversion(format, pos, c)) // formatError reports it
+      return std::string(format);
+    std::string_view one = format.substr(at, pos - at);
+    int n = next < counts.size() ? counts[next] : 1;
+    ++next;
+    for (int k = 0; k < n; ++k)
+      (out += k ? " " : "") += one;
+  }
+  return out;
+}
+
 std::string osl::formatError(std::string_view format, std::string_view valueKinds) {
   std::string literal;
   size_t next = 0;
@@ -372,22 +414,12 @@ extern "C" void osl_rt_string_call(const char *where, int32_t function, const ch
   for (size_t k = 0; k < nkinds; ++k)
     resultRow += osl::stringOperandRows(kinds[k]);
   int32_t *result = rows + size_t(resultRow) * size_t(width);
-  std::vector<Operand> operands(nkinds);
+  std::vector<Operand> operands;
   for (int32_t lane = 0; lane < width; ++lane) {
     result[lane] = 0;
     if (!(laneMask >> lane & 1))
       continue;
-    int32_t row = 0;
-    for (size_t k = 0; k < nkinds; ++k) {
-      Operand &o = operands[k];
-      o.kind = kinds[k];
-      for (int32_t c = 0; c < osl::stringOperandRows(o.kind); ++c) {
-        int32_t bits = rows[size_t(row++) * size_t(width) + size_t(lane)];
-        o.i = bits;
-        o.f[c] = floatBits(bits);
-      }
-      o.s = o.kind == 's' ? internTable().text(o.i) : std::string_view();
-    }
+    readLane(kinds, rows, width, lane, operands);
     std::string error;
     int32_t value = callLane(function, operands, error);
     if (!error.empty()) {
@@ -395,5 +427,26 @@ extern "C" void osl_rt_string_call(const char *where, int32_t function, const ch
       value = osl::kStringFunctions[function].result == 's' ? intern("") : 0;
     }
     result[lane] = value;
+  }
+}
+
+extern "C" void osl_rt_print(const char *where, int32_t stream, const char *kinds,
+                             int32_t *rows, int32_t width, uint32_t laneMask) {
+  size_t leading = std::strlen(osl::kPrintStreams[stream].operands);
+  std::vector<Operand> operands;
+  for (int32_t lane = 0; lane < width; ++lane) {
+    if (!(laneMask >> lane & 1))
+      continue;
+    readLane(kinds, rows, width, lane, operands);
+    std::string error;
+    std::string text =
+        formatLane(operands[leading - 1].s,
+                   std::vector<Operand>(operands.begin() + leading, operands.end()), error);
+    if (!error.empty()) {
+      reportOnce(where, error);
+      continue;
+    }
+    osl::keepLaneText(stream, lane, leading > 1 ? std::string(operands[0].s) : std::string(),
+                      std::move(text));
   }
 }

@@ -11,6 +11,7 @@
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/GlobalsLayout.h"
 #include "OslRuntime/ClosureCall.h"
+#include "OslRuntime/PrintCall.h"
 #include "OslRuntime/StringCall.h"
 #include "OslRuntime/TextureCall.h"
 #include "OslTransforms/ColorBuilder.h"
@@ -619,6 +620,31 @@ struct CountLanesLowering : public OslPattern<CountLanesOp> {
   }
 };
 
+/// Stores the lanes of `original`'s operands (converted: `converted`) as
+/// rows of `lanes` 32-bit values in a stack block with `extraRows` more rows
+/// after them (OslRuntime/StringCall.h's layout); returns the block and
+/// the index of the first extra row.
+std::pair<Value, int64_t> operandRows(OpBuilder &b, Location loc, Operation *op,
+                                      ValueRange original, ValueRange converted,
+                                      StringRef kinds, int64_t width, bool varying,
+                                      int64_t extraRows) {
+  int64_t lanes = varying ? width : 1;
+  int64_t rows = extraRows;
+  for (char k : kinds)
+    rows += ::osl::stringOperandRows(k);
+  Value block = entryBlockRows(b, loc, op, rows * lanes);
+  Lanes unpacker{b, loc, width};
+  int64_t row = 0;
+  for (auto [o, c] : llvm::zip(original, converted))
+    for (Value comp : unpacker.unpack(c, o.getType(), varying))
+      b.create<LLVM::StoreOp>(loc, comp, rowAddress(b, loc, block, row++, lanes), 4);
+  return {block, row};
+}
+
+Value i32Constant(OpBuilder &b, Location loc, int64_t v) {
+  return b.create<arith::ConstantIntOp>(loc, v, 32).getResult();
+}
+
 /// osl.string_call: the operands' lanes go to a block of 32-bit rows
 /// (OslRuntime/StringCall.h), osl_rt_string_call runs the active lanes and
 /// the result row is read back. Uniform operands and result: one lane.
@@ -630,21 +656,8 @@ struct StringCallLowering : public OslPattern<StringCallOp> {
     bool varying = isVarying(op.getType());
     int64_t lanes = varying ? width : 1;
     StringRef kinds = op.getKinds();
-    int64_t rows = 1;
-    for (char k : kinds)
-      rows += ::osl::stringOperandRows(k);
-    Value block = entryBlockRows(rewriter, loc, op, rows * lanes);
-
-    Lanes unpacker{rewriter, loc, width};
-    int64_t row = 0;
-    for (auto [original, converted] : llvm::zip(op.getArgs(), adaptor.getArgs()))
-      for (Value comp : unpacker.unpack(converted, original.getType(), varying))
-        rewriter.create<LLVM::StoreOp>(loc, comp, rowAddress(rewriter, loc, block, row++, lanes),
-                                       4);
-
-    auto i32Const = [&](int64_t v) {
-      return rewriter.create<arith::ConstantIntOp>(loc, v, 32).getResult();
-    };
+    auto [block, resultRow] = operandRows(rewriter, loc, op, op.getArgs(), adaptor.getArgs(),
+                                          kinds, width, varying, /*extraRows=*/1);
     Value mask = varying ? activeLanes(rewriter, loc, op, width)
                          : rewriter.create<arith::ConstantIntOp>(loc, 1, 1).getResult();
     auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
@@ -655,19 +668,54 @@ struct StringCallLowering : public OslPattern<StringCallOp> {
                            {ptr, i32, ptr, ptr, i32, i32});
     SmallVector<Value> args = {
         constantStringAddress(rewriter, loc, callSiteText(loc, op.getCallee())),
-        i32Const(::osl::stringFunctionCode(op.getCallee())),
+        i32Constant(rewriter, loc, ::osl::stringFunctionCode(op.getCallee())),
         constantStringAddress(rewriter, loc, kinds),
         block,
-        i32Const(lanes),
+        i32Constant(rewriter, loc, lanes),
         maskBits(rewriter, loc, mask)};
     rewriter.create<LLVM::CallOp>(loc, callee, args);
 
     Type base = getUniformType(op.getType());
     Type laneType = varying ? Type(VectorType::get({lanes}, base)) : base;
     auto load = rewriter.create<LLVM::LoadOp>(
-        loc, laneType, rowAddress(rewriter, loc, block, row, lanes), 4);
+        loc, laneType, rowAddress(rewriter, loc, block, resultRow, lanes), 4);
     load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
     rewriter.replaceOp(op, load.getResult());
+    return success();
+  }
+};
+
+/// osl.print: every active point prints, so the operands always take W
+/// lanes; osl_rt_print formats each (OslRuntime/PrintCall.h).
+struct PrintLowering : public OslPattern<PrintOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(PrintOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    StringRef kinds = op.getKinds();
+    Value block = operandRows(rewriter, loc, op, op.getArgs(), adaptor.getArgs(), kinds,
+                              width, /*varying=*/true, /*extraRows=*/0)
+                      .first;
+    Value mask = activeLanes(rewriter, loc, op, width);
+    if (Value inner = adaptor.getMask()) {
+      if (!isa<VectorType>(inner.getType()))
+        inner = lane::broadcast(rewriter, loc, inner, width);
+      mask = rewriter.create<arith::AndIOp>(loc, mask, inner);
+    }
+    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
+    Type i32 = rewriter.getI32Type();
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(
+        rewriter, op, "osl_rt_print", LLVM::LLVMVoidType::get(rewriter.getContext()),
+        {ptr, i32, ptr, ptr, i32, i32});
+    SmallVector<Value> args = {
+        constantStringAddress(rewriter, loc, callSiteText(loc, op.getStream())),
+        i32Constant(rewriter, loc, ::osl::printStreamCode(op.getStream())),
+        constantStringAddress(rewriter, loc, kinds),
+        block,
+        i32Constant(rewriter, loc, width),
+        maskBits(rewriter, loc, mask)};
+    rewriter.create<LLVM::CallOp>(loc, callee, args);
+    rewriter.eraseOp(op);
     return success();
   }
 };
@@ -1019,7 +1067,7 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
                SplineFamilyLowering<SplineInverseOp>, ColorLowering<TransformcOp>,
                ColorLowering<BlackbodyOp>, ColorLowering<WavelengthColorOp>,
                ColorLowering<LuminanceOp>, FirstLaneLowering, TextureLowering,
-               GetTextureInfoLowering, StringConstantLowering, StringCallLowering>(converter,
+               GetTextureInfoLowering, StringConstantLowering, StringCallLowering, PrintLowering>(converter,
                                                                                    ctx);
 }
 

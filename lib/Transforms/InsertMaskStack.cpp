@@ -50,6 +50,9 @@ private:
         result = isVarying(loopCondition(loop).getCondition().getType())
                      ? maskVaryingLoop(loop, mask)
                      : convertUniformLoop(loop, mask);
+      else if (auto print = dyn_cast<PrintOp>(op); print && mask)
+        // Text is a side effect: only the points that reach it print.
+        print.getMaskMutable().assign(mask);
       if (failed(result))
         return failure();
     }

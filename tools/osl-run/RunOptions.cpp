@@ -9,6 +9,7 @@
 
 #include "OslCompiler/KernelCache.h"
 
+#include "llvm/Support/FileSystem.h"
 #include "llvm/Support/MemoryBuffer.h"
 #include "llvm/Support/Path.h"
 
@@ -135,9 +136,24 @@ std::string numberList(std::string value) {
 
 /// testshade names shaders without extension.
 std::string shaderFile(std::string name) {
-  if (!llvm::StringRef(name).ends_with(".osl"))
+  if (!llvm::StringRef(name).ends_with(".osl") && !llvm::sys::fs::is_regular_file(name))
     name += ".osl";
   return name;
+}
+
+/// testshade takes its long flags with one dash too (-param, -layer, ...):
+/// the single-dash forms become the double-dash ones osl-run parses.
+std::string testshadeSpelling(std::string a) {
+  static const char *const kLong[] = {
+      "param", "layer", "connect", "center", "iters", "entry", "reparam", "group",
+      "shader", "od", "vary_udxdy", "vary_vdxdy", "vary_pdxdy", "colorspace"};
+  if (a.size() > 2 && a[0] == '-' && a[1] != '-') {
+    llvm::StringRef name = llvm::StringRef(a).drop_front().split(':').first;
+    for (const char *flag : kLong)
+      if (name == flag)
+        return "-" + a;
+  }
+  return a;
 }
 
 } // namespace
@@ -154,8 +170,11 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
   bool render = false;
   for (int i = 1; i < argc; ++i)
     render |= std::strcmp(argv[i], "--scene") == 0;
+  // testshade's layers: `--layer NAME SHADER` or several positional shaders.
+  std::string pendingLayer;
+  int positional = 0;
   for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
+    std::string a = testshadeSpelling(argv[i]);
     if (a == "--scene") {
       if (!need(i, 1, "--scene"))
         return false;
@@ -201,6 +220,21 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         return false;
       o.outputs.push_back({argv[i + 1], argv[i + 2]});
       i += 2;
+    } else if (a == "--od") {
+      if (!need(i, 1, "-od"))
+        return false;
+      o.dataType = argv[++i];
+      if (o.dataType != "float" && o.dataType != "half" && o.dataType != "uint8" &&
+          o.dataType != "uint16") {
+        error = "-od must be float, half, uint8 or uint16 (got '" + o.dataType + "')";
+        return false;
+      }
+    } else if (a == "--layer") {
+      if (!need(i, 1, "--layer"))
+        return false;
+      pendingLayer = argv[++i];
+    } else if (a == "--check") {
+      o.checkOnly = true;
     } else if (a == "--param" || a.rfind("--param:", 0) == 0) {
       if (!need(i, 2, "--param"))
         return false;
@@ -351,13 +385,23 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
     } else if (!a.empty() && a[0] == '-') {
       error = "unknown option '" + a + "'";
       return false;
-    } else if (o.shaderPath.empty()) {
-      o.shaderPath = a;
     } else {
-      error = "more than one shader given ('" + o.shaderPath + "' and '" + a + "')";
-      return false;
+      // A positional shader is also a layer, in case a --layer or a second
+      // shader makes this a group (testshade's form).
+      std::string layer = pendingLayer.empty()
+                              ? llvm::sys::path::stem(a).str()
+                              : pendingLayer;
+      if (!o.group.shader(shaderFile(a), layer, error))
+        return false;
+      if (!pendingLayer.empty() || ++positional > 1)
+        o.isGroup = true;
+      pendingLayer.clear();
+      if (o.shaderPath.empty())
+        o.shaderPath = shaderFile(a);
     }
   }
+  if (o.isGroup && positional > 0)
+    o.shaderPath.clear();
   if (render) {
     if (!o.shaderPath.empty() || o.isGroup) {
       error = "--scene takes its shaders from the scene, not '" +

@@ -18,6 +18,11 @@ struct RunOptions {
   /// (output name, file); "null" discards.
   std::vector<std::pair<std::string, std::string>> outputs;
   bool stats = false;
+  /// --check: compile (reporting errors) and stop, like oslc.
+  bool checkOnly = false;
+  /// -od: the images' data type (float, half, uint8, uint16); "" keeps the
+  /// format's own choice.
+  std::string dataType;
   int iters = 1;
   /// The shared texture cache's size in MB (0: OpenImageIO's default).
   int textureCacheMB = 0;

@@ -8,6 +8,7 @@
 #include "RunOptions.h"
 
 #include "OslRuntime/ImageOutput.h"
+#include "OslRuntime/PrintCall.h"
 #include "OslRuntime/LaneStats.h"
 #include "OslRuntime/StringCall.h"
 #include "OslRuntime/TextureCall.h"
@@ -35,11 +36,10 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
   if (requested.empty()) {
     auto image = std::find_if(shader.outputs.begin(), shader.outputs.end(),
                               [](const OutputSpec &o) { return !o.closure; });
-    if (image == shader.outputs.end()) {
-      error = "shader '" + shader.name + "' has no output parameters" +
-              (shader.outputs.empty() ? "" : " (its Ci is a closure: render it with --scene)");
-      return false;
-    }
+    // A shader without image outputs still runs (for its printf output,
+    // as testshade runs it); no image is written.
+    if (image == shader.outputs.end())
+      return true;
     // A group's root layer writes plain names; other layers' outputs
     // ("layer.name") come first in the kernel when every layer runs.
     auto rootImage = std::find_if(image, shader.outputs.end(), [](const OutputSpec &o) {
@@ -152,6 +152,8 @@ int main(int argc, char **argv) {
                              : compiler.compile(source->getBuffer(), options.shaderPath);
     if (!shader)
       return 1;
+    if (options.checkOnly)
+      return 0;
   } else if (!emit(compiler, options, source->getBuffer(), statsPtr)) {
     return 1;
   } else {
@@ -178,13 +180,20 @@ int main(int argc, char **argv) {
 
   {
     ScopedTimer timer(statsPtr, "write images");
+    bool first = true;
     for (auto &[index, file] : files) {
       if (file == "null")
         continue;
       if (!writeImage(file, options.grid.xres, options.grid.yres,
                       shader->outputs[index].channels, result.images[index].data(),
-                      error))
+                      error, options.dataType))
         return fail("cannot write '" + file + "': " + error);
+      // testshade's report of each image it was asked for, after a blank
+      // line.
+      if (!options.outputs.empty())
+        llvm::outs() << (first ? "\n" : "") << "Output " << shader->outputs[index].name
+                     << " to " << file << "\n";
+      first = false;
     }
   }
   if (options.compile.countLanes) {
@@ -209,6 +218,10 @@ int main(int argc, char **argv) {
     double points = double(options.grid.xres) * options.grid.yres * options.iters;
     llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
   }
+  // What the shader said with warning() and error(), as testshade reports
+  // it after the images (it is no failure of the run).
+  llvm::outs().flush();
+  printMessages(shader->name);
   // The images are written, but a texture that could not be read or a
   // string call that failed (a bad regex) is an error (reported once, where
   // it happened).

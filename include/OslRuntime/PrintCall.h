@@ -1,0 +1,72 @@
+//===- PrintCall.h - printf, fprintf, warning, error: the ABI ----*- C++ -*-===//
+//
+// A kernel calls osl_rt_print once per osl.print and batch, with the
+// operands as rows of W 32-bit values (StringCall.h's layout). Each active
+// lane's text is kept per lane until the batch ends; the grid then takes
+// the batch's text (takeBatchPrints) so that output comes out in point
+// order at every width and thread count, as testshade's scalar order is.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLRUNTIME_PRINTCALL_H
+#define OSLRUNTIME_PRINTCALL_H
+
+#include <cstdint>
+#include <iterator>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace osl {
+
+/// Where an osl.print's text goes, with the operand kinds before the
+/// values: `s` the format string, and fprintf's file name before it.
+struct PrintStream {
+  const char *name;
+  const char *operands;
+};
+inline constexpr PrintStream kPrintStreams[] = {
+    {"printf", "s"}, {"fprintf", "ss"}, {"warning", "s"}, {"error", "s"}};
+
+/// The index of a print stream in kPrintStreams, or -1.
+constexpr int32_t printStreamCode(std::string_view name) {
+  for (int32_t i = 0; i < int32_t(std::size(kPrintStreams)); ++i)
+    if (name == kPrintStreams[i].name)
+      return i;
+  return -1;
+}
+
+/// What one batch printed, its lanes in order.
+struct BatchPrints {
+  std::string out;                                      // printf
+  std::vector<std::pair<std::string, std::string>> files; // fprintf: (file, text)
+  std::vector<std::pair<int32_t, std::string>> messages;  // (warning|error code, text)
+  bool empty() const { return out.empty() && files.empty() && messages.empty(); }
+};
+
+/// Moves what this thread's kernels printed since the last call into
+/// `prints`, lane by lane.
+void takeBatchPrints(BatchPrints &prints);
+
+/// Appends a batch's printed text to the process's output: printf's to
+/// standard output, fprintf's to its files. Warnings and errors are kept
+/// to be reported once each (printMessages).
+void emitBatchPrints(const BatchPrints &prints);
+
+/// Writes the warnings and errors shaders reported, each distinct text
+/// once, as testshade does ("ERROR: Shader error [NAME]: text"), to
+/// standard error; returns how many were errors.
+int printMessages(const std::string &shaderName);
+
+/// Keeps one lane's text for the batch (osl_rt_print's work once a lane
+/// is formatted); `file` is fprintf's file name.
+void keepLaneText(int32_t stream, int32_t lane, std::string file, std::string text);
+
+} // namespace osl
+
+/// Formats the active lanes' operands (stream `stream` of kPrintStreams;
+/// `kinds` as osl.print's) and keeps each lane's text for the batch. A
+/// format error is reported once at `where`.
+extern "C" void osl_rt_print(const char *where, int32_t stream, const char *kinds,
+                             int32_t *rows, int32_t width, uint32_t laneMask);
+
+#endif // OSLRUNTIME_PRINTCALL_H

@@ -1,0 +1,421 @@
+#!/usr/bin/env python3
+"""Runs OSL's own testsuite with osl-run in place of testshade and testrender.
+
+Each test folder of the suite (../shared/osl-testsuite in CI) has a run.py
+that builds its commands from helper functions (testshade, testrender, oslc,
+oslinfo, oiiotool, ...) and names the outputs that are compared with ref/.
+This runner defines those helpers so that testshade becomes `osl-run`,
+testrender becomes `osl-run --scene`, and oslc becomes `osl-run --check`
+(printing oslc's "Compiled X -> Y" line when the shader compiles), then
+judges the outputs the way OSL's runtest.py does: text files exactly (after
+the test's filter_re), images with oiiotool --diff and the test's
+failthresh/failpercent/hardfail, matching ref/OUT or any other ref/ file of
+the same extension. Tests without ref/ (the "-reg" tests) are judged as
+OSL judges them in regression mode: their outputs at width 1 are the
+baseline for the widest width.
+
+Two additions, both from the issue that asked for this runner:
+  - a test that only compiles (no testshade/testrender) and whose reference
+    output is oslc's errors passes when osl-run rejects the shader with an
+    error on one of the same lines;
+  - an expected-failures list (one `NAME  reason` per line) makes the run
+    fail when a test outside it fails or a listed test passes.
+"""
+import argparse
+import concurrent.futures
+import difflib
+import filecmp
+import glob
+import os
+import re
+import shlex
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+
+IMAGE_EXTENSIONS = (".tif", ".exr")
+COMMAND_TIMEOUT = 120  # seconds; a shader that never ends fails its test
+CWD_LOCK = threading.Lock()  # run.py is evaluated in its test's folder
+
+
+class Test:
+    def __init__(self, name, suite):
+        self.name = name
+        self.src = os.path.join(suite, name)
+        with open(os.path.join(self.src, "run.py")) as f:
+            self.script = f.read()
+        code = "\n".join(l for l in self.script.splitlines()
+                         if not l.lstrip().startswith("#"))
+        self.uses_testshade = "testshade(" in code
+        self.uses_testrender = "testrender(" in code
+        self.regression = not os.path.isdir(os.path.join(self.src, "ref"))
+
+    @property
+    def runs_shaders(self):
+        return self.uses_testshade or self.uses_testrender
+
+
+class Context:
+    """What run.py sees: runtest.py's variables and helper functions."""
+
+    def __init__(self, test, osl_run, width, workdir):
+        self.test, self.osl_run, self.width, self.workdir = test, osl_run, width, workdir
+
+    def namespace(self):
+        ns = {
+            "command": "", "outputs": ["out.txt"], "failureok": 0,
+            "failthresh": 0.004, "hardfail": 0.01, "failpercent": 0.02,
+            "failrelative": 0.001, "allowfailures": 0,
+            "idiff_program": "oiiotool", "idiff_postfilecmd": "",
+            "filter_re": None, "cleanup_on_success": False, "oslcargs": "-Wall",
+            "compile_osl_files": True, "splitsymbol": ";",
+            "srcdir": self.workdir + "/", "tmpdir": self.workdir,
+            "test_source_dir": self.test.src, "refdir": "ref/",
+            "OSL_TESTSUITE_ROOT": os.path.dirname(self.test.src),
+            "OSL_BUILD_DIR": "..", "OSL_SOURCE_DIR": "../../..",
+            "OSL_TESTSUITE_DIR": os.path.dirname(self.test.src),
+            "OpenImageIO_ROOT": None, "redirect": REDIRECT,
+            "mytest": self.test.name, "pythonbin": sys.executable,
+            "image_extensions": [".tif", ".tx", ".exr", ".jpg", ".png",
+                                 ".rla", ".dpx", ".iff", ".psd"],
+            "os": os, "sys": sys, "glob": glob, "re": re, "shutil": shutil,
+            "platform": __import__("platform"),
+        }
+        ns.update({
+            "testshade": self.testshade, "testrender": self.testrender,
+            "testoptix": self.unsupported("testoptix"),
+            "oslc": lambda args: self.oslc(args, ns["oslcargs"]),
+            "oslinfo": self.oslinfo,
+            "oiiotool": self.oiiotool, "maketx": self.maketx,
+            "run_app": self.run_app, "osl_app": lambda app: app + " ",
+            "oiio_app": lambda app: app + " ",
+            "make_relpath": lambda p, start=os.curdir: os.path.relpath(p, start),
+            "oiiodiff": lambda a, b, extraargs="", silent=True, concat=True:
+                image_diff_command(a, b, ns, extraargs) + (" ;\n" if concat else ""),
+        })
+        return ns
+
+    def osl_run_cmd(self):
+        cmd = shlex.quote(self.osl_run)
+        if self.width:
+            cmd += " --width %d" % self.width
+        return cmd
+
+    def testshade(self, args):
+        # testshade shades one point unless -g says otherwise.
+        return self.osl_run_cmd() + " -g 1 1 " + args + REDIRECT + " ;\n"
+
+    def testrender(self, args):
+        words = shlex.split(args)
+        files = [w for w in words if w.endswith(".xml") or
+                 os.path.splitext(w)[1] in IMAGE_EXTENSIONS + (".png",)]
+        rest = [w for w in words if w not in files]
+        scene = next((w for w in files if w.endswith(".xml")), "scene.xml")
+        out = next((w for w in files if not w.endswith(".xml")), "out.exr")
+        return (self.osl_run_cmd() + " --scene " + shlex.quote(scene) + " -o " +
+                shlex.quote(out) + " " + " ".join(shlex.quote(w) for w in rest) +
+                REDIRECT + " ;\n")
+
+    def oslc(self, args, oslcargs):
+        # oslc prints "Compiled A.osl -> A.oso" on success and its errors
+        # otherwise; osl-run --check compiles without shading.
+        words = shlex.split(oslcargs + " " + args)
+        sources = [w for w in words if w.endswith(".osl")]
+        flags = [w for w in words if w.startswith(("-D", "-I", "-U"))]
+        cmds = ""
+        for src in sources:
+            base = os.path.splitext(os.path.basename(src))[0]
+            check = (self.osl_run_cmd() + " --check " +
+                     " ".join(shlex.quote(f) for f in flags) + " " + shlex.quote(src))
+            cmds += ("%s%s && echo %s >> out.txt ;\n" %
+                     (check, REDIRECT, shlex.quote("Compiled %s -> %s.oso" % (src, base))))
+        return cmds
+
+    def oslinfo(self, args):
+        return self.osl_run_cmd() + " --info " + args + REDIRECT + " ;\n"
+
+    def oiiotool(self, args, silent=False):
+        return "oiiotool " + args + ("" if silent else REDIRECT) + " ;\n"
+
+    def maketx(self, args):
+        return "maketx " + args + REDIRECT + " ;\n"
+
+    def run_app(self, app, silent=False, concat=True):
+        return app + ("" if silent else REDIRECT) + (" ;\n" if concat else "")
+
+    def unsupported(self, name):
+        return lambda *a, **k: "echo '%s is not supported' >&2 ; false ;\n" % name
+
+
+REDIRECT = " >> out.txt 2>>out.txt "
+
+
+def image_diff_command(a, b, ns, extraargs=""):
+    thresh = ("-fail %s -failpercent %s -hardfail %s -warn %s -warnpercent %s" %
+              (ns["failthresh"], ns["failpercent"], ns["hardfail"],
+               2 * ns["failthresh"], ns["failpercent"]))
+    if ns["idiff_program"] == "idiff":
+        thresh += " -failrelative %s -allowfailures %s" % (
+            ns["failrelative"], ns["allowfailures"])
+        return "idiff -a %s %s %s %s" % (thresh, extraargs, a, b)
+    return "oiiotool -a %s %s %s %s --diff" % (thresh, extraargs, a, b)
+
+
+def run_shell(cmd, cwd):
+    """Runs one sub-command in its own process group, bounded in time."""
+    proc = subprocess.Popen(cmd, shell=True, cwd=cwd, start_new_session=True,
+                            stdout=subprocess.DEVNULL if "out.txt" in cmd else None)
+    try:
+        return proc.wait(timeout=COMMAND_TIMEOUT)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+        with open(os.path.join(cwd, "out.txt"), "a") as f:
+            f.write("[runner] timed out after %d s: %s\n" % (COMMAND_TIMEOUT, cmd))
+        return -1
+
+
+def text_matches(out, ref, filter_re):
+    def lines(path):
+        with open(path, errors="replace") as f:
+            ls = f.readlines()
+        if filter_re:
+            filt = re.compile(filter_re)
+            ls = [l for l in ls if filt.match(l) is not None]
+        return ls
+    return not list(difflib.unified_diff(lines(ref), lines(out)))
+
+
+ERROR_LINE = re.compile(r"^([^\s:]+\.osl?|[^\s:]+\.h):(\d+):(?:\d+:)?\s*error")
+
+
+def error_lines(path):
+    with open(path, errors="replace") as f:
+        return {(os.path.basename(m.group(1)), int(m.group(2)))
+                for m in map(ERROR_LINE.match, f) if m}
+
+
+def prepare(test, work_root):
+    work = os.path.join(work_root, test.name)
+    if os.path.exists(work):
+        shutil.rmtree(work)
+    os.makedirs(work)
+    for link in ("ref", "src"):
+        if os.path.exists(os.path.join(test.src, link)):
+            os.symlink(os.path.join(test.src, link), os.path.join(work, link))
+    os.symlink(test.src, os.path.join(work, "data"))
+    for pattern in ("*.osl", "*.h", "*.oslgroup", "*.xml"):
+        for f in glob.glob(os.path.join(test.src, pattern)):
+            shutil.copyfile(f, os.path.join(work, os.path.basename(f)))
+    return work
+
+
+def build_commands(test, ctx, work):
+    ns = ctx.namespace()
+    with CWD_LOCK:
+        old = os.getcwd()
+        os.chdir(work)  # run.py may glob or test files relative to the test
+        try:
+            exec(compile(test.script, os.path.join(test.src, "run.py"), "exec"), ns)
+        finally:
+            os.chdir(old)
+    command = ns["command"]
+    if ns["compile_osl_files"]:
+        compiles = "".join(ns["oslc"](f) for f in
+                           sorted(os.path.basename(p) for p in glob.glob(os.path.join(work, "*.osl"))))
+        command = compiles + command
+    outputs = list(ns["outputs"])
+    for extra in ("out.exr", "out.tif"):
+        if os.path.exists(os.path.join(test.src, "ref", extra)) and extra not in outputs:
+            outputs.append(extra)
+    return command, outputs, ns
+
+
+def run_commands(command, ns, work):
+    open(os.path.join(work, "out.txt"), "w").close()
+    for sub in command.split(ns["splitsymbol"]):
+        sub = sub.strip()
+        if not sub:
+            continue
+        if run_shell(sub, work) != 0 and not ns["failureok"]:
+            return "command failed: " + sub.split(" >>")[0]
+    return None
+
+
+def judge_outputs(test, outputs, ns, work, ref_dir):
+    for out in outputs:
+        path = os.path.join(work, out)
+        if not os.path.exists(path):
+            return "no output %s" % out
+        ext = os.path.splitext(out)[1]
+        candidates = [os.path.join(ref_dir, out)]
+        if ref_dir.endswith("ref"):
+            candidates += sorted(glob.glob(os.path.join(ref_dir, "*" + ext)))
+        ok = False
+        for ref in candidates:
+            if not os.path.exists(ref):
+                continue
+            if ext in IMAGE_EXTENSIONS:
+                ok = subprocess.call(image_diff_command(path, ref, ns), shell=True, cwd=work,
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) == 0
+            elif ext == ".txt":
+                ok = text_matches(path, ref, ns["filter_re"])
+            else:
+                ok = filecmp.cmp(path, ref)
+            if ok:
+                break
+        if not ok:
+            return "%s does not match ref" % out
+    return None
+
+
+def oslc_error_test_passes(test, work):
+    """An oslc-only test whose reference is oslc's errors: osl-run must
+    reject the shader with an error on one of the reference's lines."""
+    ref = os.path.join(test.src, "ref", "out.txt")
+    if test.runs_shaders or not os.path.exists(ref):
+        return False
+    expected = error_lines(ref)
+    return bool(expected) and bool(error_lines(os.path.join(work, "out.txt")) & expected)
+
+
+def run_test(test, osl_run, width, work_root):
+    """Returns (status, reason): PASS, FAIL or SKIP."""
+    try:
+        work = prepare(test, work_root)
+        if test.regression:
+            # OSL's regression mode: the baseline run, then the batched run
+            # compared with it. Here width 1 is the baseline.
+            ctx = Context(test, osl_run, 1, work)
+            command, outputs, ns = build_commands(test, ctx, work)
+            err = run_commands(command, ns, work)
+            if err:
+                return "FAIL", "baseline (width 1): " + err
+            base = os.path.join(work, "baseline")
+            os.makedirs(base, exist_ok=True)
+            for out in outputs:
+                if os.path.exists(os.path.join(work, out)):
+                    shutil.move(os.path.join(work, out), os.path.join(base, out))
+            ctx = Context(test, osl_run, width or 16, work)
+            command, outputs, ns = build_commands(test, ctx, work)
+            err = run_commands(command, ns, work)
+            if err:
+                return "FAIL", err
+            err = judge_outputs(test, outputs, ns, work, base)
+            return ("FAIL", err) if err else ("PASS", "regression: widest width equals width 1")
+        ctx = Context(test, osl_run, width, work)
+        command, outputs, ns = build_commands(test, ctx, work)
+        err = run_commands(command, ns, work)
+        if err is None:
+            err = judge_outputs(test, outputs, ns, work, os.path.join(work, "ref"))
+        if err is None:
+            return "PASS", ""
+        if oslc_error_test_passes(test, work):
+            return "PASS", "rejected with an error on the reference's line"
+        return "FAIL", err
+    except Exception as e:  # a run.py this runner cannot evaluate
+        return "FAIL", "runner: %s: %s" % (type(e).__name__, e)
+
+
+def read_expected(path):
+    expected = {}
+    if path and os.path.exists(path):
+        with open(path) as f:
+            for line in f:
+                line = line.split("#", 1)[0].rstrip() if line.lstrip().startswith("#") else line.rstrip()
+                if not line.strip():
+                    continue
+                name, _, reason = line.strip().partition(" ")
+                expected[name] = reason.strip()
+    return expected
+
+
+def main():
+    here = os.path.dirname(os.path.abspath(__file__))
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--suite", required=True, help="OSL's testsuite folder")
+    ap.add_argument("--osl-run", required=True)
+    ap.add_argument("--width", type=int, default=0, help="osl-run --width (default: its own)")
+    ap.add_argument("--expected", default=os.path.join(here, "expected-failures.txt"))
+    ap.add_argument("--work", help="where tests run (default: a temporary folder)")
+    ap.add_argument("--keep", action="store_true", help="keep the work folder")
+    ap.add_argument("-j", type=int, default=2)
+    ap.add_argument("--write-expected", help="write the failures found to this file")
+    ap.add_argument("tests", nargs="*", help="only these tests")
+    args = ap.parse_args()
+
+    suite = os.path.abspath(args.suite)
+    if not os.path.isdir(suite):
+        print("SKIP: no OSL testsuite at %s" % suite)
+        return 0
+    osl_run = os.path.abspath(args.osl_run)
+    names = sorted(d for d in os.listdir(suite)
+                   if os.path.exists(os.path.join(suite, d, "run.py")))
+    if args.tests:
+        unknown = [t for t in args.tests if t not in names]
+        if unknown:
+            print("error: no such test: " + " ".join(unknown), file=sys.stderr)
+            return 2
+        names = args.tests
+    tests = [Test(n, suite) for n in names]
+    expected = read_expected(args.expected)
+
+    work_root = os.path.abspath(args.work) if args.work else tempfile.mkdtemp(prefix="osl-testsuite-")
+    os.makedirs(work_root, exist_ok=True)
+    if not os.path.exists(os.path.join(work_root, "common")):
+        os.symlink(os.path.join(suite, "common"), os.path.join(work_root, "common"))
+
+    results = {}
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.j)) as pool:
+        futures = {pool.submit(run_test, t, osl_run, args.width, work_root): t for t in tests}
+        for fut in concurrent.futures.as_completed(futures):
+            t = futures[fut]
+            results[t.name] = fut.result()
+    counts = {"PASS": 0, "FAIL": 0, "SKIP": 0}
+    shader_counts = {"PASS": 0, "FAIL": 0, "SKIP": 0}
+    unexpected_fail, unexpected_pass = [], []
+    for t in tests:
+        status, reason = results[t.name]
+        counts[status] += 1
+        if t.runs_shaders:
+            shader_counts[status] += 1
+        note = ""
+        if status == "FAIL" and t.name not in expected:
+            unexpected_fail.append(t.name)
+            note = "  [not in the expected-failures list]"
+        if status == "PASS" and t.name in expected:
+            unexpected_pass.append(t.name)
+            note = "  [listed as expected to fail: remove it from the list]"
+        print("%s: %s%s%s" % (status, t.name, (" - " + reason) if reason else "", note))
+
+    if args.write_expected:
+        with open(args.write_expected, "w") as f:
+            f.write("# OSL testsuite tests osl-run is expected to fail, each with the reason.\n"
+                    "# test/osl-testsuite/run_testsuite.py fails when a test outside this\n"
+                    "# list fails or a listed test passes, so the list only shrinks.\n")
+            for t in tests:
+                status, reason = results[t.name]
+                if status == "FAIL":
+                    f.write("%s  %s\n" % (t.name, expected.get(t.name) or reason))
+
+    total = len(tests)
+    ran = sum(shader_counts.values())
+    print()
+    print("folders that run shaders (testshade/testrender): %d, passed %d (%.1f%%)" %
+          (ran, shader_counts["PASS"], 100.0 * shader_counts["PASS"] / max(1, ran)))
+    print("all folders: %d passed, %d failed, %d skipped (of %d); expected failures listed: %d" %
+          (counts["PASS"], counts["FAIL"], counts["SKIP"], total, len(expected)))
+    if not args.keep and not args.work:
+        shutil.rmtree(work_root, ignore_errors=True)
+    if unexpected_fail or unexpected_pass:
+        print("unexpected failures: %s" % (" ".join(unexpected_fail) or "none"))
+        print("unexpected passes: %s" % (" ".join(unexpected_pass) or "none"))
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
