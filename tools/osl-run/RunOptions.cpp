@@ -393,7 +393,8 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
                               : pendingLayer;
       if (!o.group.shader(shaderFile(a), layer, error))
         return false;
-      if (!pendingLayer.empty() || ++positional > 1)
+      ++positional;
+      if (!pendingLayer.empty() || positional > 1)
         o.isGroup = true;
       pendingLayer.clear();
       if (o.shaderPath.empty())

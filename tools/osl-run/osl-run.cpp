@@ -180,7 +180,8 @@ int main(int argc, char **argv) {
 
   {
     ScopedTimer timer(statsPtr, "write images");
-    bool first = true;
+    // testshade ends its shading with a blank line.
+    llvm::outs() << "\n";
     for (auto &[index, file] : files) {
       if (file == "null")
         continue;
@@ -188,12 +189,9 @@ int main(int argc, char **argv) {
                       shader->outputs[index].channels, result.images[index].data(),
                       error, options.dataType))
         return fail("cannot write '" + file + "': " + error);
-      // testshade's report of each image it was asked for, after a blank
-      // line.
+      // testshade's report of each image it was asked for.
       if (!options.outputs.empty())
-        llvm::outs() << (first ? "\n" : "") << "Output " << shader->outputs[index].name
-                     << " to " << file << "\n";
-      first = false;
+        llvm::outs() << "Output " << shader->outputs[index].name << " to " << file << "\n";
     }
   }
   if (options.compile.countLanes) {
