@@ -928,8 +928,12 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
   });
 }
 
-std::optional<RValue> emitConstructor(IRGen &g, const Expr &call) {
-  OslType t = call.castType;
+std::optional<RValue> emitConstructor(IRGen &g, OslType t, const std::vector<ExprPtr> &callArgs,
+                                      SrcLoc callLoc) {
+  struct {
+    const std::vector<ExprPtr> &args;
+    SrcLoc loc;
+  } call{callArgs, callLoc};
   size_t n = call.args.size();
   std::string name = t.str();
   if (t.isInt() || t.isFloat() || t.isString()) {
@@ -1016,6 +1020,10 @@ std::optional<RValue> emitConstructor(IRGen &g, const Expr &call) {
   return RValue::num(t, value);
 }
 
+std::optional<RValue> emitConstructor(IRGen &g, const Expr &call) {
+  return emitConstructor(g, call.castType, call.args, call.loc);
+}
+
 /// sincos(x, output s, output c).
 std::optional<RValue> emitSincos(IRGen &g, const Expr &call) {
   if (call.args.size() != 3) {
@@ -1053,6 +1061,11 @@ std::optional<RValue> emitSincos(IRGen &g, const Expr &call) {
 } // namespace
 
 namespace osl::frontend {
+
+std::optional<RValue> emitTypeConstructor(IRGen &g, OslType type,
+                                          const std::vector<ExprPtr> &args, SrcLoc loc) {
+  return emitConstructor(g, type, args, loc);
+}
 
 std::optional<double> lookupFloatConstant(llvm::StringRef name) {
   static const std::pair<const char *, double> constants[] = {

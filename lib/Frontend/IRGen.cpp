@@ -676,11 +676,34 @@ bool IRGen::emitParam(const Param &p, Scope *scope) {
 
 std::optional<RValue> IRGen::emitInitializer(const Expr &init, OslType &type,
                                              llvm::StringRef name, SrcLoc l) {
-  if (init.kind == ExprKind::InitList) {
-    if (!type.isArray()) {
-      error(init.loc, "initializer list for '" + name + "', which is not an array");
-      return std::nullopt;
+  if (init.kind == ExprKind::InitList && !type.isArray()) {
+    // {x, y, z} for a triple is its constructor; for a struct, its fields.
+    if (type.isNumeric() || type.isString())
+      return emitTypeConstructor(*this, type, init.args, init.loc);
+    if (type.isStructLike()) {
+      const auto &fields = type.structDecl->fields;
+      if (init.args.size() > fields.size()) {
+        error(init.args[fields.size()]->loc,
+              "too many initializers for '" + name + "' of type '" + type.str() + "'");
+        return std::nullopt;
+      }
+      RValue r;
+      r.type = type;
+      for (size_t j = 0; j < fields.size(); ++j) {
+        OslType ft = fields[j].type;
+        std::optional<RValue> f = j < init.args.size()
+                                      ? emitInitializer(*init.args[j], ft, fields[j].name, l)
+                                      : std::optional<RValue>(zeroValue(ft, l));
+        if (!f)
+          return std::nullopt;
+        r.fields.push_back(*f);
+      }
+      return r;
     }
+    error(init.loc, "initializer list for '" + name + "' of type '" + type.str() + "'");
+    return std::nullopt;
+  }
+  if (init.kind == ExprKind::InitList) {
     if (type.arrayLen == 0)
       type.arrayLen = int(init.args.size());
     if (type.arrayLen == 0) {

@@ -429,6 +429,10 @@ std::optional<RValue> emitMatrixBuiltin(IRGen &gen, const Expr &call, bool &know
 /// regex_search, regex_match (StringBuiltins.cpp); `known` is false when
 /// `call` is none of them.
 std::optional<RValue> emitStringBuiltin(IRGen &gen, const Expr &call, bool &known);
+/// `type(args...)` for int, float, string and the triples (Builtins.cpp):
+/// also what `{args...}` means for a value of such a type.
+std::optional<RValue> emitTypeConstructor(IRGen &gen, OslType type,
+                                          const std::vector<ExprPtr> &args, SrcLoc loc);
 /// The closures of OSL's standard library (ClosureBuiltins.cpp); `known`
 /// is false when `call` is none of them.
 std::optional<RValue> emitClosureBuiltin(IRGen &gen, const Expr &call, bool &known);

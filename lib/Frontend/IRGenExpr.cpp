@@ -78,9 +78,15 @@ std::optional<RValue> IRGen::emitExpr(const Expr &e, const OslType *expected) {
     }
     return cast(*v, e.castType, e.loc);
   }
-  case ExprKind::InitList:
-    error(e.loc, "initializer lists are only allowed in declarations");
-    return std::nullopt;
+  case ExprKind::InitList: {
+    // `{...}` takes its type from where it goes (an assignment, a return).
+    if (!expected) {
+      error(e.loc, "an initializer list needs a type from its context here");
+      return std::nullopt;
+    }
+    OslType type = *expected;
+    return emitInitializer(e, type, "the initializer list", e.begin);
+  }
   }
   return std::nullopt;
 }

@@ -83,7 +83,7 @@ public:
           return false;
       } else {
         static const char *puncts[] = {
-            "<<=", ">>=", "##", "++", "--", "+=", "-=", "*=", "/=", "%=",
+            "...", "<<=", ">>=", "##", "++", "--", "+=", "-=", "*=", "/=", "%=",
             "&=",  "|=",  "^=", "<<", ">>", "<=", ">=", "==", "!=", "&&",
             "||",  "(",   ")",  "[",  "]",  "{",  "}",  ",",  ";",  ":",
             "?",   ".",   "+",  "-",  "*",  "/",  "%",  "=",  "<",  ">",
@@ -211,8 +211,10 @@ private:
         case 'b': value += '\b'; break;
         case 'f': value += '\f'; break;
         case 'v': value += '\v'; break;
+        case '\n': // a line continued inside the literal
+          break;
         default:
-          if (pos >= src.size() || e == '\n') {
+          if (pos >= src.size()) {
             diags.error(tok.loc, "unterminated string literal");
             return false;
           }

@@ -380,7 +380,8 @@ private:
         if (!skipMetadata())
           return nullptr;
         shader->params.push_back(std::move(p));
-        if (acceptPunct(","))
+        // oslc takes a trailing comma after the last parameter.
+        if (acceptPunct(",") && !cur().isPunct(")"))
           continue;
         if (cur().isPunct(")"))
           break;
@@ -429,7 +430,7 @@ private:
           return nullptr;
         }
         fn->params.push_back(std::move(p));
-        if (acceptPunct(","))
+        if (acceptPunct(",") && !cur().isPunct(")"))
           continue;
         if (cur().isPunct(")"))
           break;
@@ -991,10 +992,8 @@ private:
           return nullptr;
         return e;
       }
-      if (t.isPunct("{")) {
-        error(loc, "initializer lists are only allowed in declarations");
-        return nullptr;
-      }
+      if (t.isPunct("{"))
+        return parseInitializer(); // typed by its context
       errorExpected("an expression");
       return nullptr;
     case TokKind::Eof:

@@ -17,6 +17,8 @@ namespace {
 
 struct Macro {
   bool functionLike = false;
+  /// The last parameter is `...`, named __VA_ARGS__ in the body.
+  bool variadic = false;
   std::vector<std::string> params;
   std::vector<Token> body;
 };
@@ -224,6 +226,17 @@ private:
         ++k;
       } else {
         while (true) {
+          if (k < line.size() && line[k].isPunct("...")) {
+            m.variadic = true;
+            m.params.push_back("__VA_ARGS__");
+            if (++k < line.size() && line[k].isPunct(")")) {
+              ++k;
+              break;
+            }
+            diags.error(k < line.size() ? line[k].loc : line[1].loc,
+                        "expected ')' after '...' in macro parameter list");
+            return false;
+          }
           if (k >= line.size() || !line[k].is(TokKind::Ident)) {
             diags.error(k < line.size() ? line[k].loc : line[1].loc,
                         "expected a macro parameter name");
@@ -246,14 +259,73 @@ private:
       }
     }
     for (; k < line.size(); ++k) {
-      if (line[k].isPunct("#") || line[k].isPunct("##")) {
-        diags.error(line[k].loc, "'" + line[k].text +
-                                     "' in macros (stringizing/pasting) is not supported");
+      bool pasteAtEdge = line[k].isPunct("##") && (k + 1 == line.size() || m.body.empty());
+      if (pasteAtEdge) {
+        diags.error(line[k].loc, "'##' cannot be at either end of a macro body");
+        return false;
+      }
+      if (m.functionLike && line[k].isPunct("#") &&
+          (k + 1 >= line.size() || !line[k + 1].is(TokKind::Ident) ||
+           !llvm::is_contained(m.params, line[k + 1].text))) {
+        diags.error(line[k].loc, "'#' must be followed by a macro parameter");
         return false;
       }
       m.body.push_back(line[k]);
     }
     macros[line[1].text] = std::move(m);
+    return true;
+  }
+
+  /// How a token is written in source.
+  static std::string spelling(const Token &t) {
+    if (!t.is(TokKind::String))
+      return t.text;
+    std::string s = "\"";
+    for (char c : t.text) {
+      if (c == '"' || c == '\\')
+        s += '\\';
+      if (c == '\n') {
+        s += "\\n";
+        continue;
+      }
+      s += c;
+    }
+    return s + "\"";
+  }
+
+  /// `#arg`: the argument as written, as a string literal.
+  static Token stringize(const std::vector<Token> &arg, SrcLoc loc) {
+    Token t;
+    t.kind = TokKind::String;
+    t.loc = loc;
+    for (size_t i = 0; i < arg.size(); ++i)
+      t.text += (i && arg[i].spaceBefore ? " " : "") + spelling(arg[i]);
+    return t;
+  }
+
+  /// `a ## b`: the tokens on either side of each ## become one, lexed anew.
+  bool pasteTokens(std::vector<Token> &tokens, SrcLoc loc) {
+    for (size_t j = 0; j < tokens.size(); ++j) {
+      if (!tokens[j].isPunct("##"))
+        continue;
+      std::string text = (j > 0 ? spelling(tokens[j - 1]) : "") +
+                         (j + 1 < tokens.size() ? spelling(tokens[j + 1]) : "");
+      std::vector<Token> lexed;
+      if (!lex(text, diags, lexed, loc.file))
+        return false;
+      lexed.pop_back(); // Eof
+      if (lexed.size() > 1) {
+        diags.error(loc, "pasting makes '" + text + "', which is not one token");
+        return false;
+      }
+      size_t first = j > 0 ? j - 1 : j;
+      size_t last = std::min(tokens.size(), j + 2);
+      for (Token &t : lexed)
+        t.loc = loc;
+      tokens.erase(tokens.begin() + first, tokens.begin() + last);
+      tokens.insert(tokens.begin() + first, lexed.begin(), lexed.end());
+      j = first;
+    }
     return true;
   }
 
@@ -313,6 +385,22 @@ private:
         }
         if (m.params.empty() && args.size() == 1 && args[0].empty())
           args.clear();
+        if (m.variadic) {
+          // The arguments past the named ones are __VA_ARGS__, commas kept.
+          size_t named = m.params.size() - 1;
+          if (args.size() == named)
+            args.emplace_back();
+          while (args.size() > named + 1) {
+            Token comma;
+            comma.kind = TokKind::Punct;
+            comma.text = ",";
+            comma.loc = tok.loc;
+            args[named].push_back(comma);
+            args[named].insert(args[named].end(), args[named + 1].begin(),
+                               args[named + 1].end());
+            args.erase(args.begin() + named + 1);
+          }
+        }
         if (args.size() != m.params.size()) {
           diags.error(tok.loc, "macro '" + tok.text + "' takes " +
                                    llvm::Twine(m.params.size()) + " argument(s), got " +
@@ -323,15 +411,28 @@ private:
         for (size_t a = 0; a < args.size(); ++a)
           if (!expand(args[a], expandedArgs[a], hidden, depth + 1))
             return false;
-        for (const Token &b : m.body) {
+        auto paramIndex = [&](const Token &b) -> int {
           auto p = b.is(TokKind::Ident)
                        ? std::find(m.params.begin(), m.params.end(), b.text)
                        : m.params.end();
-          if (p == m.params.end()) {
+          return p == m.params.end() ? -1 : int(p - m.params.begin());
+        };
+        const std::vector<Token> &body = m.body;
+        for (size_t j = 0; j < body.size(); ++j) {
+          const Token &b = body[j];
+          if (b.isPunct("#") && j + 1 < body.size() && paramIndex(body[j + 1]) >= 0) {
+            result.push_back(stringize(args[paramIndex(body[++j])], tok.loc));
+            continue;
+          }
+          int p = paramIndex(b);
+          if (p < 0) {
             result.push_back(b);
             continue;
           }
-          auto &arg = expandedArgs[p - m.params.begin()];
+          // Operands of ## are pasted as written, others expanded first.
+          bool pasted = (j > 0 && body[j - 1].isPunct("##")) ||
+                        (j + 1 < body.size() && body[j + 1].isPunct("##"));
+          const std::vector<Token> &arg = pasted ? args[p] : expandedArgs[p];
           produced += arg.size();
           if (produced > kMaxOutputTokens) {
             diags.error(tok.loc, "macro expansion is too large");
@@ -341,6 +442,8 @@ private:
         }
         i = k; // the closing ')'
       }
+      if (!pasteTokens(result, tok.loc))
+        return false;
       // Expanded tokens report the position of the macro use.
       for (Token &r : result) {
         r.loc = tok.loc;
@@ -577,5 +680,19 @@ bool osl::frontend::preprocess(const std::vector<Token> &raw, Diagnostics &diags
                                std::vector<Token> &out,
                                llvm::ArrayRef<std::string> includePaths) {
   Preprocessor pp(diags, includePaths);
-  return pp.run(raw, out, 0);
+  if (!pp.run(raw, out, 0))
+    return false;
+  // Adjacent string literals are one string, as in C.
+  size_t kept = 0;
+  for (size_t i = 0; i < out.size(); ++i) {
+    if (kept > 0 && out[i].is(TokKind::String) && out[kept - 1].is(TokKind::String)) {
+      out[kept - 1].text += out[i].text;
+      continue;
+    }
+    if (kept != i)
+      out[kept] = std::move(out[i]);
+    ++kept;
+  }
+  out.resize(kept);
+  return true;
 }
