@@ -433,7 +433,7 @@ const std::vector<Builtin> &builtinTable() {
 /// Every OSL library function name the front end knows: those not handled
 /// above are reported as "not supported yet" rather than unknown.
 const char *const kUnsupported[] = {
-    "smooth_linearstep", "raytype", "getattribute",
+    "smooth_linearstep", "raytype",
     "setmessage", "getmessage", "trace", "transformu",
     "splineinverse", "fresnel",
     "pointcloud_search", "pointcloud_get", "pointcloud_write", "dict_find",
@@ -1058,6 +1058,106 @@ std::optional<RValue> emitSincos(IRGen &g, const Expr &call) {
   return RValue::voidValue();
 }
 
+/// The attributes testshade's renderer answers: its camera (an image of
+/// the grid's size, testshade's defaults otherwise). Numbers, or a string.
+struct RendererAttribute {
+  std::vector<double> numbers;
+  bool isInt = false;
+  std::string text;
+};
+
+std::optional<RendererAttribute> testshadeAttribute(const IRGen &g, llvm::StringRef name) {
+  RendererAttribute a;
+  if (name == "camera:resolution") {
+    a.numbers = {double(g.cameraImage().xres), double(g.cameraImage().yres)};
+    a.isInt = true;
+  } else if (name == "camera:projection") {
+    a.text = "perspective";
+  } else if (name == "camera:fov") {
+    a.numbers = {90};
+  } else if (name == "camera:pixelaspect") {
+    a.numbers = {1};
+  } else if (name == "camera:clip_near") {
+    a.numbers = {0.1};
+  } else if (name == "camera:clip_far") {
+    a.numbers = {1000};
+  } else if (name == "camera:clip") {
+    a.numbers = {0.1, 1000};
+  } else if (name == "camera:shutter_open") {
+    a.numbers = {0};
+  } else if (name == "camera:shutter_close") {
+    a.numbers = {1};
+  } else if (name == "camera:shutter") {
+    a.numbers = {0, 1};
+  } else if (name == "camera:screen_window") {
+    a.numbers = {-1, -1, 1, 1};
+  } else {
+    return std::nullopt;
+  }
+  return a;
+}
+
+/// getattribute([object,] name, [index,] out dest): testshade's renderer
+/// answers from constants, so a name known when the shader is compiled is
+/// looked up then; dest is written only when the attribute exists and has
+/// dest's type, and the result says whether it was.
+std::optional<RValue> emitGetAttribute(IRGen &g, const Expr &call) {
+  size_t n = call.args.size();
+  if (n < 2 || n > 4) {
+    g.error(call.loc, "wrong arguments to 'getattribute'; candidates: int getattribute(string "
+                      "name, output T value); int getattribute(string object, string name, "
+                      "output T value); with an int index before the value for arrays");
+    return std::nullopt;
+  }
+  std::vector<RValue> names;
+  for (size_t k = 0; k < n - 1; ++k) {
+    auto v = g.emitExpr(*call.args[k]);
+    if (!v)
+      return std::nullopt;
+    names.push_back(*v);
+  }
+  size_t nameCount = names.size() >= 2 && names[1].type.isString() ? 2 : 1;
+  std::string object, attribute;
+  if (nameCount == 2 && !stringArg(g, names[0], *call.args[0], "getattribute",
+                                   "the object name", object))
+    return std::nullopt;
+  if (!stringArg(g, names[nameCount - 1], *call.args[nameCount - 1], "getattribute",
+                 "the attribute name", attribute))
+    return std::nullopt;
+  bool indexed = names.size() > nameCount;
+  auto dest = g.emitLValue(*call.args[n - 1]);
+  if (!dest)
+    return std::nullopt;
+  std::optional<RendererAttribute> found =
+      object.empty() ? testshadeAttribute(g, attribute) : std::nullopt;
+  OslType t = dest->type;
+  OslType element = t.isArray() ? t.element() : t;
+  bool fits = found && !indexed;
+  if (fits && !found->text.empty())
+    fits = t.isString();
+  else if (fits)
+    fits = (found->isInt ? element.isInt() : element.isFloat()) &&
+           int(found->numbers.size()) == (t.isArray() ? t.arrayLen : 1);
+  if (!fits)
+    return RValue::num(OslType(BaseType::Int), g.constInt(0, call.loc));
+  RValue value;
+  if (t.isString()) {
+    value = RValue::string(found->text);
+  } else {
+    value = g.loadLValue(*dest, call.loc);
+    auto constant = [&](double x) {
+      return found->isInt ? g.constInt(int(x), call.loc) : g.constFloat(float(x), call.loc);
+    };
+    if (t.isArray())
+      for (size_t k = 0; k < found->numbers.size(); ++k)
+        value.elems[k] = constant(found->numbers[k]);
+    else
+      value.value = constant(found->numbers[0]);
+  }
+  g.storeLValue(*dest, value, call.loc);
+  return RValue::num(OslType(BaseType::Int), g.constInt(1, call.loc));
+}
+
 } // namespace
 
 namespace osl::frontend {
@@ -1143,6 +1243,8 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
       return std::nullopt;
     return RValue::num(OslType(BaseType::Int), g.constInt(ray == "camera" ? 1 : 0, call.loc));
   }
+  if (name == "getattribute")
+    return emitGetAttribute(g, call);
   if (name == "exit") {
     if (!call.args.empty()) {
       g.error(call.loc, "'exit' takes no arguments");

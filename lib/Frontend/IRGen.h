@@ -132,6 +132,8 @@ public:
   mlir::OwningOpRef<mlir::ModuleOp> emitProgram(const Program &program);
 
   // --- building blocks shared with Builtins.cpp -------------------------------
+  /// The image testshade's camera sees (the grid's size).
+  const mlir::osl::CameraImage &cameraImage() const { return camera; }
   mlir::OpBuilder &builder() { return b; }
   /// The working RGB space of the color functions (a compile option).
   llvm::StringRef workingColorSpace() const { return colorSpace; }

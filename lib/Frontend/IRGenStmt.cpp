@@ -174,8 +174,10 @@ bool IRGen::emitJump(const Stmt &s, bool tail) {
     if (s.expr)
       return error(s.expr->loc, "a shader cannot return a value");
   } else {
-    InlineFrame &frame = inlineStack.back();
-    const FunctionDecl &fn = *frame.fn;
+    // By index: the returned expression may inline calls, which grow the
+    // stack (a reference into it would dangle).
+    size_t frameIndex = inlineStack.size() - 1;
+    const FunctionDecl &fn = *inlineStack[frameIndex].fn;
     if (fn.returnType.isVoid()) {
       if (s.expr)
         return error(s.expr->loc, "void function '" + fn.name + "' cannot return a value");
@@ -190,7 +192,7 @@ bool IRGen::emitJump(const Stmt &s, bool tail) {
                       "in return from '" + fn.name + "'");
       if (!c)
         return false;
-      frame.returnVar->val = *c;
+      inlineStack[frameIndex].returnVar->val = *c;
     }
   }
   // At the end of the function nothing follows to be skipped.

@@ -609,8 +609,9 @@ private:
   }
 
   /// #include "file" looks next to the including file first, then in the
-  /// -I directories; <file> only in the -I directories. stdosl.h is built
-  /// in when no file of that name is found.
+  /// -I directories; <file> only in the -I directories; both then in the
+  /// standard header directory. stdosl.h is built in when no file of that
+  /// name is found.
   bool include(SrcLoc loc, const std::string &file, bool quoted, std::vector<Token> &out) {
     llvm::SmallVector<std::string> candidates;
     if (llvm::sys::path::is_absolute(file)) {
@@ -626,6 +627,11 @@ private:
         llvm::sys::path::append(p, file);
         candidates.push_back(std::string(p));
       }
+      // Last, osl-mlir's own versions of OSL's standard headers
+      // (oslutil.h, color2.h, vector2.h, ...).
+      llvm::SmallString<256> standard(OSL_MLIR_STDINCLUDE_DIR);
+      llvm::sys::path::append(standard, file);
+      candidates.push_back(std::string(standard));
     }
     std::string found;
     for (const std::string &c : candidates)

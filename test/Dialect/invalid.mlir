@@ -330,3 +330,27 @@ func.func @closure_weight_is_a_color(%c: !osl.closure, %f: f32) {
   %0 = osl.closure_mul %c, %f : !osl.closure, f32 -> !osl.closure
   return
 }
+
+// -----
+
+func.func @print_unknown_stream(%s: i32) {
+  // expected-error @+1 {{unknown print stream 'log'}}
+  osl.print "log" "s"(%s) : i32
+  return
+}
+
+// -----
+
+func.func @print_fprintf_needs_file(%s: i32, %f: f32) {
+  // expected-error @+1 {{operand kinds 'sf' must start with 'ss' for fprintf}}
+  osl.print "fprintf" "sf"(%s, %f) : i32, f32
+  return
+}
+
+// -----
+
+func.func @print_operand_type(%s: i32, %f: f32) {
+  // expected-error @+1 {{operand 1 of kind 'i' must be 'i32'}}
+  osl.print "printf" "si"(%s, %f) : i32, f32
+  return
+}

@@ -447,3 +447,24 @@ func.func @output_in_branch() {
   }
   return
 }
+
+// -----
+
+// osl.print: every live point prints, so even uniform operands take W
+// lanes (broadcast) and the mask is the live lanes and the print's own.
+// CHECK-LABEL: llvm.func @osl_rt_print(!llvm.ptr, i32, !llvm.ptr, !llvm.ptr, i32, i32)
+// CHECK-LABEL: osl.shader_name = "print"
+// CHECK: %[[ROWS:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
+// CHECK: vector.broadcast %{{.+}} : i32 to vector<8xi32>
+// CHECK: %[[LIVE:.+]] = arith.cmpi slt
+// CHECK: %[[BOTH:.+]] = arith.andi %[[LIVE]], %{{.+}} : vector<8xi1>
+// CHECK: %[[BITS:.+]] = llvm.bitcast %[[BOTH]] : vector<8xi1> to i8
+// CHECK: llvm.call @osl_rt_print(%{{.+}}, %{{.+}}, %{{.+}}, %[[ROWS]], %{{.+}}, %{{.+}})
+func.func @print() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %half = arith.constant 0.5 : f32
+  %c = osl.cmp "gt", %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %fmt = osl.string_constant "u = %g\n" : i32
+  osl.print "printf" "sf"(%fmt, %u) mask %c : !osl.varying<i1> : i32, !osl.varying<f32>
+  return
+}

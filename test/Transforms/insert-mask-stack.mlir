@@ -487,3 +487,24 @@ func.func @count_lanes_in_masked_blocks(%c: !osl.varying<i1>, %a: !osl.varying<f
   osl.output "x" = %w : !osl.varying<f32>
   return
 }
+
+// -----
+
+// A print is a side effect: inside a varying if it prints only for the
+// arm's lanes, so it takes the arm's mask; outside, it has none (every
+// live lane prints).
+// CHECK-LABEL: func.func @print_takes_the_arm_mask
+// CHECK: %[[MASK:.+]] = osl.batch_mask
+// CHECK: %[[THEN:.+]] = osl.and %[[MASK]], %{{.+}}
+// CHECK: osl.print "printf" "sf"(%{{.+}}, %{{.+}}) mask %[[THEN]] : !osl.varying<i1> : i32, !osl.varying<f32>
+// CHECK: osl.print "printf" "s"(%{{.+}}) : i32
+func.func @print_takes_the_arm_mask(%c: !osl.varying<i1>, %a: !osl.varying<f32>, %fmt: i32) {
+  osl.if %c : !osl.varying<i1> {
+    osl.print "printf" "sf"(%fmt, %a) : i32, !osl.varying<f32>
+    osl.yield
+  } else {
+    osl.yield
+  }
+  osl.print "printf" "s"(%fmt) : i32
+  return
+}

@@ -241,8 +241,17 @@ def run_commands(command, ns, work):
         if not sub:
             continue
         if run_shell(sub, work) != 0 and not ns["failureok"]:
-            return "command failed: " + sub.split(" >>")[0]
+            return "%s failed: %s" % (os.path.basename(shlex.split(sub)[0]), first_error(work))
     return None
+
+
+def first_error(work):
+    """The first error the commands wrote to out.txt, for the reason."""
+    with open(os.path.join(work, "out.txt"), errors="replace") as f:
+        for line in f:
+            if "error" in line.lower() or "timed out" in line:
+                return line.strip()[:200]
+    return "(no message)"
 
 
 def judge_outputs(test, outputs, ns, work, ref_dir):
@@ -268,8 +277,22 @@ def judge_outputs(test, outputs, ns, work, ref_dir):
             if ok:
                 break
         if not ok:
+            if ext == ".txt":
+                return "%s differs from ref (first difference: %s)" % (out, first_difference(path, ref_dir, out))
             return "%s does not match ref" % out
     return None
+
+
+def first_difference(path, ref_dir, out):
+    ref = os.path.join(ref_dir, out)
+    if not os.path.exists(ref):
+        return "no reference"
+    with open(path, errors="replace") as a, open(ref, errors="replace") as b:
+        ours, theirs = a.read().splitlines(), b.read().splitlines()
+    for i, (x, y) in enumerate(zip(ours, theirs)):
+        if x != y:
+            return "line %d %r, expected %r" % (i + 1, x[:80], y[:80])
+    return "%d lines, expected %d" % (len(ours), len(theirs))
 
 
 def oslc_error_test_passes(test, work):
