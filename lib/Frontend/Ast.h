@@ -32,6 +32,7 @@ enum class ExprKind {
   Member,    // args[0].name
   Cast,      // (castType) args[0]
   InitList,  // { args... } (array initializers)
+  Comma,     // args evaluated in order; the value is the last one's
 };
 
 struct Expr {

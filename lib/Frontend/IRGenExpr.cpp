@@ -78,6 +78,12 @@ std::optional<RValue> IRGen::emitExpr(const Expr &e, const OslType *expected) {
     }
     return cast(*v, e.castType, e.loc);
   }
+  case ExprKind::Comma: {
+    for (size_t k = 0; k + 1 < e.args.size(); ++k)
+      if (!emitExpr(*e.args[k]))
+        return std::nullopt;
+    return emitExpr(*e.args.back(), expected);
+  }
   case ExprKind::InitList: {
     // `{...}` takes its type from where it goes (an assignment, a return).
     if (!expected) {

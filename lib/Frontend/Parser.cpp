@@ -83,7 +83,8 @@ public:
         auto fn = parseFunctionRest(type);
         if (!fn)
           return false;
-        program.functions.push_back(std::move(fn));
+        if (fn->body)
+          program.functions.push_back(std::move(fn));
         continue;
       }
       error(t.loc, "expected a function or shader declaration, found " +
@@ -441,6 +442,10 @@ private:
     advance(); // ')'
     if (!skipMetadata())
       return nullptr;
+    // A declaration without a body (a prototype): the definition, which
+    // calls find by name, comes elsewhere; body stays null.
+    if (acceptPunct(";"))
+      return fn;
     if (!cur().isPunct("{")) {
       errorExpected("'{' to begin the body of '" + fn->name + "'");
       return nullptr;
@@ -602,6 +607,8 @@ private:
         auto s = std::make_unique<Stmt>(StmtKind::FuncDef, loc);
         if (!(s->func = parseFunctionRest(type)))
           return nullptr;
+        if (!s->func->body) // a prototype declares nothing that runs
+          return std::make_unique<Stmt>(StmtKind::Block, loc);
         return s;
       }
       pos = save;
@@ -686,11 +693,18 @@ private:
   // --- expressions -------------------------------------------------------------
   ExprPtr parseExpression() {
     ExprPtr e = parseAssignment();
-    if (e && cur().isPunct(",")) {
-      error(cur().loc, "the comma operator is not supported");
-      return nullptr;
+    if (!e || !cur().isPunct(","))
+      return e;
+    auto comma = std::make_unique<Expr>(ExprKind::Comma, cur().loc);
+    comma->begin = e->begin;
+    comma->args.push_back(std::move(e));
+    while (acceptPunct(",")) {
+      ExprPtr next = parseAssignment();
+      if (!next)
+        return nullptr;
+      comma->args.push_back(std::move(next));
     }
-    return e;
+    return finish(*comma) ? std::move(comma) : nullptr;
   }
 
   static bool isAssignOp(const Token &t) {

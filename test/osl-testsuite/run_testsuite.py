@@ -128,6 +128,10 @@ class Context:
         cmds = ""
         for src in sources:
             base = os.path.splitext(os.path.basename(src))[0]
+            if os.path.dirname(src):
+                # oslc leaves X.oso in the current folder, where testshade
+                # then finds it: the source goes there for osl-run.
+                cmds += "cp %s . ;\n" % shlex.quote(src)
             check = (self.osl_run_cmd() + " --check " +
                      " ".join(shlex.quote(f) for f in flags) + " " + shlex.quote(src))
             cmds += ("%s%s && echo %s >> out.txt ;\n" %

@@ -146,7 +146,8 @@ std::string shaderFile(std::string name) {
 std::string testshadeSpelling(std::string a) {
   static const char *const kLong[] = {
       "param", "layer", "connect", "center", "iters", "entry", "reparam", "group",
-      "shader", "od", "vary_udxdy", "vary_vdxdy", "vary_pdxdy", "colorspace"};
+      "shader", "od", "vary_udxdy", "vary_vdxdy", "vary_pdxdy", "colorspace",
+      "options", "debug", "res"};
   if (a.size() > 2 && a[0] == '-' && a[1] != '-') {
     llvm::StringRef name = llvm::StringRef(a).drop_front().split(':').first;
     for (const char *flag : kLong)
@@ -205,7 +206,16 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         error = "--seed needs an integer";
         return false;
       }
-    } else if (a == "-g") {
+    } else if (a == "-v" || a == "--debug") {
+      // testshade's verbosity: osl-run reports what it does with --stats.
+    } else if (a == "--llvm_opt" || a == "--options") {
+      // testshade's LLVM optimization level and ShadingSystem options:
+      // osl-mlir optimizes its own way (-O0/-O1/-O2), so they are taken
+      // and ignored, and commands written for testshade run unchanged.
+      if (!need(i, 1, a.c_str()))
+        return false;
+      ++i;
+    } else if (a == "-g" || a == "--g" || a == "--res") {
       if (!need(i, 2, "-g"))
         return false;
       if (!parseInt(argv[i + 1], o.grid.xres) || !parseInt(argv[i + 2], o.grid.yres) ||
