@@ -9,6 +9,7 @@
 #define OSLRUNTIME_GRID_H
 
 #include "OslRuntime/GlobalsLayout.h"
+#include "OslRuntime/PrintCall.h"
 
 #include <string>
 #include <vector>
@@ -57,6 +58,9 @@ struct ShadeResult {
   std::vector<std::vector<float>> images;
   /// Wall time of the shading loop (buffers and tables set up excluded).
   double seconds = 0;
+  /// What the shader printed (printf, warning, error...), in point order;
+  /// the caller emits it (emitPrints) where its output wants it.
+  PrintLog printed;
 };
 
 /// Shades every grid point with `kernel` compiled for `width` lanes.

@@ -35,27 +35,29 @@ constexpr int32_t printStreamCode(std::string_view name) {
   return -1;
 }
 
-/// What one batch printed, its lanes in order.
-struct BatchPrints {
-  std::string out;                                      // printf
-  std::vector<std::pair<std::string, std::string>> files; // fprintf: (file, text)
-  std::vector<std::pair<int32_t, std::string>> messages;  // (warning|error code, text)
-  bool empty() const { return out.empty() && files.empty() && messages.empty(); }
+/// One text a lane printed: `stream` indexes kPrintStreams; `file` is
+/// fprintf's.
+struct PrintedText {
+  int32_t stream;
+  std::string file, text;
 };
 
-/// Moves what this thread's kernels printed since the last call into
-/// `prints`, lane by lane.
-void takeBatchPrints(BatchPrints &prints);
+/// What shading printed, in point order (each point's calls in program
+/// order): what testshade's journal holds.
+struct PrintLog {
+  std::vector<PrintedText> texts;
+  bool empty() const { return texts.empty(); }
+};
 
-/// Appends a batch's printed text to the process's output: printf's to
-/// standard output, fprintf's to its files. Warnings and errors are kept
-/// to be reported once each (printMessages).
-void emitBatchPrints(const BatchPrints &prints);
+/// Moves what this thread's kernels printed since the last call to the end
+/// of `log`, lane by lane.
+void takeBatchPrints(PrintLog &log);
 
-/// Writes the warnings and errors shaders reported, each distinct text
-/// once, as testshade does ("ERROR: Shader error [NAME]: text"), to
-/// standard error; returns how many were errors.
-int printMessages(const std::string &shaderName);
+/// Emits `log` in order as testshade does: printf's text to standard
+/// output, fprintf's to its files, and each warning or error to standard
+/// error as "ERROR: Shader error [NAME]: text" - a text already reported
+/// in this process is not repeated. Returns the number of errors reported.
+int emitPrints(const PrintLog &log, const std::string &shaderName);
 
 /// Keeps one lane's text for the batch (osl_rt_print's work once a lane
 /// is formatted); `file` is fprintf's file name.

@@ -270,17 +270,17 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
     outRows.emplace_back(static_cast<size_t>(totalChannels) * width);
   }
 
-  // What batches print, emitted in batch order once all have run, so the
+  // What batches print, put in batch order once all have run, so the
   // text is in point order whatever the threads did.
   std::mutex printedMutex;
-  std::map<long, BatchPrints> printed;
+  std::map<long, PrintLog> printed;
   auto takePrints = [&](long b) {
-    BatchPrints prints;
-    takeBatchPrints(prints);
-    if (prints.empty())
+    PrintLog log;
+    takeBatchPrints(log);
+    if (log.empty())
       return;
     std::lock_guard<std::mutex> lock(printedMutex);
-    printed.emplace(b, std::move(prints));
+    printed.emplace(b, std::move(log));
   };
 
   Progress progress(opt.progress, npixels, "shading");
@@ -324,10 +324,10 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
                        std::chrono::steady_clock::now() - start)
                        .count();
   progress.finish();
-  for (const auto &[batch, prints] : printed)
-    emitBatchPrints(prints);
-  if (!printed.empty())
-    std::fflush(stdout); // before anything the caller prints its own way
+  result.printed.texts.clear();
+  for (auto &[batch, log] : printed)
+    for (PrintedText &t : log.texts)
+      result.printed.texts.push_back(std::move(t));
 }
 
 } // namespace osl

@@ -2,9 +2,9 @@
 //
 // A batch's lanes print in lane order, one lane's calls in program order:
 // each thread keeps the texts of the batch it runs, tagged with their lane,
-// and the grid takes them when the batch ends (takeBatchPrints) and emits
-// batches in order. Warnings and errors are collected for the run and
-// reported once per distinct text, as testshade's error handler does.
+// and the grid takes them when the batch ends (takeBatchPrints) into a log
+// in batch order. Emitting the log reports each distinct warning or error
+// once, as testshade's error handler does.
 //
 //===----------------------------------------------------------------------===//
 #include "OslRuntime/PrintCall.h"
@@ -17,8 +17,8 @@
 namespace {
 
 struct LaneText {
-  int32_t lane, stream;
-  std::string file, text;
+  int32_t lane;
+  osl::PrintedText printed;
 };
 
 std::vector<LaneText> &threadTexts() {
@@ -28,58 +28,53 @@ std::vector<LaneText> &threadTexts() {
 
 enum : int32_t { kPrintf, kFprintf, kWarning, kError };
 
-std::mutex messageMutex;
-std::vector<std::pair<int32_t, std::string>> runMessages;
+std::mutex reportedMutex;
+std::set<std::pair<int32_t, std::string>> reported;
 
 } // namespace
 
 void osl::keepLaneText(int32_t stream, int32_t lane, std::string file, std::string text) {
-  threadTexts().push_back({lane, stream, std::move(file), std::move(text)});
+  threadTexts().push_back({lane, {stream, std::move(file), std::move(text)}});
 }
 
-void osl::takeBatchPrints(BatchPrints &prints) {
+void osl::takeBatchPrints(PrintLog &log) {
   std::vector<LaneText> &texts = threadTexts();
   std::stable_sort(texts.begin(), texts.end(),
                    [](const LaneText &a, const LaneText &b) { return a.lane < b.lane; });
-  for (LaneText &t : texts) {
-    if (t.stream == kPrintf)
-      prints.out += t.text;
-    else if (t.stream == kFprintf)
-      prints.files.emplace_back(std::move(t.file), std::move(t.text));
-    else
-      prints.messages.emplace_back(t.stream, std::move(t.text));
-  }
+  for (LaneText &t : texts)
+    log.texts.push_back(std::move(t.printed));
   texts.clear();
 }
 
-void osl::emitBatchPrints(const BatchPrints &prints) {
-  std::fwrite(prints.out.data(), 1, prints.out.size(), stdout);
-  for (const auto &[file, text] : prints.files) {
-    if (FILE *f = std::fopen(file.c_str(), "a")) {
-      std::fwrite(text.data(), 1, text.size(), f);
-      std::fclose(f);
-    } else {
-      std::lock_guard<std::mutex> lock(messageMutex);
-      runMessages.emplace_back(kError, "fprintf: cannot open \"" + file + "\" for writing");
-    }
-  }
-  std::lock_guard<std::mutex> lock(messageMutex);
-  runMessages.insert(runMessages.end(), prints.messages.begin(), prints.messages.end());
-}
-
-int osl::printMessages(const std::string &shaderName) {
-  std::lock_guard<std::mutex> lock(messageMutex);
-  std::set<std::pair<int32_t, std::string>> seen;
+int osl::emitPrints(const PrintLog &log, const std::string &shaderName) {
   int errors = 0;
-  std::fflush(stdout);
-  for (const auto &m : runMessages) {
-    if (!seen.insert(m).second)
+  for (const PrintedText &t : log.texts) {
+    if (t.stream == kPrintf) {
+      std::fwrite(t.text.data(), 1, t.text.size(), stdout);
       continue;
-    bool error = m.first == kError;
+    }
+    if (t.stream == kFprintf) {
+      if (FILE *f = std::fopen(t.file.c_str(), "a")) {
+        std::fwrite(t.text.data(), 1, t.text.size(), f);
+        std::fclose(f);
+        continue;
+      }
+    }
+    bool error = t.stream != kWarning;
+    std::string text = t.stream == kFprintf
+                           ? "fprintf cannot open \"" + t.file + "\" for writing"
+                           : t.text;
+    {
+      std::lock_guard<std::mutex> lock(reportedMutex);
+      if (!reported.insert({error, text}).second)
+        continue;
+    }
     errors += error;
+    // Standard output first, so that a file holding both keeps the order.
+    std::fflush(stdout);
     std::fprintf(stderr, "%s: Shader %s [%s]: %s\n", error ? "ERROR" : "WARNING",
-                 error ? "error" : "warning", shaderName.c_str(), m.second.c_str());
+                 error ? "error" : "warning", shaderName.c_str(), text.c_str());
   }
-  runMessages.clear();
+  std::fflush(stdout);
   return errors;
 }

@@ -280,8 +280,11 @@ private:
       return div(cst(1.44269504088896340736), x);
     if (isa<math::Log10Op>(def))
       return div(cst(0.43429448190325182765), x);
-    if (isa<math::SqrtOp>(def))
-      return div(cst(0.5), r);
+    if (isa<math::SqrtOp>(def)) {
+      // OSL's: no slope where sqrt is 0 or undefined (x <= 0), not inf.
+      Value positive = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OGT, x, cst(0));
+      return b.create<arith::SelectOp>(loc, positive, div(cst(0.5), r), cst(0));
+    }
     if (isa<math::RsqrtOp>(def))
       return mul(cst(-0.5), mul(r, div(r, x)));
     if (isa<math::AbsFOp>(def))

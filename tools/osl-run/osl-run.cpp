@@ -197,7 +197,12 @@ int main(int argc, char **argv) {
 
   {
     ScopedTimer timer(statsPtr, "write images");
-    // testshade ends its shading with a blank line.
+    // testshade's order: what the shader printed comes after the reports
+    // of the images it was asked to write, or before its closing blank
+    // line when it writes none.
+    bool imagesFirst = !options.outputs.empty();
+    if (!imagesFirst)
+      emitPrints(result.printed, shader->name);
     llvm::outs() << "\n";
     for (auto &[index, file] : files) {
       if (file == "null")
@@ -207,8 +212,12 @@ int main(int argc, char **argv) {
                       error, options.dataType))
         return fail("cannot write '" + file + "': " + error);
       // testshade's report of each image it was asked for.
-      if (!options.outputs.empty())
+      if (imagesFirst)
         llvm::outs() << "Output " << shader->outputs[index].name << " to " << file << "\n";
+    }
+    if (imagesFirst) {
+      llvm::outs().flush();
+      emitPrints(result.printed, shader->name);
     }
   }
   if (options.compile.countLanes) {
@@ -233,10 +242,6 @@ int main(int argc, char **argv) {
     double points = double(options.grid.xres) * options.grid.yres * options.iters;
     llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
   }
-  // What the shader said with warning() and error(), as testshade reports
-  // it after the images (it is no failure of the run).
-  llvm::outs().flush();
-  printMessages(shader->name);
   // The images are written, but a texture that could not be read or a
   // string call that failed (a bad regex) is an error (reported once, where
   // it happened).
