@@ -35,6 +35,7 @@ import subprocess
 import sys
 import tempfile
 import threading
+import time
 
 IMAGE_EXTENSIONS = (".tif", ".exr")
 COMMAND_TIMEOUT = 120  # seconds; a shader that never ends fails its test
@@ -397,7 +398,11 @@ def main():
 
     results = {}
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.j)) as pool:
-        futures = {pool.submit(run_test, t, osl_run, args.width, work_root): t for t in tests}
+        def timed(t):
+            start = time.monotonic()
+            status, reason = run_test(t, osl_run, args.width, work_root)
+            return status, reason, time.monotonic() - start
+        futures = {pool.submit(timed, t): t for t in tests}
         for fut in concurrent.futures.as_completed(futures):
             t = futures[fut]
             results[t.name] = fut.result()
@@ -405,7 +410,7 @@ def main():
     shader_counts = {"PASS": 0, "FAIL": 0, "SKIP": 0}
     unexpected_fail, unexpected_pass = [], []
     for t in tests:
-        status, reason = results[t.name]
+        status, reason, seconds = results[t.name]
         counts[status] += 1
         if t.runs_shaders:
             shader_counts[status] += 1
@@ -416,7 +421,8 @@ def main():
         if status == "PASS" and t.name in expected:
             unexpected_pass.append(t.name)
             note = "  [listed as expected to fail: remove it from the list]"
-        print("%s: %s%s%s" % (status, t.name, (" - " + reason) if reason else "", note))
+        print("%s: %s%s (%.1f s)%s" % (status, t.name, (" - " + reason) if reason else "",
+                                       seconds, note))
 
     if args.write_expected:
         with open(args.write_expected, "w") as f:
@@ -424,7 +430,7 @@ def main():
                     "# test/osl-testsuite/run_testsuite.py fails when a test outside this\n"
                     "# list fails or a listed test passes, so the list only shrinks.\n")
             for t in tests:
-                status, reason = results[t.name]
+                status, reason, _ = results[t.name]
                 if status == "FAIL":
                     f.write("%s  %s\n" % (t.name, expected.get(t.name) or reason))
 
