@@ -40,6 +40,8 @@ struct CompileOptions {
   std::vector<ParamOverride> params;
   /// Directories searched by #include (after the including file's own).
   std::vector<std::string> includePaths;
+  /// oslc's -D NAME[=VALUE] and -U NAME, in order (see osl::preprocess).
+  std::vector<std::string> defines;
   /// Reference mode (osl-run --interpret): one point at a time with
   /// ordinary branches and no masks; implies width 1.
   bool reference = false;

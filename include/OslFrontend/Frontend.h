@@ -36,14 +36,16 @@ struct ParamOverride {
 /// `filename`, then `includePaths`. Loads the osl, func and arith dialects
 /// into `context` if they are not loaded yet. `camera` gives the image size
 /// that fixes the "screen", "NDC" and "raster" spaces; `colorSpace` is the
-/// working RGB space of the color functions (OSL's "colorspace" option).
+/// working RGB space of the color functions (OSL's "colorspace" option);
+/// `defines`, oslc's -D and -U (see preprocess()).
 mlir::OwningOpRef<mlir::ModuleOp>
 parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                mlir::MLIRContext &context,
                llvm::ArrayRef<ParamOverride> overrides, llvm::raw_ostream &errs,
                llvm::ArrayRef<std::string> includePaths = {},
                const mlir::osl::CameraImage &camera = {},
-               llvm::StringRef colorSpace = "Rec709");
+               llvm::StringRef colorSpace = "Rec709",
+               llvm::ArrayRef<std::string> defines = {});
 
 /// Everything the front end reads of a shader as one string: its tokens
 /// after preprocessing (#includes expanded, macros applied), each with its
@@ -52,7 +54,8 @@ parseOslShader(llvm::StringRef source, llvm::StringRef filename,
 /// this keys the kernel cache. Empty if the source does not preprocess;
 /// compiling it then reports why.
 std::string preprocessedFingerprint(llvm::StringRef source, llvm::StringRef filename,
-                                    llvm::ArrayRef<std::string> includePaths = {});
+                                    llvm::ArrayRef<std::string> includePaths = {},
+                                    llvm::ArrayRef<std::string> defines = {});
 
 } // namespace osl
 

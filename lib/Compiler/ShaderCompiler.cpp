@@ -83,7 +83,7 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
   } else {
     mlirModule = parseOslShader(source, filename, context, options.params, errs,
                                 options.includePaths, options.camera,
-                                options.colorSpace);
+                                options.colorSpace, options.defines);
   }
   if (!mlirModule)
     return false;
@@ -233,7 +233,8 @@ ShaderCompiler::loadObject(std::string object, std::string name,
 std::string ShaderCompiler::cacheKey(llvm::StringRef source, llvm::StringRef filename) const {
   std::string text = filename.ends_with(".mlir")
                          ? (filename + "\n" + source).str()
-                         : preprocessedFingerprint(source, filename, options.includePaths);
+                         : preprocessedFingerprint(source, filename, options.includePaths,
+                                                   options.defines);
   if (text.empty())
     return "";
   std::string key = optionsKey();
@@ -341,7 +342,7 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
     }
     auto parsed = parseOslShader((*buffer)->getBuffer(), layer.shaderPath, context,
                                  layer.params, errs, options.includePaths, options.camera,
-                                 options.colorSpace);
+                                 options.colorSpace, options.defines);
     if (!parsed) {
       errs << "note: in layer '" << layer.name << "'\n";
       return false;
@@ -446,7 +447,8 @@ std::string ShaderCompiler::groupCacheKey(const ShaderGroup &group) const {
     if (!buffer)
       return ""; // compiling reports it
     std::string text =
-        preprocessedFingerprint((*buffer)->getBuffer(), layer.shaderPath, options.includePaths);
+        preprocessedFingerprint((*buffer)->getBuffer(), layer.shaderPath,
+                                options.includePaths, options.defines);
     if (text.empty())
       return "";
     os << "layer";

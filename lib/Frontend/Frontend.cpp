@@ -17,7 +17,8 @@ mlir::OwningOpRef<mlir::ModuleOp>
 osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                     mlir::MLIRContext &context, llvm::ArrayRef<ParamOverride> overrides,
                     llvm::raw_ostream &errs, llvm::ArrayRef<std::string> includePaths,
-                    const mlir::osl::CameraImage &camera, llvm::StringRef colorSpace) {
+                    const mlir::osl::CameraImage &camera, llvm::StringRef colorSpace,
+                    llvm::ArrayRef<std::string> defines) {
   context.loadDialect<mlir::osl::OslDialect, mlir::func::FuncDialect,
                       mlir::arith::ArithDialect>();
   Diagnostics diags(filename, errs);
@@ -28,7 +29,7 @@ osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
     return nullptr;
   }
   std::vector<Token> raw, tokens;
-  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths))
+  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths, defines))
     return nullptr;
   Program program;
   if (!parseProgram(tokens, diags, program))
@@ -54,10 +55,11 @@ osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
 }
 
 std::string osl::preprocessedFingerprint(llvm::StringRef source, llvm::StringRef filename,
-                                         llvm::ArrayRef<std::string> includePaths) {
+                                         llvm::ArrayRef<std::string> includePaths,
+                                         llvm::ArrayRef<std::string> defines) {
   Diagnostics diags(filename, llvm::nulls());
   std::vector<Token> raw, tokens;
-  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths))
+  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths, defines))
     return "";
   std::string text;
   llvm::raw_string_ostream os(text);

@@ -184,13 +184,34 @@ OslType IRGen::fieldType(const OslType &structType, size_t j) {
   return f;
 }
 
+RValue IRGen::packStructArray(const OslType &arrayType, const std::vector<RValue> &elems) {
+  RValue r;
+  r.type = arrayType;
+  for (size_t j = 0; j < arrayType.structDecl->fields.size(); ++j) {
+    OslType ft = fieldType(arrayType, j);
+    std::vector<RValue> column;
+    for (const RValue &e : elems)
+      column.push_back(e.fields[j]);
+    if (ft.isStructLike()) {
+      r.fields.push_back(packStructArray(ft, column));
+      continue;
+    }
+    RValue f;
+    f.type = ft;
+    for (const RValue &c : column)
+      f.elems.push_back(c.value);
+    r.fields.push_back(f);
+  }
+  return r;
+}
+
 bool IRGen::checkStructType(const OslType &t, SrcLoc l) {
   if (!t.isStructLike())
     return true;
   for (size_t j = 0; j < t.structDecl->fields.size(); ++j) {
     const StructField &f = t.structDecl->fields[j];
-    if (f.type.base == BaseType::String || f.type.base == BaseType::Matrix ||
-        f.type.base == BaseType::Closure)
+    if (f.type.base == BaseType::String || f.type.base == BaseType::Closure ||
+        (f.type.base == BaseType::Matrix && (t.isArray() || f.type.isArray())))
       return error(l, "field '" + f.name + "' of struct '" + t.structDecl->name +
                           "': '" + f.type.str() + "' fields are not supported yet");
     if (t.isArray() && f.type.isArray())
@@ -480,6 +501,8 @@ OwningOpRef<ModuleOp> IRGen::emitProgram(const Program &program) {
     Var *v = declareVar(root, g.name, OslType(g.type), SrcLoc(), RValue());
     v->isGlobal = true;
   }
+  for (const auto &s : program.structs)
+    structsByName[s->name] = s.get();
   for (const auto &fn : program.functions) {
     root->funcs[fn->name].push_back({fn.get(), root});
     allFunctions[fn->name].push_back(fn.get());
@@ -528,8 +551,8 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
     if (!p.isOutput)
       continue;
     Var *v = paramScope->vars[p.name];
-    if (v->type.isString())
-      continue; // strings are compile-time; nothing to write
+    if (v->type.isString() || v->type.isStructLike())
+      continue; // strings are compile-time; structs have no image form
     if (v->type.hasElems()) {
       // One output per element (a matrix: 16, row-major); the compiler
       // merges them into one image with as many channels.
@@ -624,9 +647,29 @@ std::optional<RValue> IRGen::overrideValue(const Param &p, const std::string &te
 
 bool IRGen::emitParam(const Param &p, Scope *scope) {
   OslType t = p.type;
-  if ((t.base == BaseType::Matrix && t.isArray()) || t.isStructLike() ||
+  if ((t.base == BaseType::Matrix && t.isArray()) || (t.isStructLike() && t.isArray()) ||
       (t.base == BaseType::Closure && t.isArray()))
     return error(p.loc, "shader parameters of type '" + t.str() + "' are not supported yet");
+  if (t.isStructLike()) {
+    // A struct parameter takes its default: instance values name fields
+    // (`p.field`), which osl-run does not set yet.
+    for (const ParamOverride &o : overrides)
+      if (o.name == p.name)
+        return error(p.loc, "struct parameter '" + p.name + "' cannot be given a value yet");
+    if (!checkStructType(t, p.loc))
+      return false;
+    auto init = emitInitializer(*p.init, t, p.name, p.loc);
+    if (!init)
+      return false;
+    auto c = coerce(*init, t, p.loc, "in the default of '" + p.name + "'");
+    if (!c)
+      return false;
+    Var *v = declareVar(scope, p.name, t, p.loc, *c);
+    if (!v)
+      return false;
+    v->isOutputParam = p.isOutput;
+    return true;
+  }
   if (t.isVoid())
     return error(p.loc, "parameters cannot have type 'void'");
   if (t.isArray() && t.base == BaseType::String)
@@ -735,6 +778,21 @@ std::optional<RValue> IRGen::emitInitializer(const Expr &init, OslType &type,
         r.fields.push_back(*v);
       }
       return r;
+    }
+    if (elem.isStructLike()) {
+      if (!checkStructType(type, l))
+        return std::nullopt;
+      std::vector<RValue> structs;
+      for (int i = 0; i < type.arrayLen; ++i) {
+        OslType et = elem;
+        auto v = i < int(init.args.size())
+                     ? emitInitializer(*init.args[i], et, name, l)
+                     : std::optional<RValue>(zeroValue(elem, l));
+        if (!v)
+          return std::nullopt;
+        structs.push_back(*v);
+      }
+      return packStructArray(type, structs);
     }
     for (int i = 0; i < type.arrayLen; ++i) {
       if (i < int(init.args.size())) {

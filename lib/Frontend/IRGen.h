@@ -25,6 +25,7 @@
 
 #include "mlir/Dialect/Func/IR/FuncOps.h"
 #include "mlir/IR/Builders.h"
+#include "llvm/ADT/DenseMap.h"
 #include "llvm/ADT/StringMap.h"
 #include "llvm/ADT/StringSet.h"
 
@@ -334,6 +335,9 @@ private:
   std::optional<RValue> emitUnary(const Expr &e, const OslType *expected);
   std::optional<RValue> emitLogical(const Expr &e);
   std::optional<RValue> emitTernary(const Expr &e, const OslType *expected);
+  /// Per lane, `a` where `c` else `b`, field by field (same types).
+  std::optional<RValue> selectFields(mlir::Value c, const RValue &a, const RValue &b,
+                                     SrcLoc l);
   std::optional<RValue> emitAssign(const Expr &e);
   std::optional<RValue> emitIncDec(const Expr &e);
   std::optional<RValue> emitIndexOrMember(const Expr &e);
@@ -341,6 +345,20 @@ private:
   std::optional<RValue> emitUserCall(const Expr &e,
                                      const std::vector<FunctionRef> &cands,
                                      const OslType *expected);
+  /// A library function (Builtins.cpp), or an error if `e` names none.
+  std::optional<RValue> emitBuiltin(const Expr &e, const OslType *expected);
+  const StructDecl *lookupStruct(llvm::StringRef name) const;
+  /// `S(a, b, ...)`: a struct from one value per field.
+  std::optional<RValue> emitStructConstructor(const StructDecl &s, const Expr &e);
+  /// The best-ranked candidate for these arguments, or null.
+  const FunctionRef *resolveOverload(const std::vector<FunctionRef> &cands,
+                                     const std::vector<RValue> &args,
+                                     const std::vector<std::optional<LValue>> &lvalues,
+                                     const OslType *expected);
+  /// An operator with a struct operand calls the user's `__operator__X__`
+  /// overload when one takes the operands; returns false if none does.
+  bool tryOverloadedOperator(llvm::StringRef op, const Expr &site,
+                             std::vector<RValue> operands, std::optional<RValue> &result);
   std::optional<RValue> inlineCall(const FunctionRef &f, const Expr &call,
                                    std::vector<RValue> &args,
                                    std::vector<std::optional<LValue>> &lvalues);
@@ -361,6 +379,9 @@ private:
   /// Reports struct types the IR cannot hold yet (string fields, array
   /// fields in arrays of structs).
   bool checkStructType(const OslType &t, SrcLoc l);
+  /// An array of structs from its elements' values (held one array per
+  /// field, nested structs likewise).
+  RValue packStructArray(const OslType &arrayType, const std::vector<RValue> &elems);
   /// i1: does the (clamped) index select element k of n?
   mlir::Value selectsElement(mlir::Value index, int k, int n, SrcLoc l);
 
@@ -413,6 +434,17 @@ private:
 
   llvm::StringMap<mlir::Value> globalValues;
   unsigned exprDepth = 0;
+  llvm::StringMap<const StructDecl *> structsByName;
+
+  /// Arguments a call already evaluated before it fell back to the library
+  /// function: emitExpr returns them instead of emitting them again.
+  llvm::DenseMap<const Expr *, RValue> preEvaluated;
+  struct PreEvaluated {
+    IRGen &gen;
+    std::vector<const Expr *> keys;
+    PreEvaluated(IRGen &gen, const Expr &call, const std::vector<RValue> &args);
+    ~PreEvaluated();
+  };
 };
 
 /// Library functions (Builtins.cpp). Returns nullopt with an error

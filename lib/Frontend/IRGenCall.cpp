@@ -37,12 +37,26 @@ static std::string signatureText(const FunctionDecl &fn) {
 std::optional<RValue> IRGen::emitCall(const Expr &e, const OslType *expected) {
   if (!e.isCtor) {
     std::vector<FunctionRef> cands = lookupFunctions(e.name);
+    if (isBuiltinName(e.name))
+      // A function that redefines a library one calls the library one by
+      // its name (OSL has no recursion).
+      llvm::erase_if(cands, [&](const FunctionRef &f) {
+        return llvm::any_of(inlineStack,
+                            [&](const InlineFrame &frame) { return frame.fn == f.decl; });
+      });
     bool arityMatch = llvm::any_of(cands, [&](const FunctionRef &f) {
       return f.decl->params.size() == e.args.size();
     });
     if (!cands.empty() && (arityMatch || !isBuiltinName(e.name)))
       return emitUserCall(e, cands, expected);
+    if (cands.empty())
+      if (const StructDecl *s = lookupStruct(e.name))
+        return emitStructConstructor(*s, e);
   }
+  return emitBuiltin(e, expected);
+}
+
+std::optional<RValue> IRGen::emitBuiltin(const Expr &e, const OslType *expected) {
   bool known = true;
   auto r = emitBuiltinCall(*this, e, expected, known);
   if (!known) {
@@ -51,6 +65,35 @@ std::optional<RValue> IRGen::emitCall(const Expr &e, const OslType *expected) {
     else
       error(e.loc, "unknown function '" + e.name + "'");
     return std::nullopt;
+  }
+  return r;
+}
+
+const StructDecl *IRGen::lookupStruct(llvm::StringRef name) const {
+  auto it = structsByName.find(name);
+  return it == structsByName.end() ? nullptr : it->second;
+}
+
+std::optional<RValue> IRGen::emitStructConstructor(const StructDecl &s, const Expr &e) {
+  // `name(a, b, ...)` builds the struct from one value per field, in order.
+  if (e.args.size() != s.fields.size()) {
+    error(e.loc, "struct '" + s.name + "' has " + llvm::Twine(s.fields.size()) +
+                     " fields; its constructor got " + llvm::Twine(e.args.size()) +
+                     " arguments");
+    return std::nullopt;
+  }
+  RValue r;
+  r.type = OslType::ofStruct(&s);
+  for (size_t j = 0; j < s.fields.size(); ++j) {
+    OslType ft = s.fields[j].type;
+    auto v = emitExpr(*e.args[j], &ft);
+    if (!v)
+      return std::nullopt;
+    auto c = coerce(*v, ft, e.args[j]->begin,
+                    "for field '" + s.fields[j].name + "' of '" + s.name + "'");
+    if (!c)
+      return std::nullopt;
+    r.fields.push_back(*c);
   }
   return r;
 }
@@ -92,7 +135,43 @@ std::optional<RValue> IRGen::emitUserCall(const Expr &e,
       args[k] = *v;
     }
   }
+  const FunctionRef *best = resolveOverload(cands, args, lvalues, expected);
+  if (!best && isBuiltinName(e.name)) {
+    // No user overload takes these arguments: the library function does
+    // (a header overloading abs() for its struct still calls abs(float)).
+    PreEvaluated scoped(*this, e, args);
+    return emitBuiltin(e, expected);
+  }
+  if (!best) {
+    std::string argText;
+    for (size_t k = 0; k < n; ++k)
+      argText += (k ? ", " : "") + args[k].type.str();
+    std::string candText;
+    for (const FunctionRef &f : cands)
+      candText += (candText.empty() ? "" : "; ") + signatureText(*f.decl);
+    // Output arguments that are not variables get their own message.
+    for (const FunctionRef &f : cands)
+      if (f.decl->params.size() == n && cands.size() == 1)
+        for (size_t k = 0; k < n; ++k)
+          if (f.decl->params[k].isOutput && !lvalues[k] &&
+              conversionCost(args[k].type, f.decl->params[k].type) >= 0) {
+            error(e.args[k]->begin, "argument " + llvm::Twine(k + 1) + " of '" + e.name +
+                                      "' is an output parameter and must be a variable");
+            return std::nullopt;
+          }
+    error(e.loc, "wrong arguments to '" + e.name + "(" + argText + ")'; candidates: " +
+                     candText);
+    return std::nullopt;
+  }
+  return inlineCall(*best, e, args, lvalues);
+}
+
+const FunctionRef *
+IRGen::resolveOverload(const std::vector<FunctionRef> &cands, const std::vector<RValue> &args,
+                       const std::vector<std::optional<LValue>> &lvalues,
+                       const OslType *expected) {
   // Rank the candidates: total conversion cost, then the return type.
+  size_t n = args.size();
   const FunctionRef *best = nullptr;
   int bestCost = 0;
   for (const FunctionRef &f : cands) {
@@ -125,28 +204,7 @@ std::optional<RValue> IRGen::emitUserCall(const Expr &e,
       bestCost = cost;
     }
   }
-  if (!best) {
-    std::string argText;
-    for (size_t k = 0; k < n; ++k)
-      argText += (k ? ", " : "") + args[k].type.str();
-    std::string candText;
-    for (const FunctionRef &f : cands)
-      candText += (candText.empty() ? "" : "; ") + signatureText(*f.decl);
-    // Output arguments that are not variables get their own message.
-    for (const FunctionRef &f : cands)
-      if (f.decl->params.size() == n && cands.size() == 1)
-        for (size_t k = 0; k < n; ++k)
-          if (f.decl->params[k].isOutput && !lvalues[k] &&
-              conversionCost(args[k].type, f.decl->params[k].type) >= 0) {
-            error(e.args[k]->begin, "argument " + llvm::Twine(k + 1) + " of '" + e.name +
-                                      "' is an output parameter and must be a variable");
-            return std::nullopt;
-          }
-    error(e.loc, "wrong arguments to '" + e.name + "(" + argText + ")'; candidates: " +
-                     candText);
-    return std::nullopt;
-  }
-  return inlineCall(*best, e, args, lvalues);
+  return best;
 }
 
 std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
@@ -220,4 +278,70 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
   if (!returnVar)
     return RValue::voidValue();
   return returnVar->val;
+}
+
+//===----------------------------------------------------------------------===//
+// Operator overloading
+//===----------------------------------------------------------------------===//
+
+/// The function OSL calls for operator `op` on a struct: `a + b` is
+/// `__operator__add__(a, b)`, `-a` is `__operator__neg__(a)`.
+static llvm::StringRef operatorFunctionName(llvm::StringRef op, bool unary) {
+  if (unary)
+    return llvm::StringSwitch<llvm::StringRef>(op)
+        .Case("-", "__operator__neg__")
+        .Case("!", "__operator__not__")
+        .Case("~", "__operator__compl__")
+        .Default("");
+  return llvm::StringSwitch<llvm::StringRef>(op)
+      .Case("+", "__operator__add__")
+      .Case("-", "__operator__sub__")
+      .Case("*", "__operator__mul__")
+      .Case("/", "__operator__div__")
+      .Case("%", "__operator__mod__")
+      .Case("==", "__operator__eq__")
+      .Case("!=", "__operator__ne__")
+      .Case("<", "__operator__lt__")
+      .Case("<=", "__operator__le__")
+      .Case(">", "__operator__gt__")
+      .Case(">=", "__operator__ge__")
+      .Case("&", "__operator__bitand__")
+      .Case("|", "__operator__bitor__")
+      .Case("^", "__operator__xor__")
+      .Case("<<", "__operator__shl__")
+      .Case(">>", "__operator__shr__")
+      .Default("");
+}
+
+bool IRGen::tryOverloadedOperator(llvm::StringRef op, const Expr &site,
+                                  std::vector<RValue> operands,
+                                  std::optional<RValue> &result) {
+  // Only operators on structs look for user functions: the built-in
+  // operators on numbers, triples and matrices cannot be redefined.
+  if (!llvm::any_of(operands, [](const RValue &v) { return v.type.isStructLike(); }))
+    return false;
+  llvm::StringRef fname = operatorFunctionName(op, operands.size() == 1);
+  if (fname.empty())
+    return false;
+  std::vector<FunctionRef> cands = lookupFunctions(fname);
+  std::vector<std::optional<LValue>> lvalues(operands.size());
+  const FunctionRef *best = resolveOverload(cands, operands, lvalues, nullptr);
+  if (!best)
+    return false;
+  result = inlineCall(*best, site, operands, lvalues);
+  return true;
+}
+
+IRGen::PreEvaluated::PreEvaluated(IRGen &gen, const Expr &call,
+                                  const std::vector<RValue> &args)
+    : gen(gen) {
+  for (size_t k = 0; k < args.size() && k < call.args.size(); ++k) {
+    gen.preEvaluated[call.args[k].get()] = args[k];
+    keys.push_back(call.args[k].get());
+  }
+}
+
+IRGen::PreEvaluated::~PreEvaluated() {
+  for (const Expr *k : keys)
+    gen.preEvaluated.erase(k);
 }

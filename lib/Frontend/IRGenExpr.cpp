@@ -29,6 +29,9 @@ std::optional<RValue> IRGen::emitExpr(const Expr &e, const OslType *expected) {
   } guard(exprDepth);
   if (!checkSize(e.loc))
     return std::nullopt;
+  if (!preEvaluated.empty())
+    if (auto it = preEvaluated.find(&e); it != preEvaluated.end())
+      return it->second;
 
   switch (e.kind) {
   case ExprKind::IntLit:
@@ -54,6 +57,9 @@ std::optional<RValue> IRGen::emitExpr(const Expr &e, const OslType *expected) {
     auto r = emitExpr(*e.args[1], operandExpected);
     if (!r)
       return std::nullopt;
+    std::optional<RValue> overloaded;
+    if (tryOverloadedOperator(e.name, e, {*l, *r}, overloaded))
+      return overloaded;
     return emitBinaryOp(e.name, *l, *r, e.loc);
   }
   case ExprKind::Assign:
@@ -115,6 +121,9 @@ std::optional<RValue> IRGen::emitUnary(const Expr &e, const OslType *expected) {
   if (!v)
     return std::nullopt;
   const std::string &op = e.name;
+  std::optional<RValue> overloaded;
+  if (tryOverloadedOperator(op, e, {*v}, overloaded))
+    return overloaded;
   if (op == "!") {
     auto c = toBool(*v, e.args[0]->loc);
     if (!c)
@@ -219,6 +228,30 @@ std::optional<OslType> IRGen::unify(OslType a, OslType b2) {
   return OslType(BaseType::Int);
 }
 
+std::optional<RValue> IRGen::selectFields(Value c, const RValue &a, const RValue &bv,
+                                          SrcLoc l) {
+  RValue r;
+  r.type = a.type;
+  if (a.type.isStructLike()) {
+    for (size_t j = 0; j < a.fields.size(); ++j) {
+      auto f = selectFields(c, a.fields[j], bv.fields[j], l);
+      if (!f)
+        return std::nullopt;
+      r.fields.push_back(*f);
+    }
+    return r;
+  }
+  if (a.type.hasElems()) {
+    for (size_t k = 0; k < a.elems.size(); ++k)
+      r.elems.push_back(select(c, a.elems[k], bv.elems[k], l));
+    return r;
+  }
+  if (!a.value || !bv.value || a.type.isString())
+    return std::nullopt;
+  r.value = select(c, a.value, bv.value, l);
+  return r;
+}
+
 std::optional<RValue> IRGen::emitTernary(const Expr &e, const OslType *expected) {
   auto c = emitExpr(*e.args[0]);
   if (!c)
@@ -253,6 +286,13 @@ std::optional<RValue> IRGen::emitTernary(const Expr &e, const OslType *expected)
     return stringChoice({*a, *bv}, index, e.loc);
   }
   auto t = unify(a->type, bv->type);
+  if (t && t->isStructLike() && !t->isArray()) {
+    if (auto v = selectFields(*cb, *a, *bv, e.loc))
+      return v;
+    error(e.loc, "conditional expressions on struct '" + t->str() +
+                     "' with string fields are not supported yet");
+    return std::nullopt;
+  }
   if (t && t->isMatrix()) {
     auto ca = coerce(*a, *t, e.args[1]->begin, "");
     auto cbv = coerce(*bv, *t, e.args[2]->begin, "");
@@ -728,7 +768,8 @@ std::optional<RValue> IRGen::emitAssign(const Expr &e) {
     if (!rhs)
       return std::nullopt;
     llvm::StringRef op = llvm::StringRef(e.name).drop_back();
-    value = emitBinaryOp(op, cur, *rhs, e.loc);
+    if (!tryOverloadedOperator(op, e, {cur, *rhs}, value))
+      value = emitBinaryOp(op, cur, *rhs, e.loc);
     if (!value)
       return std::nullopt;
   }

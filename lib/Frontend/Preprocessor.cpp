@@ -49,6 +49,31 @@ public:
     define("OSL_VERSION", "11312");
   }
 
+  /// -D NAME[=VALUE] (VALUE defaults to 1) and -U NAME ("-NAME").
+  bool defineFromCommandLine(llvm::ArrayRef<std::string> defines) {
+    for (llvm::StringRef d : defines) {
+      if (d.consume_front("-")) {
+        macros.erase(d);
+        continue;
+      }
+      auto [name, value] = d.split('=');
+      if (!d.contains('='))
+        value = "1";
+      std::vector<Token> nameTokens;
+      if (name.empty() || !lex(name, diags, nameTokens) || nameTokens.size() != 2 ||
+          !nameTokens[0].is(TokKind::Ident)) {
+        diags.error("invalid -D macro name '" + name.str() + "'");
+        return false;
+      }
+      Macro m;
+      if (!lex(value, diags, m.body))
+        return false;
+      m.body.pop_back(); // Eof
+      macros[name] = m;
+    }
+    return true;
+  }
+
   /// Preprocesses one file's tokens into `out` (the Eof token only for
   /// the main file, at include depth 0).
   bool run(const std::vector<Token> &raw, std::vector<Token> &out, unsigned depth) {
@@ -329,6 +354,22 @@ private:
     return true;
   }
 
+  /// __LINE__ and __FILE__ (where they are used; in a macro, where the
+  /// macro is used), as C's preprocessor has them; other tokens as they are.
+  Token predefined(const Token &tok) const {
+    if (!tok.is(TokKind::Ident) || (tok.text != "__LINE__" && tok.text != "__FILE__"))
+      return tok;
+    Token t = tok;
+    if (tok.text == "__LINE__") {
+      t.kind = TokKind::Int;
+      t.text = std::to_string(tok.loc.line);
+    } else {
+      t.kind = TokKind::String;
+      t.text = diags.fileName(tok.loc.file).str();
+    }
+    return t;
+  }
+
   /// Macro-expands `in` into `out`. `hidden` holds macros being expanded.
   bool expand(const std::vector<Token> &in, std::vector<Token> &out,
               const llvm::StringSet<> &hidden, unsigned depth) {
@@ -347,7 +388,7 @@ private:
                     ? macros.find(tok.text)
                     : macros.end();
       if (it == macros.end()) {
-        out.push_back(tok);
+        out.push_back(predefined(tok));
         continue;
       }
       const Macro &m = it->second;
@@ -438,7 +479,12 @@ private:
             diags.error(tok.loc, "macro expansion is too large");
             return false;
           }
+          size_t first = result.size();
           result.insert(result.end(), arg.begin(), arg.end());
+          // The argument is spaced where the parameter stood (as in C's
+          // preprocessors), so stringizing the result reads as written.
+          if (first < result.size())
+            result[first].spaceBefore = b.spaceBefore;
         }
         i = k; // the closing ')'
       }
@@ -449,6 +495,8 @@ private:
         r.loc = tok.loc;
         r.startOfLine = false;
       }
+      if (!result.empty())
+        result.front().spaceBefore = tok.spaceBefore;
       if (!expand(result, out, inner, depth + 1))
         return false;
     }
@@ -684,8 +732,11 @@ private:
 
 bool osl::frontend::preprocess(const std::vector<Token> &raw, Diagnostics &diags,
                                std::vector<Token> &out,
-                               llvm::ArrayRef<std::string> includePaths) {
+                               llvm::ArrayRef<std::string> includePaths,
+                               llvm::ArrayRef<std::string> defines) {
   Preprocessor pp(diags, includePaths);
+  if (!pp.defineFromCommandLine(defines))
+    return false;
   if (!pp.run(raw, out, 0))
     return false;
   // Adjacent string literals are one string, as in C.

@@ -18,8 +18,11 @@ namespace osl::frontend {
 
 /// Expands `raw` (from lex()) into the token stream the parser reads.
 /// Returns false after reporting an error.
+/// `defines` are oslc's -D and -U, in order: "NAME", "NAME=VALUE", or
+/// "-NAME" (undefine).
 bool preprocess(const std::vector<Token> &raw, Diagnostics &diags,
-                std::vector<Token> &out, llvm::ArrayRef<std::string> includePaths = {});
+                std::vector<Token> &out, llvm::ArrayRef<std::string> includePaths = {},
+                llvm::ArrayRef<std::string> defines = {});
 
 } // namespace osl::frontend
 

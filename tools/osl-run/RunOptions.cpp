@@ -72,6 +72,7 @@ const char *const osl::kUsage =
     "                         (a reference for measuring errors)\n"
     "  --center               shade pixel centres: u = (x+0.5)/X\n"
     "  -I DIR                 search DIR for #include files\n"
+    "  -D NAME[=VALUE], -U NAME  define or undefine a macro, as oslc does\n"
     "  --verify-each          verify the IR after every compiler pass (for\n"
     "                         debugging the compiler; slower)\n"
     "  --interpret            reference mode: one point at a time, ordinary\n"
@@ -351,6 +352,14 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       if (a == "-I" && !need(i, 1, "-I"))
         return false;
       o.compile.includePaths.push_back(a == "-I" ? std::string(argv[++i]) : a.substr(2));
+    } else if (a == "-D" || a == "-U" || (a.size() > 2 && (a.rfind("-D", 0) == 0 ||
+                                                           a.rfind("-U", 0) == 0))) {
+      // oslc's -D NAME[=VALUE] and -U NAME.
+      std::string flag = a.substr(0, 2);
+      if (a.size() == 2 && !need(i, 1, flag.c_str()))
+        return false;
+      std::string macro = a.size() == 2 ? std::string(argv[++i]) : a.substr(2);
+      o.compile.defines.push_back(flag == "-U" ? "-" + macro : macro);
     } else if (a == "--colorspace") {
       if (!need(i, 1, "--colorspace"))
         return false;
