@@ -1101,6 +1101,10 @@ std::optional<RendererAttribute> testshadeAttribute(const IRGen &g, llvm::String
 /// answers from constants, so a name known when the shader is compiled is
 /// looked up then; dest is written only when the attribute exists and has
 /// dest's type, and the result says whether it was.
+std::pair<RValue, RValue> attributeValue(IRGen &g, const Expr &call, const std::string &object,
+                                         const std::string &attribute, bool indexed,
+                                         const LValue &dest);
+
 std::optional<RValue> emitGetAttribute(IRGen &g, const Expr &call) {
   size_t n = call.args.size();
   if (n < 2 || n > 4) {
@@ -1117,17 +1121,56 @@ std::optional<RValue> emitGetAttribute(IRGen &g, const Expr &call) {
     names.push_back(*v);
   }
   size_t nameCount = names.size() >= 2 && names[1].type.isString() ? 2 : 1;
-  std::string object, attribute;
+  std::string object;
   if (nameCount == 2 && !stringArg(g, names[0], *call.args[0], "getattribute",
                                    "the object name", object))
-    return std::nullopt;
-  if (!stringArg(g, names[nameCount - 1], *call.args[nameCount - 1], "getattribute",
-                 "the attribute name", attribute))
     return std::nullopt;
   bool indexed = names.size() > nameCount;
   auto dest = g.emitLValue(*call.args[n - 1]);
   if (!dest)
     return std::nullopt;
+  const RValue &attrName = names[nameCount - 1];
+  if (!attrName.isStringChoice()) {
+    std::string attribute;
+    if (!stringArg(g, attrName, *call.args[nameCount - 1], "getattribute",
+                   "the attribute name", attribute))
+      return std::nullopt;
+    auto [value, found] = attributeValue(g, call, object, attribute, indexed, *dest);
+    g.storeLValue(*dest, value, call.loc);
+    return found;
+  }
+  // A name chosen per point: every choice's answer (constants), then each
+  // lane takes its own.
+  std::vector<RValue> values, founds;
+  for (const std::string &attribute : attrName.choices) {
+    auto [value, found] = attributeValue(g, call, object, attribute, indexed, *dest);
+    values.push_back(value);
+    founds.push_back(found);
+  }
+  RValue value = values.back(), found = founds.back();
+  if (dest->type.isString()) {
+    value = g.stringChoice(values, attrName.value, call.loc);
+  }
+  for (size_t k = attrName.choices.size() - 1; k-- > 0;) {
+    mlir::Value isK = g.cmp("eq", attrName.value, g.constInt(int(k), call.loc), call.loc);
+    found.value = g.select(isK, founds[k].value, found.value, call.loc);
+    if (dest->type.isString())
+      continue;
+    auto merged = g.selectFields(isK, values[k], value, call.loc);
+    if (!merged)
+      return std::nullopt;
+    value = *merged;
+  }
+  g.storeLValue(*dest, value, call.loc);
+  return found;
+}
+
+/// What getattribute(object, attribute, dest) leaves in dest (its current
+/// value where testshade has no such attribute) and returns (1 or 0).
+std::pair<RValue, RValue> attributeValue(IRGen &g, const Expr &call, const std::string &object,
+                                         const std::string &attribute, bool indexed,
+                                         const LValue &destRef) {
+  const LValue *dest = &destRef;
   std::optional<RendererAttribute> found =
       object.empty() ? testshadeAttribute(g, attribute) : std::nullopt;
   OslType t = dest->type;
@@ -1139,7 +1182,8 @@ std::optional<RValue> emitGetAttribute(IRGen &g, const Expr &call) {
     fits = (found->isInt ? element.isInt() : element.isFloat()) &&
            int(found->numbers.size()) == (t.isArray() ? t.arrayLen : 1);
   if (!fits)
-    return RValue::num(OslType(BaseType::Int), g.constInt(0, call.loc));
+    return {g.loadLValue(*dest, call.loc),
+            RValue::num(OslType(BaseType::Int), g.constInt(0, call.loc))};
   RValue value;
   if (t.isString()) {
     value = RValue::string(found->text);
@@ -1154,8 +1198,7 @@ std::optional<RValue> emitGetAttribute(IRGen &g, const Expr &call) {
     else
       value.value = constant(found->numbers[0]);
   }
-  g.storeLValue(*dest, value, call.loc);
-  return RValue::num(OslType(BaseType::Int), g.constInt(1, call.loc));
+  return {value, RValue::num(OslType(BaseType::Int), g.constInt(1, call.loc))};
 }
 
 } // namespace

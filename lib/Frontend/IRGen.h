@@ -243,6 +243,10 @@ public:
   mlir::Value fAbs(mlir::Value x, SrcLoc l);
   mlir::Value cmp(llvm::StringRef pred, mlir::Value x, mlir::Value y, SrcLoc l);
   mlir::Value select(mlir::Value c, mlir::Value x, mlir::Value y, SrcLoc l);
+  /// Per lane, `a` where `c` else `b`, field by field and element by
+  /// element (same types; not strings).
+  std::optional<RValue> selectFields(mlir::Value c, const RValue &a, const RValue &b,
+                                     SrcLoc l);
   mlir::Value boolAnd(mlir::Value x, mlir::Value y, SrcLoc l);
   mlir::Value boolOr(mlir::Value x, mlir::Value y, SrcLoc l);
   mlir::Value boolNot(mlir::Value x, SrcLoc l);
@@ -335,9 +339,6 @@ private:
   std::optional<RValue> emitUnary(const Expr &e, const OslType *expected);
   std::optional<RValue> emitLogical(const Expr &e);
   std::optional<RValue> emitTernary(const Expr &e, const OslType *expected);
-  /// Per lane, `a` where `c` else `b`, field by field (same types).
-  std::optional<RValue> selectFields(mlir::Value c, const RValue &a, const RValue &b,
-                                     SrcLoc l);
   std::optional<RValue> emitAssign(const Expr &e);
   std::optional<RValue> emitIncDec(const Expr &e);
   std::optional<RValue> emitIndexOrMember(const Expr &e);

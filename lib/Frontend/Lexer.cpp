@@ -199,6 +199,27 @@ private:
       if (c == '\\') {
         advance();
         char e = peek(0);
+        if (e >= '0' && e <= '7') {
+          // \ooo: up to three octal digits, as in C.
+          int code = 0;
+          for (int n = 0; n < 3 && pos < src.size() && src[pos] >= '0' && src[pos] <= '7'; ++n) {
+            code = code * 8 + (src[pos] - '0');
+            advance();
+          }
+          value += char(code);
+          continue;
+        }
+        if (e == 'x' && pos + 1 < src.size() && llvm::isHexDigit(src[pos + 1])) {
+          // \xhh...: hex digits, as in C.
+          advance();
+          int code = 0;
+          while (pos < src.size() && llvm::isHexDigit(src[pos])) {
+            code = code * 16 + int(llvm::hexDigitValue(src[pos]));
+            advance();
+          }
+          value += char(code);
+          continue;
+        }
         switch (e) {
         case 'n': value += '\n'; break;
         case 't': value += '\t'; break;
@@ -206,7 +227,6 @@ private:
         case '\\': value += '\\'; break;
         case '"': value += '"'; break;
         case '\'': value += '\''; break;
-        case '0': value += '\0'; break;
         case 'a': value += '\a'; break;
         case 'b': value += '\b'; break;
         case 'f': value += '\f'; break;

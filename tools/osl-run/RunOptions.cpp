@@ -278,6 +278,7 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       if (!need(i, 4, "--connect") ||
           !o.group.connect({argv[i + 1], argv[i + 2], argv[i + 3], argv[i + 4]}, error))
         return false;
+      o.connectFlags.push_back(o.group.connections.back());
       i += 4;
     } else if (a == "--group") {
       if (!need(i, 1, "--group"))

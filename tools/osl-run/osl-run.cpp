@@ -159,6 +159,13 @@ int main(int argc, char **argv) {
     source = std::move(*buffer);
   }
 
+  if (options.isGroup && options.emit.empty() && !options.checkOnly)
+    // testshade reports each connection as it makes it.
+    for (const GroupConnection &c : options.connectFlags)
+      llvm::outs() << "Connect " << c.fromLayer << "." << c.fromOutput << " to " << c.toLayer
+                   << "." << c.toInput << "\n";
+  llvm::outs().flush(); // before anything the shaders print
+
   options.compile.camera = {options.grid.xres, options.grid.yres};
   Stats stats;
   Stats *statsPtr = options.stats ? &stats : nullptr;
