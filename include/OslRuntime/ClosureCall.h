@@ -42,22 +42,24 @@ enum ClosureId : int32_t {
   kMxLayer, kClosureCount,
 };
 
+/// testshade's and testrender's closures take a "label" keyword.
+#define OSL_LABEL_KEYWORD "label:s"
 #define OSL_MX_KEYWORDS "label:s"
 #define OSL_MX_FILM_KEYWORDS "label:s,thinfilm_thickness:f,thinfilm_ior:f"
 /// In ClosureId order.
 inline constexpr ClosureSignature kClosures[] = {
     {"emission", "", ""},
     {"background", "", ""},
-    {"diffuse", "n", ""},
-    {"oren_nayar", "nf", ""},
-    {"translucent", "n", ""},
-    {"phong", "nf", ""},
-    {"ward", "nnff", ""},
+    {"diffuse", "n", OSL_LABEL_KEYWORD},
+    {"oren_nayar", "nf", OSL_LABEL_KEYWORD},
+    {"translucent", "n", OSL_LABEL_KEYWORD},
+    {"phong", "nf", OSL_LABEL_KEYWORD},
+    {"ward", "nnff", OSL_LABEL_KEYWORD},
     // distribution, N, U, xalpha, yalpha, eta, refract (0 reflect, 1 refract, 2 both)
-    {"microfacet", "snnfffi", ""},
+    {"microfacet", "snnfffi", OSL_LABEL_KEYWORD},
     // N, eta; eta 0 means no Fresnel term (reflection(N))
-    {"reflection", "nf", ""},
-    {"refraction", "nf", ""},
+    {"reflection", "nf", OSL_LABEL_KEYWORD},
+    {"refraction", "nf", OSL_LABEL_KEYWORD},
     {"transparent", "", ""},
     {"debug", "s", ""},
     {"holdout", "", ""},
@@ -85,6 +87,7 @@ inline constexpr ClosureSignature kClosures[] = {
     // top, base
     {"layer", "kk", ""},
 };
+#undef OSL_LABEL_KEYWORD
 #undef OSL_MX_KEYWORDS
 #undef OSL_MX_FILM_KEYWORDS
 static_assert(std::size(kClosures) == kClosureCount, "one signature per ClosureId");

@@ -481,6 +481,8 @@ static Type stringKindType(Builder &b, char kind) {
     return b.getI32Type();
   case 'f':
     return b.getF32Type();
+  case 'k':
+    return ClosureType::get(b.getContext());
   default:
     return VectorType::get({3}, b.getF32Type());
   }
@@ -522,7 +524,7 @@ LogicalResult PrintOp::verify() {
     return emitOpError("operand kinds '") << kinds << "' must start with '" << leading
                                           << "' for " << getStream();
   for (char k : kinds.drop_front(leading.size()))
-    if (!StringRef("sift").contains(k))
+    if (!StringRef("siftk").contains(k))
       return emitOpError("unknown operand kind '") << k << "'";
   Builder b(getContext());
   for (auto [i, arg] : llvm::enumerate(getArgs()))
@@ -634,15 +636,6 @@ static Type closureKindType(Builder &b, char kind) {
   }
 }
 
-/// A closure op's result is varying exactly when an operand is.
-static LogicalResult verifyClosureUniformity(Operation *op) {
-  bool varying = llvm::any_of(op->getOperandTypes(), isVarying);
-  if (isVarying(op->getResult(0).getType()) != varying)
-    return op->emitOpError("result must be ") << (varying ? "varying" : "uniform")
-                                              << " like its operands";
-  return success();
-}
-
 LogicalResult ClosureComponentOp::verify() {
   int32_t id = ::osl::closureId(getName());
   if (id < 0)
@@ -658,11 +651,15 @@ LogicalResult ClosureComponentOp::verify() {
     if (getUniformType(arg.getType()) != closureKindType(b, kinds[i]))
       return emitOpError("operand ") << i << " of kind '" << kinds[i] << "' must be "
                                      << closureKindType(b, kinds[i]);
-  return verifyClosureUniformity(*this);
+  return success();
 }
 
-LogicalResult ClosureMulOp::verify() { return verifyClosureUniformity(*this); }
-LogicalResult ClosureAddOp::verify() { return verifyClosureUniformity(*this); }
+// Closure ops follow the uniformity rules of every other op: a varying
+// operand makes the result varying once osl-varying-propagation has run
+// (linking a varying output into a uniform input leaves it uniform until
+// then), so there is nothing to check here.
+LogicalResult ClosureMulOp::verify() { return success(); }
+LogicalResult ClosureAddOp::verify() { return success(); }
 
 OpFoldResult ClosureAddOp::fold(FoldAdaptor) {
   // empty + c = c, when c already has the result's uniformity.

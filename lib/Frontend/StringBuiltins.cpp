@@ -116,6 +116,13 @@ bool StringCall::addFormatValue(size_t k) {
   SrcLoc l = call.args[k]->begin;
   if (v.type.isString())
     return addOperand(k, 's');
+  if (v.type.isClosure() && ::osl::printStreamCode(call.name) >= 0) {
+    // Printed as OSL prints closures (the runtime walks the tree).
+    operands.push_back(v);
+    operandLocs.push_back(l);
+    kinds += 'k';
+    return true;
+  }
   if (v.type.isArray() || !(v.type.isNumeric() || v.type.base == BaseType::Bool))
     return g.error(l, "'" + call.name + "' cannot format a value of type '" + v.type.str() +
                           "' yet");

@@ -13,6 +13,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslRuntime/StringCall.h"
 #include "OslRuntime/PrintCall.h"
+#include "OslRuntime/Closure.h"
 
 #include <OpenImageIO/ustring.h>
 
@@ -187,10 +188,14 @@ std::string formatNumber(const Conversion &c, double value, bool isInt) {
   return printfText(c.spec, c.letter, value);
 }
 
+std::string closureText(int32_t handle);
+
 /// One value under one conversion; triples print their components
-/// separated by spaces, as OSL does.
+/// separated by spaces, as OSL does; closures as OSL prints them.
 std::string formatValue(const Conversion &c, const Operand &v) {
   switch (v.kind) {
+  case 'k':
+    return printfText(c.spec, 's', closureText(v.i).c_str());
   case 's':
     return printfText(c.spec, 's', std::string(v.s).c_str());
   case 'i':
@@ -227,6 +232,58 @@ std::string walkFormat(std::string_view format, std::string &literal, Fn onConve
       return error;
   }
   return "";
+}
+
+/// A closure as OSL prints it: its primitives, weights multiplied through,
+/// one per line after the first: `(r, g, b) * name (param, ..., "keyword",
+/// value)`.
+std::string closureText(int32_t handle) {
+  std::vector<osl::ClosurePrimitive> prims;
+  osl::threadClosureArena().flatten(handle, prims);
+  std::string out;
+  auto number = [](float f) { return printfText("%", 'g', double(f)); };
+  auto triple = [&](std::array<float, 3> t) {
+    return "(" + number(t[0]) + ", " + number(t[1]) + ", " + number(t[2]) + ")";
+  };
+  for (size_t k = 0; k < prims.size(); ++k) {
+    const osl::ClosurePrimitive &p = prims[k];
+    if (k)
+      out += "\n\t+ ";
+    out += triple(p.weight) + " * " + p.name() + " (";
+    char kinds[osl::kMaxClosureParams];
+    int32_t count = std::min(osl::closureParamKinds(p.id, kinds, osl::kMaxClosureParams),
+                             osl::kMaxClosureParams);
+    int32_t positional = int32_t(std::strlen(osl::kClosures[p.id].params));
+    std::vector<std::string_view> keywords;
+    osl::forEachClosureKeyword(p.id, [&](std::string_view name, char) {
+      keywords.push_back(name);
+    });
+    for (int32_t i = 0; i < count; ++i) {
+      if (i)
+        out += ", ";
+      if (i >= positional)
+        out += "\"" + std::string(keywords[size_t(i - positional)]) + "\", ";
+      switch (kinds[i]) {
+      case 'n':
+      case 'c':
+        out += triple(p.tripleParam(i));
+        break;
+      case 'f':
+        out += number(p.floatParam(i));
+        break;
+      case 'i':
+        out += std::to_string(p.intParam(i));
+        break;
+      case 's':
+        out += "\"" + osl::stringText(p.stringParam(i)) + "\"";
+        break;
+      default: // a closure parameter (layer's top and base)
+        out += "(" + closureText(p.closureParam(i)) + ")";
+      }
+    }
+    out += ")";
+  }
+  return out;
 }
 
 std::string formatLane(std::string_view format, const std::vector<Operand> &values,

@@ -309,17 +309,17 @@ func.func @closure_operand_count(%n: vector<3xf32>) {
 
 // -----
 
-func.func @closure_operand_kind(%f: f32) {
+func.func @closure_operand_kind(%f: f32, %label: i32) {
   // expected-error @+1 {{operand 0 of kind 'n' must be 'vector<3xf32>'}}
-  %0 = osl.closure_component "diffuse"(%f) : (f32) -> !osl.closure
+  %0 = osl.closure_component "diffuse"(%f, %label) : (f32, i32) -> !osl.closure
   return
 }
 
 // -----
 
-func.func @closure_uniformity(%n: !osl.varying<vector<3xf32>>) {
-  // expected-error @+1 {{result must be varying like its operands}}
-  %0 = osl.closure_component "diffuse"(%n) : (!osl.varying<vector<3xf32>>) -> !osl.closure
+func.func @closure_keyword_count(%n: vector<3xf32>) {
+  // expected-error @+1 {{closure 'diffuse' takes 2 operands (positional, then keywords), got 1}}
+  %0 = osl.closure_component "diffuse"(%n) : (vector<3xf32>) -> !osl.closure
   return
 }
 

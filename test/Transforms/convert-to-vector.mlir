@@ -403,7 +403,8 @@ func.func @closures() {
   %u = osl.global "u" : !osl.varying<f32>
   %half = arith.constant 5.000000e-01 : f32
   %w = arith.constant dense<[1.0, 0.5, 0.25]> : vector<3xf32>
-  %d = osl.closure_component "diffuse"(%N) : (!osl.varying<vector<3xf32>>) -> !osl.varying<!osl.closure>
+  %label = arith.constant 0 : i32
+  %d = osl.closure_component "diffuse"(%N, %label) : (!osl.varying<vector<3xf32>>, i32) -> !osl.varying<!osl.closure>
   %dw = osl.closure_mul %d, %w : !osl.varying<!osl.closure>, vector<3xf32> -> !osl.varying<!osl.closure>
   %e = osl.closure_component "emission"() : () -> !osl.closure
   %sum = osl.closure_add %dw, %e : !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<!osl.closure>
