@@ -32,7 +32,11 @@ static_assert(int(Tex::InterpMode::Closest) == osl::textureInterpCode("closest")
 namespace {
 
 TextureSystem &sharedTextureSystem() {
-  static TextureSystem *ts = TextureSystem::create(/*shared=*/true);
+  static TextureSystem *ts = [] {
+    TextureSystem *t = TextureSystem::create(/*shared=*/true);
+    t->attribute("automip", 1);
+    return t;
+  }();
   return *ts;
 }
 
