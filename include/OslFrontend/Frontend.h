@@ -18,6 +18,7 @@
 #include "llvm/ADT/StringRef.h"
 #include "llvm/Support/raw_ostream.h"
 
+#include <optional>
 #include <string>
 
 namespace osl {
@@ -56,6 +57,14 @@ parseOslShader(llvm::StringRef source, llvm::StringRef filename,
 std::string preprocessedFingerprint(llvm::StringRef source, llvm::StringRef filename,
                                     llvm::ArrayRef<std::string> includePaths = {},
                                     llvm::ArrayRef<std::string> defines = {});
+
+/// The shader's interface as `oslinfo -v` prints it: its type and name,
+/// each parameter's name, type and default value, and the metadata of
+/// both. Null after printing diagnostics to `errs`.
+std::optional<std::string> shaderInfoText(llvm::StringRef source, llvm::StringRef filename,
+                                          llvm::raw_ostream &errs,
+                                          llvm::ArrayRef<std::string> includePaths = {},
+                                          llvm::ArrayRef<std::string> defines = {});
 
 } // namespace osl
 

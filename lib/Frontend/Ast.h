@@ -94,12 +94,20 @@ struct Stmt {
   Stmt(StmtKind kind, SrcLoc loc) : kind(kind), loc(loc) {}
 };
 
+/// One `type name = value` of a `[[ ... ]]` metadata block.
+struct Metadatum {
+  OslType type;
+  std::string name;
+  ExprPtr value;
+};
+
 struct Param {
   OslType type;
   std::string name;
   SrcLoc loc;
   bool isOutput = false;
   ExprPtr init; // shader parameters: the default (may be an InitList)
+  std::vector<Metadatum> metadata; // shader parameters
 };
 
 struct FunctionDecl {
@@ -116,6 +124,7 @@ struct ShaderDecl {
   SrcLoc loc;
   std::vector<Param> params;
   StmtPtr body;
+  std::vector<Metadatum> metadata;
 };
 
 struct StructField {

@@ -306,28 +306,33 @@ private:
   }
 
   // --- metadata ----------------------------------------------------------------
-  /// `[[ type name = value, ... ]]`, parsed and dropped.
-  bool skipMetadata() {
+  /// `[[ type name = value, ... ]]`, kept in `out` where it is given
+  /// (shaders and their parameters), else dropped.
+  bool parseMetadata(std::vector<Metadatum> *out = nullptr) {
     while (cur().isPunct("[") && peek(1).isPunct("[")) {
       advance();
       advance();
       while (!(cur().isPunct("]") && peek(1).isPunct("]"))) {
-        OslType t;
-        if (!parseType(t))
+        Metadatum m;
+        if (!parseType(m.type))
           return false;
         if (!cur().is(TokKind::Ident)) {
           errorExpected("a metadata name");
           return false;
         }
+        m.name = cur().text;
         advance();
         int len;
         if (!parseArraySuffix(len, true))
           return false;
+        m.type.arrayLen = len;
         if (!expectPunct("=", "in metadata"))
           return false;
-        ExprPtr value = parseInitializer();
-        if (!value)
+        m.value = parseInitializer();
+        if (!m.value)
           return false;
+        if (out)
+          out->push_back(std::move(m));
         if (!acceptPunct(",")) {
           if (!(cur().isPunct("]") && peek(1).isPunct("]"))) {
             errorExpected("',' or ']]' in metadata");
@@ -353,7 +358,7 @@ private:
     shader->name = cur().text;
     shader->loc = cur().loc;
     advance();
-    if (!skipMetadata())
+    if (!parseMetadata(&shader->metadata))
       return nullptr;
     if (!expectPunct("(", "after the shader name"))
       return nullptr;
@@ -378,7 +383,7 @@ private:
         p.init = parseInitializer();
         if (!p.init)
           return nullptr;
-        if (!skipMetadata())
+        if (!parseMetadata(&p.metadata))
           return nullptr;
         shader->params.push_back(std::move(p));
         // oslc takes a trailing comma after the last parameter.
@@ -440,7 +445,7 @@ private:
       }
     }
     advance(); // ')'
-    if (!skipMetadata())
+    if (!parseMetadata())
       return nullptr;
     // A declaration without a body (a prototype): the definition, which
     // calls find by name, comes elsewhere; body stays null.

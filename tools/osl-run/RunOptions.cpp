@@ -75,6 +75,8 @@ const char *const osl::kUsage =
     "  -D NAME[=VALUE], -U NAME  define or undefine a macro, as oslc does\n"
     "  --verify-each          verify the IR after every compiler pass (for\n"
     "                         debugging the compiler; slower)\n"
+    "  --info                 print the shader's parameters, defaults and metadata\n"
+    "                         as oslinfo -v does, and stop\n"
     "  --interpret            reference mode: one point at a time, ordinary\n"
     "                         branches, no masking (what the differential\n"
     "                         tester compares the SIMD kernels with)\n"
@@ -246,6 +248,8 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       pendingLayer = argv[++i];
     } else if (a == "--check") {
       o.checkOnly = true;
+    } else if (a == "--info") {
+      o.infoOnly = true;
     } else if (a == "--param" || a.rfind("--param:", 0) == 0) {
       if (!need(i, 2, "--param"))
         return false;

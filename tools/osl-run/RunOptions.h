@@ -20,6 +20,8 @@ struct RunOptions {
   bool stats = false;
   /// --check: compile (reporting errors) and stop, like oslc.
   bool checkOnly = false;
+  /// --info: print the shader's parameters and metadata as oslinfo -v does.
+  bool infoOnly = false;
   /// -od: the images' data type (float, half, uint8, uint16); "" keeps the
   /// format's own choice.
   std::string dataType;

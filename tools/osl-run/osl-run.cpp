@@ -7,6 +7,8 @@
 //===----------------------------------------------------------------------===//
 #include "RunOptions.h"
 
+#include "OslFrontend/Frontend.h"
+
 #include "OslRuntime/ImageOutput.h"
 #include "OslRuntime/PrintCall.h"
 #include "OslRuntime/LaneStats.h"
@@ -157,6 +159,15 @@ int main(int argc, char **argv) {
       return fail("cannot read '" + options.shaderPath + "': " +
                   buffer.getError().message());
     source = std::move(*buffer);
+  }
+  if (options.infoOnly) {
+    std::optional<std::string> info =
+        shaderInfoText(source->getBuffer(), options.shaderPath, llvm::errs(),
+                       options.compile.includePaths, options.compile.defines);
+    if (!info)
+      return 1;
+    llvm::outs() << *info;
+    return 0;
   }
 
   if (options.isGroup && options.emit.empty() && !options.checkOnly)

@@ -1,0 +1,210 @@
+//===- ShaderInfo.cpp - A shader's interface, as oslinfo prints it --------===//
+//
+// Parameters' types and defaults and the metadata of a shader, read from
+// its source without compiling it. Defaults are evaluated when they are
+// constant expressions (literals, constructors, arithmetic, {...}); one
+// computed from globals prints as zeros, since no point exists yet.
+//
+//===----------------------------------------------------------------------===//
+#include "OslFrontend/Frontend.h"
+
+#include "Parser.h"
+#include "Preprocessor.h"
+
+#include "llvm/Support/Format.h"
+
+using namespace osl::frontend;
+
+namespace {
+
+/// A constant value: numbers (a triple's three and an array's elements,
+/// flattened) or strings.
+struct Constant {
+  std::vector<double> numbers;
+  std::vector<std::string> strings;
+};
+
+/// Values per element of `t`: 3 for triples, 16 for matrices, else 1.
+size_t valuesPerElement(const OslType &t) {
+  OslType e = t.element();
+  return e.isTriple() ? 3 : e.isMatrix() ? 16 : 1;
+}
+
+std::optional<Constant> evaluate(const Expr &e) {
+  Constant c;
+  switch (e.kind) {
+  case ExprKind::IntLit:
+    c.numbers = {double(e.intValue)};
+    return c;
+  case ExprKind::FloatLit:
+    c.numbers = {e.floatValue};
+    return c;
+  case ExprKind::StringLit:
+    c.strings = {e.name};
+    return c;
+  case ExprKind::Cast:
+    return evaluate(*e.args[0]);
+  case ExprKind::Unary: {
+    auto v = evaluate(*e.args[0]);
+    if (!v || !v->strings.empty() || (e.name != "-" && e.name != "+"))
+      return std::nullopt;
+    if (e.name == "-")
+      for (double &d : v->numbers)
+        d = -d;
+    return v;
+  }
+  case ExprKind::Binary: {
+    auto a = evaluate(*e.args[0]), b = evaluate(*e.args[1]);
+    if (!a || !b || !a->strings.empty() || !b->strings.empty())
+      return std::nullopt;
+    size_t n = std::max(a->numbers.size(), b->numbers.size());
+    if ((a->numbers.size() != n && a->numbers.size() != 1) ||
+        (b->numbers.size() != n && b->numbers.size() != 1))
+      return std::nullopt;
+    for (size_t i = 0; i < n; ++i) {
+      double x = a->numbers[a->numbers.size() == 1 ? 0 : i];
+      double y = b->numbers[b->numbers.size() == 1 ? 0 : i];
+      if (e.name == "+")
+        c.numbers.push_back(x + y);
+      else if (e.name == "-")
+        c.numbers.push_back(x - y);
+      else if (e.name == "*")
+        c.numbers.push_back(x * y);
+      else if (e.name == "/")
+        c.numbers.push_back(y == 0 ? 0 : x / y);
+      else
+        return std::nullopt;
+    }
+    return c;
+  }
+  case ExprKind::Call: {
+    // Type constructors: color(0.5) is three 0.5s, matrix(2) the diagonal.
+    if (!e.isCtor)
+      return std::nullopt;
+    for (const auto &a : e.args) {
+      auto v = evaluate(*a);
+      if (!v || !v->strings.empty())
+        return std::nullopt;
+      c.numbers.insert(c.numbers.end(), v->numbers.begin(), v->numbers.end());
+    }
+    size_t per = valuesPerElement(e.castType);
+    if (c.numbers.size() == 1 && per == 3)
+      c.numbers.assign(3, c.numbers[0]);
+    else if (c.numbers.size() == 1 && per == 16)
+      for (int k = 1; k < 16; ++k)
+        c.numbers.push_back(k % 5 == 0 ? c.numbers[0] : 0.0);
+    return c;
+  }
+  case ExprKind::InitList:
+    for (const auto &a : e.args) {
+      auto v = evaluate(*a);
+      if (!v)
+        return std::nullopt;
+      c.numbers.insert(c.numbers.end(), v->numbers.begin(), v->numbers.end());
+      c.strings.insert(c.strings.end(), v->strings.begin(), v->strings.end());
+    }
+    return c;
+  default:
+    return std::nullopt;
+  }
+}
+
+/// A string as OSL writes it in source: quoted, escapes restored.
+std::string quoted(llvm::StringRef s) {
+  std::string out = "\"";
+  for (char ch : s) {
+    switch (ch) {
+    case '\n': out += "\\n"; break;
+    case '\t': out += "\\t"; break;
+    case '"': out += "\\\""; break;
+    case '\\': out += "\\\\"; break;
+    default: out += ch;
+    }
+  }
+  return out + "\"";
+}
+
+std::string number(double d, bool isInt) {
+  if (isInt)
+    return std::to_string(int64_t(d));
+  std::string s;
+  llvm::raw_string_ostream(s) << llvm::format("%g", d);
+  return s;
+}
+
+/// The values of `c` as `type`, space separated (numbers widened to the
+/// type's count when one is given for a triple or array).
+std::vector<std::string> valueWords(const Constant &c, const OslType &type) {
+  std::vector<std::string> words;
+  if (type.base == BaseType::String) {
+    for (const std::string &s : c.strings)
+      words.push_back(quoted(s));
+    return words;
+  }
+  for (double d : c.numbers)
+    words.push_back(number(d, type.base == BaseType::Int));
+  return words;
+}
+
+std::string join(const std::vector<std::string> &words) {
+  std::string s;
+  for (const std::string &w : words)
+    s += (s.empty() ? "" : " ") + w;
+  return s;
+}
+
+std::string metadataLine(const Metadatum &m) {
+  std::string text = "\t\tmetadata: " + m.type.str() + " " + m.name + " = ";
+  if (auto v = evaluate(*m.value))
+    text += join(valueWords(*v, m.type));
+  return text + "\n";
+}
+
+std::string defaultText(const Param &p) {
+  const OslType &t = p.type;
+  if (t.isStructLike() || t.base == BaseType::Closure)
+    return "";
+  std::optional<Constant> v = evaluate(*p.init);
+  size_t per = valuesPerElement(t);
+  size_t count = t.arrayLen > 0 ? size_t(t.arrayLen) * per : per;
+  if (t.arrayLen == 0)
+    count = v ? std::max<size_t>(v->numbers.size() + v->strings.size(), 1) : per;
+  Constant c = v.value_or(Constant());
+  if (t.base == BaseType::String) {
+    c.strings.resize(t.isArray() ? count : 1);
+  } else {
+    if (c.numbers.size() == 1 && count > 1 && per > 1 && !t.isArray())
+      c.numbers.assign(count, c.numbers[0]); // color c = 0.5
+    if (c.numbers.size() != count)
+      c.numbers.assign(count, 0.0); // computed per point: unknown here
+  }
+  std::string words = join(valueWords(c, t));
+  bool bracketed = t.isArray() || per > 1;
+  return "\t\tDefault value: " + (bracketed ? "[ " + words + " ]" : words) + "\n";
+}
+
+} // namespace
+
+std::optional<std::string>
+osl::shaderInfoText(llvm::StringRef source, llvm::StringRef filename, llvm::raw_ostream &errs,
+                    llvm::ArrayRef<std::string> includePaths,
+                    llvm::ArrayRef<std::string> defines) {
+  Diagnostics diags(filename, errs);
+  std::vector<Token> raw, tokens;
+  Program program;
+  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths, defines) ||
+      !parseProgram(tokens, diags, program))
+    return std::nullopt;
+  const ShaderDecl &shader = *program.shader;
+  std::string text = shader.shaderType + " " + quoted(shader.name) + "\n";
+  for (const Metadatum &m : shader.metadata)
+    text += metadataLine(m);
+  for (const Param &p : shader.params) {
+    text += "    " + quoted(p.name) + " " +
+            quoted((p.isOutput ? "output " : "") + p.type.str()) + "\n";
+    text += defaultText(p);
+    for (const Metadatum &m : p.metadata)
+      text += metadataLine(m);
+  }
+  return text;
+}
