@@ -500,6 +500,7 @@ OwningOpRef<ModuleOp> IRGen::emitProgram(const Program &program) {
   for (const GlobalDecl &g : kGlobals) {
     Var *v = declareVar(root, g.name, OslType(g.type), SrcLoc(), RValue());
     v->isGlobal = true;
+    v->readOnly = g.name != "P" && g.name != "N";
   }
   for (const auto &s : program.structs)
     structsByName[s->name] = s.get();
@@ -672,6 +673,8 @@ bool IRGen::emitParam(const Param &p, Scope *scope) {
   }
   if (t.isVoid())
     return error(p.loc, "parameters cannot have type 'void'");
+  if (p.isOutput && t.arrayLen == 0)
+    return error(p.loc, "shader output parameter '" + p.name + "' cannot be an unsized array");
   if (t.isArray() && t.base == BaseType::String)
     return error(p.loc, "string array parameters are not supported yet");
   const ParamOverride *ov = nullptr;

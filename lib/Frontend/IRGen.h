@@ -90,6 +90,9 @@ struct Var {
   RValue val;            // the current value
   bool isGlobal = false; // a shader global, read lazily (see readVar)
   bool isOutputParam = false;
+  /// A function's non-output parameter, or a global other than P, N and
+  /// Ci: OSL does not let shaders write them.
+  bool readOnly = false;
 };
 
 struct Scope;
@@ -341,6 +344,9 @@ private:
   std::optional<RValue> emitTernary(const Expr &e, const OslType *expected);
   std::optional<RValue> emitAssign(const Expr &e);
   std::optional<RValue> emitIncDec(const Expr &e);
+  /// Reports a write to a read-only variable (Var::readOnly); `how` says
+  /// how it would be written when not directly.
+  bool checkWritable(const LValue &lv, SrcLoc l, const llvm::Twine &how = "");
   std::optional<RValue> emitIndexOrMember(const Expr &e);
   std::optional<RValue> emitCall(const Expr &e, const OslType *expected);
   std::optional<RValue> emitUserCall(const Expr &e,

@@ -34,7 +34,26 @@ static std::string signatureText(const FunctionDecl &fn) {
   return s + ")";
 }
 
+/// Does `s` contain a return statement (not counting nested functions)?
+static bool containsReturn(const Stmt &s) {
+  if (s.kind == StmtKind::Return)
+    return true;
+  if (s.func)
+    return false; // a nested function's returns are its own
+  for (const StmtPtr &c : s.body)
+    if (c && containsReturn(*c))
+      return true;
+  for (const StmtPtr *c : {&s.thenStmt, &s.elseStmt, &s.init})
+    if (*c && containsReturn(**c))
+      return true;
+  return false;
+}
+
 std::optional<RValue> IRGen::emitCall(const Expr &e, const OslType *expected) {
+  if (!e.isCtor && lookupVar(e.name)) {
+    error(e.loc, "'" + e.name + "' is not a function");
+    return std::nullopt;
+  }
   if (!e.isCtor) {
     std::vector<FunctionRef> cands = lookupFunctions(e.name);
     if (isBuiltinName(e.name))
@@ -238,6 +257,7 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
     Var *pv = declareVar(fs, p.name, t, p.loc, *v);
     if (!pv)
       return std::nullopt;
+    pv->readOnly = !p.isOutput;
     params.push_back(pv);
   }
   InlineFrame frame;
@@ -263,11 +283,20 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
   current = saved;
   if (!ok)
     return std::nullopt;
+  if (!fn.returnType.isVoid() && !containsReturn(*fn.body)) {
+    error(call.loc, "non-void function '" + fn.name + "' has no 'return' statement");
+    return std::nullopt;
+  }
   // Write output parameters back to the caller's variables.
   for (size_t k = 0; k < fn.params.size(); ++k) {
     if (!fn.params[k].isOutput)
       continue;
     const LValue &lv = *lvalues[k];
+    if (!checkWritable(lv, call.args[k]->begin,
+                       ", as passed to function '" + fn.name + "' as argument " +
+                           llvm::Twine(k + 1) + " (output parameter '" + fn.params[k].name +
+                           "')"))
+      return std::nullopt;
     auto v = coerce(params[k]->val, lv.type, call.args[k]->begin,
                     "when writing back output argument " + llvm::Twine(k + 1) + " of '" +
                         fn.name + "'");

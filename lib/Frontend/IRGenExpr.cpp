@@ -751,9 +751,17 @@ std::optional<RValue> IRGen::emitIndexOrMember(const Expr &e) {
   return readAccess(*base, *a, e.loc);
 }
 
+bool IRGen::checkWritable(const LValue &lv, SrcLoc l, const llvm::Twine &how) {
+  if (!lv.var->readOnly)
+    return true;
+  return error(l, "cannot write to non-output " +
+                      llvm::Twine(lv.var->isGlobal ? "global" : "parameter") + " '" +
+                      lv.var->name + "'" + how);
+}
+
 std::optional<RValue> IRGen::emitAssign(const Expr &e) {
   auto lv = emitLValue(*e.args[0]);
-  if (!lv)
+  if (!lv || !checkWritable(*lv, e.loc))
     return std::nullopt;
   std::string target = rootName(*e.args[0]).str();
   std::optional<RValue> value;
@@ -787,7 +795,7 @@ std::optional<RValue> IRGen::emitAssign(const Expr &e) {
 
 std::optional<RValue> IRGen::emitIncDec(const Expr &e) {
   auto lv = emitLValue(*e.args[0]);
-  if (!lv)
+  if (!lv || !checkWritable(*lv, e.loc))
     return std::nullopt;
   if (!lv->type.isInt() && !lv->type.isFloat()) {
     error(e.loc, "operator '" + e.name + "' needs an int or float, got '" +
