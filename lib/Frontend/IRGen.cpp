@@ -818,5 +818,5 @@ std::optional<RValue> IRGen::emitInitializer(const Expr &init, OslType &type,
     return std::nullopt;
   if (type.arrayLen == 0 && v->type.isArray())
     type.arrayLen = v->type.arrayLen;
-  return coerce(*v, type, init.begin, "in initialization of '" + name + "'");
+  return coerceForAssignment(*v, type, init.begin, "in initialization of '" + name + "'");
 }

@@ -168,6 +168,10 @@ public:
                                const llvm::Twine &context);
   /// Explicit cast: coerce plus float->int truncation.
   std::optional<RValue> cast(RValue v, OslType to, SrcLoc l);
+  /// What `=` and initializers convert: coerce, plus float->int, which
+  /// oslc accepts there (truncating, with a warning of lost precision).
+  std::optional<RValue> coerceForAssignment(RValue v, OslType to, SrcLoc l,
+                                            const llvm::Twine &context);
   /// Is `from` implicitly convertible to `to`; cost for overload ranking
   /// (0 exact, larger is worse), or -1.
   static int conversionCost(OslType from, OslType to);

@@ -751,6 +751,13 @@ std::optional<RValue> IRGen::emitIndexOrMember(const Expr &e) {
   return readAccess(*base, *a, e.loc);
 }
 
+std::optional<RValue> IRGen::coerceForAssignment(RValue v, OslType to, SrcLoc l,
+                                                 const llvm::Twine &context) {
+  if (to.isInt() && v.type.isFloat())
+    return cast(v, to, l);
+  return coerce(v, to, l, context);
+}
+
 bool IRGen::checkWritable(const LValue &lv, SrcLoc l, const llvm::Twine &how) {
   if (!lv.var->readOnly)
     return true;
@@ -786,7 +793,8 @@ std::optional<RValue> IRGen::emitAssign(const Expr &e) {
                      "' of type '" + lv->type.str() + "'");
     return std::nullopt;
   }
-  auto c = coerce(*value, lv->type, e.args[1]->begin, "in assignment to '" + target + "'");
+  auto c = coerceForAssignment(*value, lv->type, e.args[1]->begin,
+                               "in assignment to '" + target + "'");
   if (!c)
     return std::nullopt;
   storeLValue(*lv, *c, e.loc);
