@@ -42,6 +42,8 @@ struct CompileOptions {
   std::vector<std::string> includePaths;
   /// oslc's -D NAME[=VALUE] and -U NAME, in order (see osl::preprocess).
   std::vector<std::string> defines;
+  /// The ray type raytype() answers 1 for (testshade's --raytype).
+  std::string rayType = "camera";
   /// Reference mode (osl-run --interpret): one point at a time with
   /// ordinary branches and no masks; implies width 1.
   bool reference = false;

@@ -38,7 +38,8 @@ struct ParamOverride {
 /// into `context` if they are not loaded yet. `camera` gives the image size
 /// that fixes the "screen", "NDC" and "raster" spaces; `colorSpace` is the
 /// working RGB space of the color functions (OSL's "colorspace" option);
-/// `defines`, oslc's -D and -U (see preprocess()).
+/// `defines`, oslc's -D and -U (see preprocess()); `rayType`, the ray
+/// being shaded (raytype() is 1 for it).
 mlir::OwningOpRef<mlir::ModuleOp>
 parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                mlir::MLIRContext &context,
@@ -46,7 +47,8 @@ parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                llvm::ArrayRef<std::string> includePaths = {},
                const mlir::osl::CameraImage &camera = {},
                llvm::StringRef colorSpace = "Rec709",
-               llvm::ArrayRef<std::string> defines = {});
+               llvm::ArrayRef<std::string> defines = {},
+               llvm::StringRef rayType = "camera");
 
 /// Everything the front end reads of a shader as one string: its tokens
 /// after preprocessing (#includes expanded, macros applied), each with its

@@ -83,7 +83,8 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
   } else {
     mlirModule = parseOslShader(source, filename, context, options.params, errs,
                                 options.includePaths, options.camera,
-                                options.colorSpace, options.defines);
+                                options.colorSpace, options.defines,
+                                options.rayType);
   }
   if (!mlirModule)
     return false;
@@ -256,7 +257,8 @@ std::string ShaderCompiler::optionsKey() const {
      << "\ncount lanes " << options.countLanes
      << "\nmath " << mlir::osl::mathLevelName(options.math) << "\nllvm pipeline "
      << int(options.llvmPipeline)
-     << "\ncolorspace " << options.colorSpace << "\ncamera " << options.camera.xres << " "
+     << "\ncolorspace " << options.colorSpace << "\nraytype " << options.rayType
+     << "\ncamera " << options.camera.xres << " "
      << options.camera.yres << "\n";
   return key;
 }
@@ -342,7 +344,8 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
     }
     auto parsed = parseOslShader((*buffer)->getBuffer(), layer.shaderPath, context,
                                  layer.params, errs, options.includePaths, options.camera,
-                                 options.colorSpace, options.defines);
+                                 options.colorSpace, options.defines,
+                                options.rayType);
     if (!parsed) {
       errs << "note: in layer '" << layer.name << "'\n";
       return false;

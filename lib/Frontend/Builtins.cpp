@@ -1277,14 +1277,20 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
     auto args = emitArgs(g, call);
     if (!args)
       return std::nullopt;
-    std::string ray;
-    if (args->size() != 1) {
+    if (args->size() != 1 || !(*args)[0].type.isString()) {
       g.error(call.loc, "wrong arguments to 'raytype'; candidates: int raytype(string name)");
       return std::nullopt;
     }
-    if (!stringArg(g, (*args)[0], *call.args[0], "raytype", "the ray type", ray))
+    if ((*args)[0].isRuntimeString()) {
+      g.error(call.args[0]->begin, "'raytype' needs the ray type known when the shader is "
+                                   "compiled; this string is computed at run time");
       return std::nullopt;
-    return RValue::num(OslType(BaseType::Int), g.constInt(ray == "camera" ? 1 : 0, call.loc));
+    }
+    // A name chosen per point answers for each choice.
+    return g.forEachStringChoice((*args)[0], call.loc, [&](const std::string &name) {
+      return std::optional<RValue>(RValue::num(
+          OslType(BaseType::Int), g.constInt(name == g.rayType() ? 1 : 0, call.loc)));
+    });
   }
   if (name == "getattribute")
     return emitGetAttribute(g, call);

@@ -18,7 +18,7 @@ osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                     mlir::MLIRContext &context, llvm::ArrayRef<ParamOverride> overrides,
                     llvm::raw_ostream &errs, llvm::ArrayRef<std::string> includePaths,
                     const mlir::osl::CameraImage &camera, llvm::StringRef colorSpace,
-                    llvm::ArrayRef<std::string> defines) {
+                    llvm::ArrayRef<std::string> defines, llvm::StringRef rayType) {
   context.loadDialect<mlir::osl::OslDialect, mlir::func::FuncDialect,
                       mlir::arith::ArithDialect>();
   Diagnostics diags(filename, errs);
@@ -35,6 +35,7 @@ osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
   if (!parseProgram(tokens, diags, program))
     return nullptr;
   IRGen gen(context, diags, overrides, camera, colorSpace);
+  gen.setRayType(rayType);
   mlir::OwningOpRef<mlir::ModuleOp> module = gen.emitProgram(program);
   if (!module || diags.hadError())
     return nullptr;

@@ -141,6 +141,9 @@ public:
   mlir::OpBuilder &builder() { return b; }
   /// The working RGB space of the color functions (a compile option).
   llvm::StringRef workingColorSpace() const { return colorSpace; }
+  /// The ray being shaded: raytype() is 1 for it.
+  llvm::StringRef rayType() const { return ray; }
+  void setRayType(llvm::StringRef r) { ray = r.str(); }
   Diagnostics &diagnostics() { return diags; }
   mlir::Location loc(SrcLoc l);
   bool error(SrcLoc l, const llvm::Twine &msg) {
@@ -402,6 +405,7 @@ private:
   mlir::osl::CameraImage camera;
   /// The working RGB space of the color functions.
   std::string colorSpace;
+  std::string ray = "camera";
   /// The Index expression whose base is being emitted: a matrix may be
   /// indexed there (its row, then the outer Index picks the column).
   const Expr *rowAccessOK = nullptr;

@@ -80,6 +80,7 @@ const char *const osl::kUsage =
     "  --interpret            reference mode: one point at a time, ordinary\n"
     "                         branches, no masking (what the differential\n"
     "                         tester compares the SIMD kernels with)\n"
+    "  --raytype NAME         the ray type raytype() is 1 for (default camera)\n"
     "  --colorspace NAME      working RGB space of the color functions:\n"
     "                         Rec709 (default), sRGB, ACEScg, ACES2065-1,\n"
     "                         AdobeRGB, NTSC, EBU, PAL, SECAM, SMPTE, HDTV,\n"
@@ -150,7 +151,8 @@ std::string testshadeSpelling(std::string a) {
   static const char *const kLong[] = {
       "param", "layer", "connect", "center", "iters", "entry", "reparam", "group",
       "shader", "od", "vary_udxdy", "vary_vdxdy", "vary_pdxdy", "colorspace",
-      "options", "debug", "res"};
+      "options", "debug", "res", "raytype", "raytype_opt", "groupoutputs",
+      "batched"};
   if (a.size() > 2 && a[0] == '-' && a[1] != '-') {
     llvm::StringRef name = llvm::StringRef(a).drop_front().split(':').first;
     for (const char *flag : kLong)
@@ -365,6 +367,16 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         return false;
       std::string macro = a.size() == 2 ? std::string(argv[++i]) : a.substr(2);
       o.compile.defines.push_back(flag == "-U" ? "-" + macro : macro);
+    } else if (a == "--raytype") {
+      if (!need(i, 1, "--raytype"))
+        return false;
+      o.compile.rayType = argv[++i];
+    } else if (a == "--batched") {
+      // testshade's: use the batched backend. osl-run always shades in batches.
+    } else if (a == "--groupoutputs") {
+      // testshade's: -o names the group's outputs, which osl-run's always do.
+    } else if (a == "--raytype_opt") {
+      // testshade's: specialise on the ray type. Kernels here always are.
     } else if (a == "--colorspace") {
       if (!need(i, 1, "--colorspace"))
         return false;
