@@ -197,8 +197,10 @@ bool ShaderGroup::parseStatements(const std::string &text, const std::string &sh
       }
       param(s[2], value, userdata);
     } else if (s[0] == "shader") {
+      if (s.size() == 2)
+        s.push_back(s[1]); // an unnamed layer is named after its shader
       if (s.size() != 3)
-        return bad("expected 'shader NAME LAYER ;'");
+        return bad("expected 'shader NAME [LAYER] ;'");
       std::string path = s[1];
       if (!llvm::StringRef(path).ends_with(".osl"))
         path += ".osl";

@@ -675,12 +675,12 @@ bool IRGen::emitParam(const Param &p, Scope *scope) {
     return error(p.loc, "parameters cannot have type 'void'");
   if (p.isOutput && t.arrayLen == 0)
     return error(p.loc, "shader output parameter '" + p.name + "' cannot be an unsized array");
-  if (t.isArray() && t.base == BaseType::String)
-    return error(p.loc, "string array parameters are not supported yet");
   const ParamOverride *ov = nullptr;
   for (const ParamOverride &o : overrides)
     if (o.name == p.name)
       ov = &o;
+  if (t.isArray() && t.base == BaseType::String && ov)
+    return error(p.loc, "string array parameter '" + p.name + "' cannot be given a value yet");
   std::optional<RValue> init;
   if (ov && t.isClosure())
     return error(p.loc, "closure parameter '" + p.name + "' cannot be given a value");
