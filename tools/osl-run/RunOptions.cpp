@@ -152,7 +152,7 @@ std::string testshadeSpelling(std::string a) {
       "param", "layer", "connect", "center", "iters", "entry", "reparam", "group",
       "shader", "od", "vary_udxdy", "vary_vdxdy", "vary_pdxdy", "colorspace",
       "options", "debug", "res", "raytype", "raytype_opt", "groupoutputs",
-      "batched"};
+      "batched", "groupname", "jbufferMB"};
   if (a.size() > 2 && a[0] == '-' && a[1] != '-') {
     llvm::StringRef name = llvm::StringRef(a).drop_front().split(':').first;
     for (const char *flag : kLong)
@@ -235,7 +235,13 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         return false;
       o.outputs.push_back({argv[i + 1], argv[i + 2]});
       i += 2;
-    } else if (a == "--od") {
+    } else if (a == "--groupname" || a == "--jbufferMB") {
+      // testshade's group name and message-journal size: nothing here
+      // depends on them.
+      if (!need(i, 1, a.c_str()))
+        return false;
+      ++i;
+    } else if (a == "--od" || a == "-d") { // -d: testshade's older spelling
       if (!need(i, 1, "-od"))
         return false;
       o.dataType = argv[++i];
@@ -302,7 +308,9 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       if (!o.group.parseStatements(text, dir, error))
         return false;
       o.isGroup = true;
-    } else if (a == "--reparam") {
+    } else if (a == "--reparam" || a.rfind("--reparam:", 0) == 0) {
+      // (--reparam:type=T:interactive=1, testshade's typed form: the type is
+      // the parameter's own.)
       if (!need(i, 3, "--reparam"))
         return false;
       o.reparams.push_back({argv[i + 1], argv[i + 2], argv[i + 3]});
