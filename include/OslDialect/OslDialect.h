@@ -3,6 +3,7 @@
 #define OSLDIALECT_OSLDIALECT_H
 
 #include "mlir/Bytecode/BytecodeOpInterface.h"
+#include "mlir/IR/Builders.h"
 #include "mlir/IR/BuiltinTypes.h"
 #include "mlir/IR/Dialect.h"
 #include "mlir/IR/OpDefinition.h"
@@ -35,6 +36,9 @@ Type getUniformType(Type type);
 bool isVarying(Type type);
 /// `uniform` made varying (or left uniform) as asked.
 Type withUniformity(Type uniform, bool varying);
+/// The zero of an osl value type (varying: broadcast): 0, the zero triple,
+/// false, or the empty closure.
+Value buildZero(OpBuilder &b, Location loc, Type type);
 /// The result type of a lane-wise op of this kind over these operands.
 Type inferLaneResultType(LaneKind kind, ValueRange operands);
 LogicalResult verifyLaneOp(Operation *op, LaneKind kind);

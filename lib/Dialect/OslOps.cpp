@@ -625,6 +625,14 @@ LogicalResult DerivOp::verify() {
 // Closures
 //===----------------------------------------------------------------------===//
 
+Value mlir::osl::buildZero(OpBuilder &b, Location loc, Type type) {
+  Type base = getUniformType(type);
+  Value zero = isa<ClosureType>(base)
+                   ? b.create<ClosureEmptyOp>(loc, base).getResult()
+                   : b.create<arith::ConstantOp>(loc, b.getZeroAttr(base)).getResult();
+  return isVarying(type) ? b.create<BroadcastOp>(loc, type, zero).getResult() : zero;
+}
+
 /// The IR type of a closure parameter of kind `kind` (ClosureCall.h).
 static Type closureKindType(Builder &b, char kind) {
   switch (kind) {

@@ -150,7 +150,7 @@ private:
       OpBuilder eb = OpBuilder::atBlockBegin(guard.elseBlock());
       SmallVector<Value> zeros;
       for (Value v : inner)
-        zeros.push_back(zeroOf(eb, loc, v.getType()));
+        zeros.push_back(buildZero(eb, loc, v.getType()));
       eb.create<scf::YieldOp>(loc, zeros);
     }
     for (Value &v : values)
@@ -181,12 +181,6 @@ private:
                       StringCallOp>(nested);
     });
     return expensive || count > skipThreshold;
-  }
-
-  static Value zeroOf(OpBuilder &b, Location loc, Type type) {
-    Type base = getUniformType(type);
-    Value zero = b.create<arith::ConstantOp>(loc, b.getZeroAttr(base));
-    return isVarying(type) ? b.create<BroadcastOp>(loc, type, zero).getResult() : zero;
   }
 
   LogicalResult convertUniformIf(IfOp op, Value mask) {

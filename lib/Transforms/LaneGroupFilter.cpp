@@ -26,13 +26,6 @@ using namespace mlir::osl;
 
 namespace {
 
-/// A varying zero of `type`: the value of lanes no group has written yet.
-Value varyingZero(OpBuilder &b, Location loc, Type type) {
-  Type uniform = getUniformType(type);
-  Value zero = b.create<arith::ConstantOp>(loc, b.getZeroAttr(uniform));
-  return b.create<BroadcastOp>(loc, type, zero);
-}
-
 void splitIntoLaneGroups(TextureOp op) {
   SmallVector<Value> varyingChoices;
   for (Value c : op.getChoices())
@@ -45,8 +38,8 @@ void splitIntoLaneGroups(TextureOp op) {
   Type maskType = VaryingType::get(b.getI1Type());
   Value pending = op.getMask() ? op.getMask() : b.create<BatchMaskOp>(loc, maskType);
   SmallVector<Type> carried = {maskType, op.getResult().getType(), op.getAlpha().getType()};
-  SmallVector<Value> init = {pending, varyingZero(b, loc, carried[1]),
-                             varyingZero(b, loc, carried[2])};
+  SmallVector<Value> init = {pending, buildZero(b, loc, carried[1]),
+                             buildZero(b, loc, carried[2])};
   auto loop = b.create<scf::WhileOp>(loc, carried, init);
 
   Block *before = b.createBlock(&loop.getBefore(), {}, carried, {loc, loc, loc});
