@@ -314,6 +314,16 @@ std::optional<RValue> IRGen::cast(RValue v, OslType to, SrcLoc l) {
 std::optional<Value> IRGen::toBool(const RValue &v, SrcLoc l) {
   if (v.type.isBool())
     return v.value;
+  // A string is true when it is not empty.
+  if (v.isKnownString())
+    return constBool(!v.str.empty(), l);
+  if (v.isStringChoice()) {
+    Value any = constBool(false, l);
+    for (size_t k = 0; k < v.choices.size(); ++k)
+      if (!v.choices[k].empty())
+        any = boolOr(any, cmp("eq", v.value, constInt(int(k), l), l), l);
+    return any;
+  }
   if (!v.type.isNumeric()) {
     error(l, "a value of type '" + v.type.str() + "' cannot be used as a condition");
     return std::nullopt;
