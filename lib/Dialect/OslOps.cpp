@@ -93,8 +93,12 @@ LogicalResult mlir::osl::verifyLaneOp(Operation *op, LaneKind kind) {
     if (!llvm::all_of(bases, isTriple) || !result.isF32())
       return op->emitOpError("takes triples and gives f32");
     return success();
-  case LaneKind::Compare:
-    if (!allSame(bases) || !(isNumeric(bases.front()) || bases.front().isInteger(1)))
+  case LaneKind::Compare: {
+    // Closures compare for equality only (`if (Ci)` is Ci != the empty one).
+    StringRef predicate = op->getAttrOfType<StringAttr>("predicate").getValue();
+    bool closures = isa<ClosureType>(bases.front()) && (predicate == "eq" || predicate == "ne");
+    if (!allSame(bases) ||
+        !(isNumeric(bases.front()) || bases.front().isInteger(1) || closures))
       return op->emitOpError("compares two values of one type, got ") << bases;
     if (!result.isInteger(1))
       return op->emitOpError("result must be i1");
@@ -102,6 +106,7 @@ LogicalResult mlir::osl::verifyLaneOp(Operation *op, LaneKind kind) {
                             op->getAttrOfType<StringAttr>("predicate").getValue()))
       return op->emitOpError("unknown predicate");
     return success();
+  }
   case LaneKind::Select:
     if (!bases[0].isInteger(1))
       return op->emitOpError("condition must be i1");

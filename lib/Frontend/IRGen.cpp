@@ -324,6 +324,10 @@ std::optional<Value> IRGen::toBool(const RValue &v, SrcLoc l) {
         any = boolOr(any, cmp("eq", v.value, constInt(int(k), l), l), l);
     return any;
   }
+  if (v.type.isClosure()) // a closure is true when it is not empty
+    return b.create<CmpOp>(loc(l), "ne", v.value,
+                           b.create<ClosureEmptyOp>(loc(l), getUniformType(v.value.getType())))
+        .getResult();
   if (!v.type.isNumeric()) {
     error(l, "a value of type '" + v.type.str() + "' cannot be used as a condition");
     return std::nullopt;

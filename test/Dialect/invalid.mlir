@@ -354,3 +354,12 @@ func.func @print_operand_type(%s: i32, %f: f32) {
   osl.print "printf" "si"(%s, %f) : i32, f32
   return
 }
+
+// -----
+
+// Closures compare for equality only.
+func.func @closure_ordered_compare(%c: !osl.closure) {
+  // expected-error @+1 {{compares two values of one type}}
+  %0 = osl.cmp "lt", %c, %c : !osl.closure, !osl.closure -> i1
+  return
+}

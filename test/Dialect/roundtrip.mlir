@@ -121,3 +121,12 @@ func.func @print_streams(%fmt: i32, %u: !osl.varying<f32>, %m: !osl.varying<i1>)
   osl.print "fprintf" "ssf"(%fmt, %fmt, %u) : i32, i32, !osl.varying<f32>
   return
 }
+
+// A closure is tested against the empty one for `if (Ci)`.
+// CHECK-LABEL: func.func @closure_compare
+// CHECK: osl.cmp "ne", %{{.+}}, %{{.+}} : !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<i1>
+func.func @closure_compare(%c: !osl.varying<!osl.closure>) {
+  %empty = osl.closure_empty : !osl.closure
+  %0 = osl.cmp "ne", %c, %empty : !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<i1>
+  return
+}
