@@ -435,6 +435,15 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       std::string layer = pendingLayer.empty()
                               ? llvm::sys::path::stem(a).str()
                               : pendingLayer;
+      // The same shader named twice (testshade runs both): the second
+      // layer takes a name of its own.
+      auto taken = [&](const std::string &name) {
+        return llvm::any_of(o.group.layers,
+                            [&](const GroupLayer &l) { return l.name == name; });
+      };
+      if (pendingLayer.empty())
+        for (int n = 1; taken(layer); ++n)
+          layer = llvm::sys::path::stem(a).str() + "_" + std::to_string(n);
       if (!o.group.shader(shaderFile(a), layer, error))
         return false;
       ++positional;
