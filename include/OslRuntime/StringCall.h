@@ -38,6 +38,10 @@ inline constexpr StringFunction kStringFunctions[] = {
     {"hash", "s", 'i'},           {"startswith", "ss", 'i'},   {"endswith", "ss", 'i'},
     {"getchar", "si", 'i'},       {"substr", "sii?", 's'},     {"stoi", "s", 'i'},
     {"stof", "s", 'f'},           {"regex_search", "ss", 'i'}, {"regex_match", "ss", 'i'},
+    // split(str, results[N], sep, maxsplit) is these two, named so that no
+    // shader can call them: how many pieces fill results (at most N), and
+    // piece k.
+    {"split:count", "ssii", 'i'}, {"split:piece", "ssii", 's'},
 };
 
 /// The index of a string function in kStringFunctions, or -1.

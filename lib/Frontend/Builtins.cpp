@@ -1229,7 +1229,7 @@ std::optional<double> lookupFloatConstant(llvm::StringRef name) {
 bool isBuiltinName(llvm::StringRef name) {
   if (name == "determinant" || name == "transpose" || name == "getmatrix" ||
       name == "texture" || name == "texture3d" || name == "environment" ||
-      name == "gettextureinfo" || ::osl::stringFunctionCode(name) >= 0 ||
+      name == "gettextureinfo" || name == "split" || ::osl::stringFunctionCode(name) >= 0 ||
       ::osl::closureId(name) >= 0)
     return true;
   for (const Builtin &b : builtinTable())

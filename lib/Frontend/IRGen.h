@@ -310,6 +310,9 @@ private:
   /// through output arguments and the bodies of called user functions).
   void scanAssigned(const Stmt &s, llvm::StringSet<> &names);
   void scanAssigned(const Expr &e, llvm::StringSet<> &names);
+  /// The arguments a library call writes (sincos's, split's results,
+  /// getattribute's value...); none for a user function of that name.
+  llvm::SmallVector<size_t> libraryOutputArgs(const Expr &e) const;
   bool hasSideEffects(const Expr &e);
   const llvm::StringSet<> &functionAssigned(const FunctionDecl *fn);
   /// The outer variables a region must carry, sorted by creation.
@@ -317,6 +320,9 @@ private:
   std::vector<mlir::Value> flatten(const std::vector<Var *> &vars, SrcLoc l);
   void unflatten(const std::vector<Var *> &vars, mlir::ValueRange values);
   std::vector<std::pair<Var *, RValue>> stringSnapshot(const llvm::StringSet<> &names);
+  /// Reports a string array among `names` (assigned inside `what`): only
+  /// single strings are carried through control flow so far.
+  bool checkNoStringArrays(const llvm::StringSet<> &names, SrcLoc l, llvm::StringRef what);
   bool checkStrings(const std::vector<std::pair<Var *, RValue>> &snap, SrcLoc l,
                     llvm::StringRef what);
   /// The snapshot's variables' current values; restores the snapshot.

@@ -359,6 +359,16 @@ std::vector<std::pair<Var *, RValue>> IRGen::stringSnapshot(const llvm::StringSe
   return snap;
 }
 
+bool IRGen::checkNoStringArrays(const llvm::StringSet<> &names, SrcLoc l,
+                                llvm::StringRef what) {
+  for (const auto &entry : names)
+    if (Var *v = lookupVar(entry.getKey()))
+      if (v->type.base == BaseType::String && v->type.isArray())
+        return error(l, "string array '" + v->name + "' is changed inside " + what +
+                            "; string arrays cannot depend on control flow yet");
+  return true;
+}
+
 bool IRGen::checkStrings(const std::vector<std::pair<Var *, RValue>> &snap, SrcLoc l,
                          llvm::StringRef what) {
   for (auto &[v, before] : snap)
@@ -442,6 +452,8 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
       return std::nullopt;
     return wantValue ? v : RValue::voidValue();
   }
+  if (!checkNoStringArrays(assigned, l, "a conditional"))
+    return std::nullopt;
   std::vector<Var *> carried = carriedVars(assigned);
   std::vector<Value> init = flatten(carried, l);
   auto strings = stringSnapshot(assigned);
@@ -578,6 +590,8 @@ bool IRGen::emitLoop(const Stmt &s) {
 
 bool IRGen::emitWhile(const Expr *condExpr, const Stmt &body, const Expr *step,
                       const llvm::StringSet<> &names, SrcLoc l) {
+  if (!checkNoStringArrays(names, l, "a loop"))
+    return false;
   std::vector<Var *> carried = carriedVars(names);
   std::vector<Value> init = flatten(carried, l);
   auto strings = stringSnapshot(names);
@@ -722,25 +736,32 @@ void IRGen::scanAssigned(const Stmt &s, llvm::StringSet<> &names) {
       scanAssigned(*e, names);
 }
 
+llvm::SmallVector<size_t> IRGen::libraryOutputArgs(const Expr &e) const {
+  llvm::SmallVector<size_t> outputs;
+  if (e.kind != ExprKind::Call || e.isCtor || allFunctions.count(e.name) || e.args.empty())
+    return outputs;
+  llvm::StringRef name = e.name;
+  if (name == "sincos") // sincos(x, s, c)
+    for (size_t k = 1; k < e.args.size(); ++k)
+      outputs.push_back(k);
+  if (name == "split" && e.args.size() > 1) // split(str, results, ...)
+    outputs.push_back(1);
+  if (name == "getmatrix" || name == "getattribute" || name == "gettextureinfo")
+    outputs.push_back(e.args.size() - 1); // the value comes last
+  return outputs;
+}
+
 void IRGen::scanAssigned(const Expr &e, llvm::StringSet<> &names) {
   if (e.kind == ExprKind::Assign || e.kind == ExprKind::IncDec) {
     llvm::StringRef root = rootName(*e.args[0]);
     if (!root.empty())
       names.insert(root);
   }
-  // Library functions with output arguments: sincos(x, s, c), getmatrix(..., M).
-  if (e.kind == ExprKind::Call && e.name == "getmatrix" && !allFunctions.count(e.name) &&
-      !e.args.empty()) {
-    llvm::StringRef root = rootName(*e.args.back());
+  for (size_t k : libraryOutputArgs(e)) {
+    llvm::StringRef root = rootName(*e.args[k]);
     if (!root.empty())
       names.insert(root);
   }
-  if (e.kind == ExprKind::Call && e.name == "sincos" && !allFunctions.count(e.name))
-    for (size_t k = 1; k < e.args.size(); ++k) {
-      llvm::StringRef root = rootName(*e.args[k]);
-      if (!root.empty())
-        names.insert(root);
-    }
   if (e.kind == ExprKind::Call && e.name == "exit" && !allFunctions.count(e.name))
     names.insert(kExitFlag);
   if (e.kind == ExprKind::Call && !e.isCtor) {
@@ -784,7 +805,7 @@ bool IRGen::hasSideEffects(const Expr &e) {
   if (e.kind == ExprKind::Assign || e.kind == ExprKind::IncDec)
     return true;
   if (e.kind == ExprKind::Call && !e.isCtor &&
-      (allFunctions.count(e.name) || e.name == "sincos" || e.name == "getmatrix"))
+      (allFunctions.count(e.name) || !libraryOutputArgs(e).empty()))
     return true;
   return llvm::any_of(e.args, [&](const ExprPtr &a) { return hasSideEffects(*a); });
 }

@@ -323,11 +323,76 @@ std::optional<RValue> StringCall::emit() {
   return RValue::num(OslType(result == 'f' ? BaseType::Float : BaseType::Int), v);
 }
 
+/// split(str, results[N], sep = "", maxsplit = -1): the runtime counts the
+/// pieces (at most N) and hands out each; results[k] takes piece k where k
+/// is below the count and keeps its value elsewhere. Returns the count.
+std::optional<RValue> emitSplit(IRGen &g, const Expr &call) {
+  const char *usageText = "int split(string str, output string results[], string sep, "
+                          "int maxsplit), with sep and maxsplit optional";
+  size_t n = call.args.size();
+  if (n < 2 || n > 4) {
+    g.error(call.loc, llvm::Twine("wrong arguments to 'split'; candidates: ") + usageText);
+    return std::nullopt;
+  }
+  auto str = g.emitExpr(*call.args[0]);
+  if (!str)
+    return std::nullopt;
+  auto dest = g.emitLValue(*call.args[1]);
+  if (!dest)
+    return std::nullopt;
+  RValue sep = RValue::string("");
+  if (n > 2) {
+    auto s = g.emitExpr(*call.args[2]);
+    if (!s)
+      return std::nullopt;
+    sep = *s;
+  }
+  Value maxsplit = g.constInt(-1, call.loc);
+  if (n > 3) {
+    auto m = g.emitExpr(*call.args[3]);
+    if (!m)
+      return std::nullopt;
+    auto c = g.coerce(*m, OslType(BaseType::Int), call.args[3]->begin, "for 'split'");
+    if (!c)
+      return std::nullopt;
+    maxsplit = c->value;
+  }
+  if (!str->type.isString() || !sep.type.isString() || dest->type.base != BaseType::String ||
+      dest->type.arrayLen <= 0) {
+    g.error(call.loc, llvm::Twine("wrong arguments to 'split'; candidates: ") + usageText);
+    return std::nullopt;
+  }
+  OpBuilder &b = g.builder();
+  Location l = g.loc(call.loc);
+  Value strHandle = g.stringHandle(*str, call.loc);
+  Value sepHandle = g.stringHandle(sep, call.loc);
+  int length = dest->type.arrayLen;
+  auto call4 = [&](llvm::StringRef function, Value last) {
+    return b.create<StringCallOp>(l, b.getI32Type(), function, "ssii",
+                                  ValueRange{strHandle, sepHandle, maxsplit, last})
+        .getResult();
+  };
+  Value count = call4("split:count", g.constInt(length, call.loc));
+  RValue results = g.loadLValue(*dest, call.loc);
+  for (int k = 0; k < length; ++k) {
+    Value piece = call4("split:piece", g.constInt(k, call.loc));
+    Value filled = g.cmp("lt", g.constInt(k, call.loc), count, call.loc);
+    Value old = g.stringHandle(results.fields[size_t(k)], call.loc);
+    results.fields[size_t(k)] = RValue::runtimeString(g.select(filled, piece, old, call.loc));
+  }
+  g.storeLValue(*dest, results, call.loc);
+  return RValue::num(OslType(BaseType::Int), count);
+}
+
 } // namespace
 
 namespace osl::frontend {
 
 std::optional<RValue> emitStringBuiltin(IRGen &g, const Expr &call, bool &known) {
+  if (call.name == "split") {
+    known = true;
+    return emitSplit(g, call);
+  }
   known = ::osl::stringFunctionCode(call.name) >= 0;
   if (known)
     return StringCall(g, call).emit();

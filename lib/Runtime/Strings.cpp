@@ -346,7 +346,7 @@ void readLane(const char *kinds, const int32_t *rows, int32_t width, int32_t lan
 
 enum : int32_t {
   kConcat, kFormat, kStrlen, kHash, kStartswith, kEndswith, kGetchar, kSubstr,
-  kStoi, kStof, kRegexSearch, kRegexMatch,
+  kStoi, kStof, kRegexSearch, kRegexMatch, kSplitCount, kSplitPiece,
 };
 
 int32_t intern(std::string_view s) { return internTable().intern(s); }
@@ -358,6 +358,48 @@ std::string_view substring(std::string_view s, int32_t start, int32_t length) {
   int32_t b = start < 0 ? start + n : start;
   b = std::clamp(b, 0, n);
   return s.substr(size_t(b), size_t(std::clamp(length, 0, n)));
+}
+
+/// The pieces of `s` as Python's str.split(sep, maxsplit) makes them (what
+/// OSL's split does): an empty `sep` splits at runs of whitespace and drops
+/// leading and trailing whitespace; a negative `maxsplit` does not limit.
+std::vector<std::string_view> splitPieces(std::string_view s, std::string_view sep,
+                                          int32_t maxsplit) {
+  std::vector<std::string_view> pieces;
+  auto limited = [&] { return maxsplit >= 0 && int32_t(pieces.size()) >= maxsplit; };
+  if (sep.empty()) {
+    auto space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+    size_t i = 0;
+    while (true) {
+      while (i < s.size() && space(s[i]))
+        ++i;
+      if (i >= s.size())
+        break;
+      if (limited()) {
+        size_t end = s.size();
+        while (end > i && space(s[end - 1]))
+          --end;
+        pieces.push_back(s.substr(i, end - i));
+        break;
+      }
+      size_t j = i;
+      while (j < s.size() && !space(s[j]))
+        ++j;
+      pieces.push_back(s.substr(i, j - i));
+      i = j;
+    }
+    return pieces;
+  }
+  size_t start = 0;
+  while (!limited()) {
+    size_t at = s.find(sep, start);
+    if (at == std::string_view::npos)
+      break;
+    pieces.push_back(s.substr(start, at - start));
+    start = at + sep.size();
+  }
+  pieces.push_back(s.substr(start));
+  return pieces;
 }
 
 /// The result's 32 bits for one lane.
@@ -398,6 +440,12 @@ int32_t callLane(int32_t function, const std::vector<Operand> &a, std::string &e
     const char *begin = a[0].s.data(), *end = begin + a[0].s.size();
     return function == kRegexSearch ? std::regex_search(begin, end, *re)
                                     : std::regex_match(begin, end, *re);
+  }
+  case kSplitCount: // (str, sep, maxsplit, result length)
+    return std::min(int32_t(splitPieces(a[0].s, a[1].s, a[2].i).size()), a[3].i);
+  case kSplitPiece: { // (str, sep, maxsplit, k)
+    std::vector<std::string_view> pieces = splitPieces(a[0].s, a[1].s, a[2].i);
+    return a[3].i >= 0 && size_t(a[3].i) < pieces.size() ? intern(pieces[size_t(a[3].i)]) : 0;
   }
   }
   return 0;
