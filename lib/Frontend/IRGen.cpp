@@ -514,7 +514,6 @@ OwningOpRef<ModuleOp> IRGen::emitProgram(const Program &program) {
   for (const GlobalDecl &g : kGlobals) {
     Var *v = declareVar(root, g.name, OslType(g.type), SrcLoc(), RValue());
     v->isGlobal = true;
-    v->readOnly = g.name != "P" && g.name != "N";
   }
   for (const auto &s : program.structs)
     structsByName[s->name] = s.get();

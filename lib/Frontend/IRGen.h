@@ -90,8 +90,9 @@ struct Var {
   RValue val;            // the current value
   bool isGlobal = false; // a shader global, read lazily (see readVar)
   bool isOutputParam = false;
-  /// A function's non-output parameter, or a global other than P, N and
-  /// Ci: OSL does not let shaders write them.
+  /// A function's non-output parameter: OSL does not let functions write
+  /// them. (Globals, u and v too, are writable, as testshade's lazyglobals
+  /// test shows.)
   bool readOnly = false;
 };
 

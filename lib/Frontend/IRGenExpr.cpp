@@ -761,9 +761,7 @@ std::optional<RValue> IRGen::coerceForAssignment(RValue v, OslType to, SrcLoc l,
 bool IRGen::checkWritable(const LValue &lv, SrcLoc l, const llvm::Twine &how) {
   if (!lv.var->readOnly)
     return true;
-  return error(l, "cannot write to non-output " +
-                      llvm::Twine(lv.var->isGlobal ? "global" : "parameter") + " '" +
-                      lv.var->name + "'" + how);
+  return error(l, "cannot write to non-output parameter '" + lv.var->name + "'" + how);
 }
 
 std::optional<RValue> IRGen::emitAssign(const Expr &e) {
