@@ -549,15 +549,32 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   Value emptyCi = ci->val.value;
   Scope *paramScope = newScope(root);
   current = paramScope;
+  // Before the parameters: a default value may call exit().
+  exitFlag = declareFlag(root, kExitFlag, shader.loc);
   for (const Param &p : shader.params)
     if (!emitParam(p, paramScope))
       return false;
 
-  exitFlag = declareFlag(root, kExitFlag, shader.loc);
   current = newScope(paramScope);
   shaderReturned = declareFlag(current, kReturnedFlag, shader.loc);
-  if (!emitStmtList(shader.body->body, 0, /*tail=*/true))
+  // Lanes a default value stopped run none of the body.
+  std::optional<bool> exited = getConstBool(exitFlag->val.value);
+  if (!exited) {
+    llvm::StringSet<> names;
+    for (const StmtPtr &s : shader.body->body)
+      scanAssigned(*s, names);
+    Value running = b.create<NotOp>(loc(shader.loc), exitFlag->val.value);
+    auto body = [&]() -> std::optional<RValue> {
+      if (!emitStmtList(shader.body->body, 0, /*tail=*/true))
+        return std::nullopt;
+      return RValue::voidValue();
+    };
+    auto nothing = []() -> std::optional<RValue> { return RValue::voidValue(); };
+    if (!emitIfRegion(running, shader.loc, names, body, nothing, false))
+      return false;
+  } else if (!*exited && !emitStmtList(shader.body->body, 0, /*tail=*/true)) {
     return false;
+  }
 
   SrcLoc endLoc = shader.loc;
   current = paramScope;

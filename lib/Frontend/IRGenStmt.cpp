@@ -1,5 +1,6 @@
 //===- IRGenStmt.cpp - Statements and structured control flow -------------===//
 #include "IRGen.h"
+#include "OslRuntime/PrintCall.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "llvm/ADT/STLExtras.h"
@@ -804,8 +805,10 @@ const llvm::StringSet<> &IRGen::functionAssigned(const FunctionDecl *fn) {
 bool IRGen::hasSideEffects(const Expr &e) {
   if (e.kind == ExprKind::Assign || e.kind == ExprKind::IncDec)
     return true;
+  // (exit() stops lanes and printf prints: both only where evaluated.)
   if (e.kind == ExprKind::Call && !e.isCtor &&
-      (allFunctions.count(e.name) || !libraryOutputArgs(e).empty()))
+      (allFunctions.count(e.name) || !libraryOutputArgs(e).empty() || e.name == "exit" ||
+       ::osl::printStreamCode(e.name) >= 0))
     return true;
   return llvm::any_of(e.args, [&](const ExprPtr &a) { return hasSideEffects(*a); });
 }
