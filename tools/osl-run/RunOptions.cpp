@@ -75,6 +75,7 @@ const char *const osl::kUsage =
     "  -D NAME[=VALUE], -U NAME  define or undefine a macro, as oslc does\n"
     "  --verify-each          verify the IR after every compiler pass (for\n"
     "                         debugging the compiler; slower)\n"
+    "  --timeout SECONDS      stop with an error when the run takes longer\n"
     "  --info                 print the shader's parameters, defaults and metadata\n"
     "                         as oslinfo -v does, and stop\n"
     "  --interpret            reference mode: one point at a time, ordinary\n"
@@ -256,6 +257,17 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       pendingLayer = argv[++i];
     } else if (a == "--check") {
       o.checkOnly = true;
+    } else if (a == "--timeout") {
+      if (!need(i, 1, "--timeout"))
+        return false;
+      char *end = nullptr;
+      long seconds = std::strtol(argv[++i], &end, 10);
+      if (!end || *end || seconds <= 0 || seconds > 1000000) {
+        error = "--timeout needs a whole number of seconds above 0 (got '" +
+                std::string(argv[i]) + "')";
+        return false;
+      }
+      o.timeoutSeconds = int(seconds);
     } else if (a == "--info") {
       o.infoOnly = true;
     } else if (a == "--param" || a.rfind("--param:", 0) == 0) {

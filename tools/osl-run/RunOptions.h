@@ -20,6 +20,8 @@ struct RunOptions {
   bool stats = false;
   /// --check: compile (reporting errors) and stop, like oslc.
   bool checkOnly = false;
+  /// --timeout SECONDS: stop (exit 1) when the run takes longer; 0: never.
+  int timeoutSeconds = 0;
   /// --info: print the shader's parameters and metadata as oslinfo -v does.
   bool infoOnly = false;
   /// -od: the images' data type (float, half, uint8, uint16); "" keeps the

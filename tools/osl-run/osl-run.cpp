@@ -22,6 +22,8 @@
 #include "llvm/Support/raw_ostream.h"
 
 #include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <unistd.h>
 
 using namespace osl;
@@ -130,6 +132,28 @@ extern "C" void dieOnSignal(int signal) {
   _exit(70);
 }
 
+/// --timeout: the message, made before the alarm is armed (a signal
+/// handler must not allocate), and the image being written, removed so no
+/// partial file is left behind.
+char timeoutMessage[160];
+const char *volatile imageBeingWritten = nullptr;
+
+extern "C" void stopOnTimeout(int) {
+  (void)!write(2, timeoutMessage, std::strlen(timeoutMessage));
+  if (const char *file = imageBeingWritten)
+    unlink(file);
+  _exit(1);
+}
+
+void armTimeout(int seconds) {
+  std::snprintf(timeoutMessage, sizeof timeoutMessage,
+                "osl-run: error: stopped after the --timeout of %d s (a shader that does "
+                "not end?)\n",
+                seconds);
+  std::signal(SIGALRM, stopOnTimeout);
+  alarm(unsigned(seconds));
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -150,6 +174,8 @@ int main(int argc, char **argv) {
     llvm::errs() << "osl-run: error: " << error << "\n" << kUsage;
     return 2;
   }
+  if (options.timeoutSeconds > 0)
+    armTimeout(options.timeoutSeconds);
   if (!options.scenePath.empty())
     return renderScene(options);
   std::unique_ptr<llvm::MemoryBuffer> source = llvm::MemoryBuffer::getMemBuffer("");
@@ -225,9 +251,12 @@ int main(int argc, char **argv) {
     for (auto &[index, file] : files) {
       if (file == "null")
         continue;
-      if (!writeImage(file, options.grid.xres, options.grid.yres,
-                      shader->outputs[index].channels, result.images[index].data(),
-                      error, options.dataType))
+      imageBeingWritten = file.c_str();
+      bool written = writeImage(file, options.grid.xres, options.grid.yres,
+                                shader->outputs[index].channels,
+                                result.images[index].data(), error, options.dataType);
+      imageBeingWritten = nullptr;
+      if (!written)
         return fail("cannot write '" + file + "': " + error);
       // testshade's report of each image it was asked for.
       if (imagesFirst)
