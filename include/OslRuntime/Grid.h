@@ -41,6 +41,9 @@ struct GridOptions {
   /// Progress bar on stderr, shown only if stderr is a terminal and the run
   /// lasts more than about a second.
   bool progress = false;
+  /// Which outputs become images (by index; empty: all). The others are
+  /// computed and dropped, taking no memory per point.
+  std::vector<bool> keepImages;
 };
 
 /// One shader output as laid out in the kernel's output rows.

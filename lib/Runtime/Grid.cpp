@@ -12,6 +12,7 @@
 #include "OslRuntime/ThreadPool.h"
 
 #include <algorithm>
+#include <limits>
 #include <atomic>
 #include <cassert>
 #include <chrono>
@@ -197,13 +198,15 @@ interleaveRows(float *image, const float *rows, int channels, int width, int nac
 
 int chooseTileBatches(const GridOptions &opt, long nbatches, int width,
                       int threads) {
+  // Tiles are counted in an int: a huge grid takes bigger tiles.
+  long atLeast = nbatches / std::numeric_limits<int>::max() + 1;
   if (opt.tileBatches > 0)
-    return opt.tileBatches;
+    return static_cast<int>(std::max<long>(opt.tileBatches, atLeast));
   // ~4096 pixels per tile keeps hand-out overhead negligible; small grids
   // get smaller tiles so every thread has a few to balance the load.
   long byPixels = std::max(1, 4096 / width);
   long bySplit = (nbatches + 4L * threads - 1) / (4L * threads);
-  return static_cast<int>(std::max(1L, std::min(byPixels, bySplit)));
+  return static_cast<int>(std::max(atLeast, std::min(byPixels, bySplit)));
 }
 
 } // namespace
@@ -244,8 +247,9 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
     firstRow.push_back(totalChannels);
     totalChannels += outputs[o].channels;
     // Every pixel is written below, so a buffer of the right size is
-    // reused as it is.
-    size_t size = static_cast<size_t>(npixels) * outputs[o].channels;
+    // reused as it is. An output nobody reads takes no memory.
+    bool kept = opt.keepImages.empty() || opt.keepImages[o];
+    size_t size = kept ? static_cast<size_t>(npixels) * outputs[o].channels : 0;
     if (result.images[o].size() != size)
       result.images[o].assign(size, 0.0f);
   }
@@ -294,6 +298,8 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
     };
     auto copyOutputs = [&](long b) {
       for (size_t o = 0; o < outputs.size(); ++o) {
+        if (result.images[o].empty())
+          continue; // discarded
         int channels = outputs[o].channels;
         interleaveRows(result.images[o].data() + b * width * channels,
                        outputsOf(b) + static_cast<size_t>(firstRow[o]) * width, channels,

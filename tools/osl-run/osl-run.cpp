@@ -17,6 +17,7 @@
 #include "OslRuntime/ThreadPool.h"
 
 #include "llvm/IR/Module.h"
+#include "llvm/Support/FormatVariadic.h"
 #include "llvm/Support/InitLLVM.h"
 #include "llvm/Support/MemoryBuffer.h"
 #include "llvm/Support/raw_ostream.h"
@@ -224,6 +225,22 @@ int main(int argc, char **argv) {
   std::vector<std::pair<size_t, std::string>> files;
   if (!resolveOutputs(options, *shader, files, error))
     return fail(error);
+  // Only the images written to files are kept; they must fit in memory.
+  options.grid.keepImages.assign(shader->outputs.size(), false);
+  double imageBytes = 0;
+  for (auto &[index, file] : files)
+    if (file != "null" && !options.grid.keepImages[index]) {
+      options.grid.keepImages[index] = true;
+      imageBytes += 4.0 * options.grid.xres * options.grid.yres * shader->outputs[index].channels;
+    }
+  double memoryBytes = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+  if (memoryBytes > 0 && imageBytes > memoryBytes)
+    return fail(llvm::formatv("the images of a {0}x{1} grid need {2:F1} GB, more than this "
+                              "machine's {3:F1} GB; write fewer outputs (-o NAME null "
+                              "discards one) or shade a smaller grid",
+                              options.grid.xres, options.grid.yres, imageBytes / 1e9,
+                              memoryBytes / 1e9)
+                    .str());
 
   if (options.textureCacheMB > 0)
     setTextureCacheMegabytes(float(options.textureCacheMB));

@@ -196,6 +196,16 @@ TEST(Grid, BoundaryValuesAreExact) {
   EXPECT_EQ(at(5, 5, "dvdy"), 1.0f / 46);
 }
 
+TEST(Grid, DiscardedOutputsTakeNoMemory) {
+  GridOptions o = grid(61, 47);
+  o.keepImages = {false, true};
+  ShadeResult r =
+      shadeGrid(copyGlobals<8>, 8, {{"dropped", kGlobalRows}, {"kept", kGlobalRows}}, o);
+  ASSERT_EQ(r.images.size(), 2u);
+  EXPECT_TRUE(r.images[0].empty());
+  EXPECT_EQ(r.images[1].size(), size_t(61) * 47 * kGlobalRows);
+}
+
 TEST(Grid, BatchesAreConsecutiveRowMajorPixels) {
   GridOptions o = grid(61, 47);
   long npixels = 61 * 47; // 2867: a partial last batch at widths 4, 8, 16
