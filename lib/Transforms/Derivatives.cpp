@@ -74,6 +74,11 @@ private:
                  : fail(user, "a value carried around a loop");
     if (isa<arith::ConstantOp>(def) || def->hasAttr(kNoDerivativeAttr))
       return Value();
+    // A derivative has no derivatives of its own in OSL (Dx(Dx(x)) is 0,
+    // filterwidth of a filterwidth too): requests are resolved outermost
+    // first, so an inner one is still an osl.lane_deriv here.
+    if (isa<LaneDerivOp>(def))
+      return Value();
     // A scalar spread over the lanes is a uniform value meeting a varying
     // one: it is the same at every point, so its derivative is 0 (even when
     // it is carried around a loop, e.g. an fbm's frequency).
@@ -389,7 +394,7 @@ struct DerivativesPass : public mlir::osl::impl::DerivativesBase<DerivativesPass
     // another axis's memo would otherwise still hold.
     for (int k = 0; k < 3; ++k) {
       Differentiator diff(axes[k]);
-      for (LaneDerivOp op : requests[k]) {
+      for (LaneDerivOp op : llvm::reverse(requests[k])) {
         FailureOr<Value> d = diff.derive(op.getValue(), op);
         if (failed(d))
           return signalPassFailure();
@@ -398,6 +403,9 @@ struct DerivativesPass : public mlir::osl::impl::DerivativesBase<DerivativesPass
           OpBuilder b(op);
           result = Differentiator::zeroLike(b, op.getLoc(), op.getType());
         }
+        // ...and for the later axes, the result is a derivative already.
+        if (Operation *def = result.getDefiningOp())
+          def->setAttr(kNoDerivativeAttr, UnitAttr::get(def->getContext()));
         op.replaceAllUsesWith(result);
         op.erase();
       }

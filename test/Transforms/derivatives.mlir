@@ -118,7 +118,7 @@ func.func @loop_carried(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
 // CHECK: %[[DU:.+]] = llvm.load %[[ROW]]
 // CHECK: scf.for %{{.+}} iter_args(%[[F:.+]] = %{{.+}}) -> (f32)
 // CHECK: %[[B:.+]] = vector.broadcast %[[F]] : f32 to vector<4xf32>
-// CHECK: %[[D:.+]] = arith.mulf %[[DU]], %[[B]] : vector<4xf32>
+// CHECK: %[[D:.+]] = arith.mulf %[[DU]], %[[B]] {{.*}}: vector<4xf32>
 // CHECK: llvm.intr.masked.store %[[D]]
 // CHECK-NOT: osl.lane_deriv
 func.func @uniform_loop_carried(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
@@ -168,5 +168,24 @@ func.func @uniform_branch(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32, %arg3:
   %d = osl.lane_deriv "x" %r : vector<4xf32>
   %m = arith.constant dense<true> : vector<4xi1>
   llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
+
+// -----
+
+// A derivative has none of its own: the outer request, resolved first,
+// sees the inner one still there and gives 0.
+// CHECK-LABEL: func.func @derivative_of_derivative
+// CHECK: %[[ZERO:.+]] = arith.constant {{.*}}dense<0.000000e+00> : vector<4xf32>
+// CHECK: llvm.intr.masked.store %[[ZERO]]
+// CHECK-NOT: osl.lane_deriv
+func.func @derivative_of_derivative(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %sq = arith.mulf %u, %u : vector<4xf32>
+  %d = osl.lane_deriv "x" %sq : vector<4xf32>
+  %dd = osl.lane_deriv "y" %d : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %dd, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return
 }
