@@ -298,10 +298,7 @@ std::optional<RValue> IRGen::emitTernary(const Expr &e, const OslType *expected)
     auto cbv = coerce(*bv, *t, e.args[2]->begin, "");
     if (!ca || !cbv)
       return std::nullopt;
-    MatrixElems m;
-    for (int k = 0; k < 16; ++k)
-      m.push_back(select(*cb, ca->elems[k], cbv->elems[k], e.loc));
-    return matrixValue(m);
+    return selectFields(*cb, *ca, *cbv, e.loc);
   }
   if (!t || !(t->isNumeric() || t->isClosure())) {
     error(e.loc, "incompatible types in conditional expression: '" + a->type.str() +
