@@ -7,14 +7,16 @@
 // bit-identical to the reference, except that any NaN matches any NaN
 // there (scalar and vector instructions propagate different NaN payloads),
 // and the widths to be bit-identical to each other, NaNs included. Shaders
-// the front end rejects are counted and reported, not compared.
+// the compiler rejects are reported and make the exit status 1 (every
+// input is meant to be valid OSL), after the rest have been compared.
 //
 //   osl-difftest [-g X Y] [--quiet] [--reference-only] FILE...
 //
 // --reference-only compiles and shades the reference alone: a quick way to
 // find which of many generated shaders the compiler rejects, and why.
 //
-// Exits 1 at the first mismatch, naming the file, output, width and pixel.
+// Exits 1 at the first mismatch, naming the file, output, width and pixel,
+// or after all files when any was rejected.
 //
 //===----------------------------------------------------------------------===//
 #include "OslCompiler/ShaderCompiler.h"
@@ -111,9 +113,10 @@ int main(int argc, char **argv) {
     std::string errors;
     Run reference;
     if (!shade(source, path, 1, /*reference=*/true, grid, pool, reference, errors)) {
+      // Every input is meant to be valid OSL: a rejection is a compiler bug
+      // as much as a mismatch is, so it is always shown and fails the run.
       ++rejected;
-      if (!quiet)
-        llvm::errs() << "rejected " << path << ":\n" << errors;
+      llvm::errs() << "REJECTED " << path << ":\n" << errors;
       continue;
     }
     if (referenceOnly) {
@@ -158,5 +161,5 @@ int main(int argc, char **argv) {
   else
     llvm::outs() << "osl-difftest: " << compared << " shaders bit-identical to the reference at "
                  << "widths 1, 4, 8, 16; " << rejected << " rejected by the compiler\n";
-  return 0;
+  return rejected ? 1 : 0;
 }
