@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (tools/fuzz) in ./build-fuzz with ASan and
-# UBSan and runs each for SECONDS (default 30) from a seed corpus of the
-# project's own shaders and IR. Exits non-zero on any finding (crash, hang
-# over 10 s, sanitizer report); reproducers land in build-fuzz/findings.
+# UBSan and runs each for SECONDS (default 30) from a seed corpus of every
+# .osl in the project and ../shared, and the project's IR; the front-end
+# fuzzer mutates with OSL's tokens (tools/fuzz/osl.dict). Exits non-zero on
+# any finding (crash, hang over 10 s, sanitizer report) or when a fuzzer
+# fails; reproducers land in build-fuzz/findings.
 #   scripts/fuzz.sh [SECONDS]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,23 +22,42 @@ if [ ! -f build-fuzz/build.ninja ]; then
 fi
 ninja -C build-fuzz -j2 osl-fuzz-FrontendFuzzer osl-fuzz-OslOptFuzzer
 
-run() { # name seed-dirs...
+run() { # name extra-flags... -- seed-dirs...
   local name=$1; shift
   local corpus=build-fuzz/corpus/$name findings=build-fuzz/findings/$name
+  local log=build-fuzz/$name.log flags=()
+  while [ "$1" != "--" ]; do flags+=("$1"); shift; done; shift
   mkdir -p "$corpus" "$findings"
   echo "== $name: ${seconds}s"
-  build-fuzz/bin/osl-fuzz-$name "$corpus" "$@" -max_total_time="$seconds" -timeout=10 \
-    -rss_limit_mb=4096 -max_len=8192 -print_final_stats=1 -artifact_prefix="$findings/" \
-    2>&1 | grep -E "^(#[0-9]+ *DONE|stat::number_of_executed_units|==[0-9]+==ERROR|SUMMARY|Done)" || true
-  # libFuzzer's exit status is lost in the pipe; a finding leaves a file.
+  local rc=0
+  build-fuzz/bin/osl-fuzz-$name "$corpus" "$@" "${flags[@]}" -max_total_time="$seconds" \
+    -timeout=10 -rss_limit_mb=4096 -max_len=8192 -print_final_stats=1 \
+    -artifact_prefix="$findings/" >"$log" 2>&1 || rc=$?
+  grep -E "^(#[0-9]+ *DONE|stat::number_of_executed_units|==[0-9]+==ERROR|SUMMARY|Done)" "$log" || true
+  # A finding leaves a file; any other failure of the fuzzer (a bad flag,
+  # an unreadable seed, a crash outside an input) shows in its status.
   if compgen -G "$findings/*" >/dev/null; then
     echo "FINDING in $name:"; ls "$findings"; return 1
   fi
+  if [ "$rc" -ne 0 ]; then
+    echo "$name exited with status $rc; the end of $log:"; tail -20 "$log"; return 1
+  fi
 }
+# Seeds: every shader of the project, and of ../shared when it is beside
+# the clone (the conformance corpus, the render scenes, OSL's testsuite).
+rm -rf build-fuzz/seeds
 mkdir -p build-fuzz/seeds/osl build-fuzz/seeds/mlir
-find shaders test conformance -name '*.osl' -exec cp {} build-fuzz/seeds/osl/ \;
+seed_dirs=(shaders test conformance examples render)
+for d in ../shared/conformance ../shared/render ../shared/osl-testsuite; do
+  [ -d "$d" ] && seed_dirs+=("$d")
+done
+n=0
+while IFS= read -r -d '' f; do
+  n=$((n + 1)); cp "$f" "build-fuzz/seeds/osl/$n-$(basename "$f")"
+done < <(find "${seed_dirs[@]}" -name '*.osl' -size -8k -print0 2>/dev/null)
 find test -name '*.mlir' -exec cp {} build-fuzz/seeds/mlir/ \;
+echo "seeds: $n shaders, $(ls build-fuzz/seeds/mlir | wc -l) IR files"
 status=0
-run FrontendFuzzer build-fuzz/seeds/osl || status=1
-run OslOptFuzzer build-fuzz/seeds/mlir || status=1
+run FrontendFuzzer -dict=tools/fuzz/osl.dict -- build-fuzz/seeds/osl || status=1
+run OslOptFuzzer -- build-fuzz/seeds/mlir || status=1
 exit $status

@@ -44,6 +44,11 @@ struct GridOptions {
   /// Which outputs become images (by index; empty: all). The others are
   /// computed and dropped, taking no memory per point.
   std::vector<bool> keepImages;
+  /// The band of rows shaded: [rowBegin, rowEnd), rowEnd < 0 meaning yres.
+  /// Images then hold the band's rows only, and each point is shaded as in
+  /// the whole grid, so bands written one after another (osl-run streams
+  /// images larger than its memory budget this way) equal the whole image.
+  int rowBegin = 0, rowEnd = -1;
 };
 
 /// One shader output as laid out in the kernel's output rows.
@@ -56,8 +61,9 @@ struct OutputSpec {
 };
 
 struct ShadeResult {
-  /// Per output: xres*yres*channels floats, pixel-major (row-major pixels,
-  /// channels interleaved), ready for writeImage.
+  /// Per output: xres*rows*channels floats for the band of rows shaded
+  /// (all yres by default), pixel-major (row-major pixels, channels
+  /// interleaved), ready for writeImage.
   std::vector<std::vector<float>> images;
   /// Wall time of the shading loop (buffers and tables set up excluded).
   double seconds = 0;

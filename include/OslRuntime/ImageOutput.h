@@ -8,6 +8,7 @@
 #ifndef OSLRUNTIME_IMAGEOUTPUT_H
 #define OSLRUNTIME_IMAGEOUTPUT_H
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,33 @@ namespace osl {
 bool writeImage(const std::string &path, int xres, int yres, int channels,
                 const float *data, std::string &error,
                 const std::string &dataType = "");
+
+/// An image written a band of rows at a time, so an image larger than
+/// memory never has to be held whole (osl-run streams huge grids). Same
+/// file contents as writeImage. `path` is written under a temporary name
+/// and renamed by close(), so a run that stops half way leaves no partial
+/// file at `path`.
+class ImageStream {
+public:
+  ImageStream();
+  ~ImageStream(); // an unclosed stream removes its temporary file
+  ImageStream(ImageStream &&) noexcept;
+  ImageStream &operator=(ImageStream &&) noexcept;
+
+  bool open(const std::string &path, int xres, int yres, int channels,
+            std::string &error, const std::string &dataType = "");
+  /// Rows [rowBegin, rowEnd), xres * channels floats each; bands must come
+  /// in order.
+  bool writeRows(int rowBegin, int rowEnd, const float *data, std::string &error);
+  bool close(std::string &error);
+  /// The file being written until close(): for a signal handler that must
+  /// remove it.
+  const char *temporaryPath() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl;
+};
 
 /// A float image read back, pixel-major with channels interleaved.
 struct ImageData {

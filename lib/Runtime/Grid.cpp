@@ -238,8 +238,12 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
                    ThreadPool &pool) {
   assert(kernel && width > 0 && "shadeGrid needs a kernel and a width");
   result.seconds = 0;
+  int rowEnd = opt.rowEnd < 0 ? opt.yres : std::min(opt.rowEnd, opt.yres);
+  int rowBegin = std::clamp(opt.rowBegin, 0, std::max(rowEnd, 0));
   long npixels = static_cast<long>(std::max(opt.xres, 0)) *
-                 static_cast<long>(std::max(opt.yres, 0));
+                 static_cast<long>(std::max(rowEnd - rowBegin, 0));
+  // Pixel indices below count from the band's first pixel.
+  long bandStart = static_cast<long>(rowBegin) * std::max(opt.xres, 0);
   int totalChannels = 0;
   std::vector<int> firstRow;
   result.images.resize(outputs.size());
@@ -308,10 +312,11 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
     };
     long firstBatch = static_cast<long>(tile) * tileBatches;
     long endBatch = std::min(nbatches, firstBatch + tileBatches);
-    writer.writeBatch(globalsOf(firstBatch), firstBatch * width, activeIn(firstBatch));
+    writer.writeBatch(globalsOf(firstBatch), bandStart + firstBatch * width,
+                      activeIn(firstBatch));
     for (long b = firstBatch; b < endBatch; ++b) {
       if (b + 1 < endBatch)
-        writer.writeBatch(globalsOf(b + 1), (b + 1) * width, activeIn(b + 1));
+        writer.writeBatch(globalsOf(b + 1), bandStart + (b + 1) * width, activeIn(b + 1));
       // A lane the kernel leaves unwritten must read 0, not whatever this
       // thread's previous batch left: that would depend on the schedule.
       float *out = outputsOf(b);

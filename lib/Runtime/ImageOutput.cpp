@@ -9,21 +9,28 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
 namespace osl {
 
-bool writeImage(const std::string &path, int xres, int yres, int channels,
-                const float *data, std::string &error, const std::string &dataType) {
-  // testshade's `-o NAME null` shades the output but writes nothing.
-  if (path == "null")
-    return true;
-  if (xres <= 0 || yres <= 0 || channels <= 0 || !data) {
-    error = "cannot write an empty image to " + path;
-    return false;
+namespace {
+
+/// An ImageOutput opened on `path` with testshade's spec for the image.
+std::unique_ptr<OIIO::ImageOutput> openOutput(const std::string &path,
+                                              const std::string &formatFrom, int xres,
+                                              int yres, int channels,
+                                              const std::string &dataType,
+                                              std::string &error) {
+  if (xres <= 0 || yres <= 0 || channels <= 0) {
+    error = "cannot write an empty image to " + formatFrom;
+    return nullptr;
   }
-  auto out = OIIO::ImageOutput::create(path);
+  auto out = OIIO::ImageOutput::create(formatFrom);
   if (!out) {
-    error = "cannot write " + path + ": " + OIIO::geterror();
-    return false;
+    error = "cannot write " + formatFrom + ": " + OIIO::geterror();
+    return nullptr;
   }
   // Same spec as testshade's output ImageBuf; the names are set explicitly
   // because comparisons match channels by name (EXR sorts them).
@@ -32,7 +39,7 @@ bool writeImage(const std::string &path, int xres, int yres, int channels,
     type = OIIO::TypeDesc(dataType);
     if (type == OIIO::TypeDesc::UNKNOWN) {
       error = "unknown image data type '" + dataType + "'";
-      return false;
+      return nullptr;
     }
   }
   OIIO::ImageSpec spec(xres, yres, channels, type);
@@ -42,9 +49,26 @@ bool writeImage(const std::string &path, int xres, int yres, int channels,
                            : c < 4       ? std::string(kRGBA[c])
                                          : "channel" + std::to_string(c);
   if (!out->open(path, spec)) {
-    error = "cannot write " + path + ": " + out->geterror();
+    error = "cannot write " + formatFrom + ": " + out->geterror();
+    return nullptr;
+  }
+  return out;
+}
+
+} // namespace
+
+bool writeImage(const std::string &path, int xres, int yres, int channels,
+                const float *data, std::string &error, const std::string &dataType) {
+  // testshade's `-o NAME null` shades the output but writes nothing.
+  if (path == "null")
+    return true;
+  if (!data) {
+    error = "cannot write an empty image to " + path;
     return false;
   }
+  auto out = openOutput(path, path, xres, yres, channels, dataType, error);
+  if (!out)
+    return false;
   if (!out->write_image(OIIO::TypeDesc::FLOAT, data)) {
     error = "cannot write " + path + ": " + out->geterror();
     out->close();
@@ -55,6 +79,75 @@ bool writeImage(const std::string &path, int xres, int yres, int channels,
     return false;
   }
   return true;
+}
+
+struct ImageStream::Impl {
+  std::unique_ptr<OIIO::ImageOutput> out;
+  std::string path, temporary;
+  int xres = 0, channels = 0;
+};
+
+ImageStream::ImageStream() = default;
+ImageStream::ImageStream(ImageStream &&) noexcept = default;
+ImageStream &ImageStream::operator=(ImageStream &&) noexcept = default;
+
+ImageStream::~ImageStream() {
+  if (impl && impl->out) {
+    impl->out->close();
+    std::remove(impl->temporary.c_str());
+  }
+}
+
+bool ImageStream::open(const std::string &path, int xres, int yres, int channels,
+                       std::string &error, const std::string &dataType) {
+  impl = std::make_unique<Impl>();
+  impl->path = path;
+  // Same directory, so the rename is atomic; the format comes from `path`.
+  impl->temporary = path + ".part";
+  impl->xres = xres;
+  impl->channels = channels;
+  // One OpenEXR thread: it keeps compression buffers of 16 rows per
+  // thread, about 35 MB per file for a 20000-wide image on a 2-core machine
+  // (measured), which would defeat streaming. The output's own threads()
+  // does not reach OpenEXR in OIIO 2.4, so this sets the process-wide
+  // attribute: only grids too large for memory stream, and they are
+  // bound by shading, not compression.
+  OIIO::attribute("exr_threads", 1);
+  impl->out = openOutput(impl->temporary, path, xres, yres, channels, dataType, error);
+  return impl->out != nullptr;
+}
+
+bool ImageStream::writeRows(int rowBegin, int rowEnd, const float *data, std::string &error) {
+  if (!impl || !impl->out) {
+    error = "image stream is not open";
+    return false;
+  }
+  if (!impl->out->write_scanlines(rowBegin, rowEnd, 0, OIIO::TypeDesc::FLOAT, data)) {
+    error = "cannot write " + impl->path + ": " + impl->out->geterror();
+    return false;
+  }
+  return true;
+}
+
+bool ImageStream::close(std::string &error) {
+  if (!impl || !impl->out)
+    return true;
+  bool closed = impl->out->close();
+  if (!closed)
+    error = "cannot write " + impl->path + ": " + impl->out->geterror();
+  impl->out.reset();
+  if (closed && std::rename(impl->temporary.c_str(), impl->path.c_str()) != 0) {
+    error = "cannot rename " + impl->temporary + " to " + impl->path + ": " +
+            std::strerror(errno);
+    closed = false;
+  }
+  if (!closed)
+    std::remove(impl->temporary.c_str());
+  return closed;
+}
+
+const char *ImageStream::temporaryPath() const {
+  return impl && impl->out ? impl->temporary.c_str() : nullptr;
 }
 
 bool readImage(const std::string &path, ImageData &image, std::string &error) {

@@ -76,6 +76,8 @@ const char *const osl::kUsage =
     "  --verify-each          verify the IR after every compiler pass (for\n"
     "                         debugging the compiler; slower)\n"
     "  --timeout SECONDS      stop with an error when the run takes longer\n"
+    "  --image-memory MB      memory for output images (default 8); larger grids \n"
+    "                         are shaded and written a band of rows at a time\n"
     "  --info                 print the shader's parameters, defaults and metadata\n"
     "                         as oslinfo -v does, and stop\n"
     "  --interpret            reference mode: one point at a time, ordinary\n"
@@ -268,6 +270,17 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         return false;
       }
       o.timeoutSeconds = int(seconds);
+    } else if (a == "--image-memory") {
+      if (!need(i, 1, "--image-memory"))
+        return false;
+      char *end = nullptr;
+      long mb = std::strtol(argv[++i], &end, 10);
+      if (!end || *end || mb <= 0 || mb > (1L << 30)) {
+        error = "--image-memory needs a whole number of megabytes above 0 (got '" +
+                std::string(argv[i]) + "')";
+        return false;
+      }
+      o.imageMemoryMB = int(mb);
     } else if (a == "--info") {
       o.infoOnly = true;
     } else if (a == "--param" || a.rfind("--param:", 0) == 0) {

@@ -22,6 +22,9 @@ struct RunOptions {
   bool checkOnly = false;
   /// --timeout SECONDS: stop (exit 1) when the run takes longer; 0: never.
   int timeoutSeconds = 0;
+  /// --image-memory MB: the most the output images of a grid may hold in
+  /// memory; larger grids are shaded and written a band of rows at a time.
+  int imageMemoryMB = 8;
   /// --info: print the shader's parameters and metadata as oslinfo -v does.
   bool infoOnly = false;
   /// -od: the images' data type (float, half, uint8, uint16); "" keeps the

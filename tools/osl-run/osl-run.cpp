@@ -134,16 +134,25 @@ extern "C" void dieOnSignal(int signal) {
 }
 
 /// --timeout: the message, made before the alarm is armed (a signal
-/// handler must not allocate), and the image being written, removed so no
+/// handler must not allocate), and the images being written, removed so no
 /// partial file is left behind.
 char timeoutMessage[160];
-const char *volatile imageBeingWritten = nullptr;
+constexpr int kMaxFilesWritten = 64;
+const char *volatile imagesBeingWritten[kMaxFilesWritten] = {};
 
 extern "C" void stopOnTimeout(int) {
   (void)!write(2, timeoutMessage, std::strlen(timeoutMessage));
-  if (const char *file = imageBeingWritten)
-    unlink(file);
+  for (int i = 0; i < kMaxFilesWritten; ++i)
+    if (const char *file = imagesBeingWritten[i])
+      unlink(file);
   _exit(1);
+}
+
+/// Names the files a timeout must remove (at most kMaxFilesWritten; the
+/// rest are not removed), or none.
+void setImagesBeingWritten(const std::vector<const char *> &files) {
+  for (int i = 0; i < kMaxFilesWritten; ++i)
+    imagesBeingWritten[i] = size_t(i) < files.size() ? files[size_t(i)] : nullptr;
 }
 
 void armTimeout(int seconds) {
@@ -153,6 +162,55 @@ void armTimeout(int seconds) {
                 seconds);
   std::signal(SIGALRM, stopOnTimeout);
   alarm(unsigned(seconds));
+}
+
+/// Shades and writes a grid whose images exceed --image-memory, `bandRows`
+/// rows at a time, each image written as it goes (under a temporary name,
+/// renamed when whole). What the shader prints comes band by band, before
+/// the "Output ... to ..." lines.
+int shadeInBands(RunOptions &options, const CompiledShader &shader,
+                 const std::vector<std::pair<size_t, std::string>> &files, int bandRows,
+                 ThreadPool &pool, Stats &stats) {
+  std::string error;
+  std::vector<std::pair<size_t, ImageStream>> streams;
+  for (auto &[index, file] : files) {
+    if (file == "null")
+      continue;
+    ImageStream stream;
+    if (!stream.open(file, options.grid.xres, options.grid.yres,
+                     shader.outputs[index].channels, error, options.dataType))
+      return fail(error);
+    streams.emplace_back(index, std::move(stream));
+  }
+  std::vector<const char *> temporaries;
+  for (auto &[index, stream] : streams)
+    temporaries.push_back(stream.temporaryPath());
+  setImagesBeingWritten(temporaries);
+  ShadeResult band;
+  double shading = 0;
+  for (int row = 0; row < options.grid.yres; row += bandRows) {
+    options.grid.rowBegin = row;
+    options.grid.rowEnd = std::min(options.grid.yres, row + bandRows);
+    for (int i = 0; i < options.iters; ++i) {
+      shadeGridInto(band, shader.kernel, shader.width, shader.outputs, options.grid, pool);
+      shading += band.seconds;
+    }
+    emitPrints(band.printed, shader.name);
+    for (auto &[index, stream] : streams)
+      if (!stream.writeRows(options.grid.rowBegin, options.grid.rowEnd,
+                            band.images[index].data(), error))
+        return fail(error);
+  }
+  for (auto &[index, stream] : streams)
+    if (!stream.close(error))
+      return fail(error);
+  setImagesBeingWritten({});
+  stats.add("shading", shading);
+  llvm::outs() << "\n";
+  for (auto &[index, file] : files)
+    if (file != "null" && !options.outputs.empty())
+      llvm::outs() << "Output " << shader.outputs[index].name << " to " << file << "\n";
+  return textureFileErrors() > 0 || stringErrors() > 0 ? 1 : 0;
 }
 
 } // namespace
@@ -225,25 +283,31 @@ int main(int argc, char **argv) {
   std::vector<std::pair<size_t, std::string>> files;
   if (!resolveOutputs(options, *shader, files, error))
     return fail(error);
-  // Only the images written to files are kept; they must fit in memory.
+  // Only the images written to files are kept.
   options.grid.keepImages.assign(shader->outputs.size(), false);
-  double imageBytes = 0;
+  double rowBytes = 0;
   for (auto &[index, file] : files)
     if (file != "null" && !options.grid.keepImages[index]) {
       options.grid.keepImages[index] = true;
-      imageBytes += 4.0 * options.grid.xres * options.grid.yres * shader->outputs[index].channels;
+      rowBytes += 4.0 * options.grid.xres * shader->outputs[index].channels;
     }
   double memoryBytes = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
-  if (memoryBytes > 0 && imageBytes > memoryBytes)
-    return fail(llvm::formatv("the images of a {0}x{1} grid need {2:F1} GB, more than this "
-                              "machine's {3:F1} GB; write fewer outputs (-o NAME null "
-                              "discards one) or shade a smaller grid",
-                              options.grid.xres, options.grid.yres, imageBytes / 1e9,
+  if (memoryBytes > 0 && rowBytes > memoryBytes)
+    return fail(llvm::formatv("one row of the images of a {0}x{1} grid needs {2:F1} GB, "
+                              "more than this machine's {3:F1} GB; write fewer outputs "
+                              "(-o NAME null discards one) or shade a narrower grid",
+                              options.grid.xres, options.grid.yres, rowBytes / 1e9,
                               memoryBytes / 1e9)
                     .str());
-
   if (options.textureCacheMB > 0)
     setTextureCacheMegabytes(float(options.textureCacheMB));
+  double budget = double(options.imageMemoryMB) * (1 << 20);
+  if (rowBytes * options.grid.yres > budget) {
+    ThreadPool pool(options.grid.threads);
+    int bandRows = int(std::clamp(budget / rowBytes, 1.0, double(options.grid.yres)));
+    return shadeInBands(options, *shader, files, bandRows, pool, stats);
+  }
+
   options.grid.progress = true;
   ThreadPool pool(options.grid.threads);
   ShadeResult result;
@@ -268,11 +332,11 @@ int main(int argc, char **argv) {
     for (auto &[index, file] : files) {
       if (file == "null")
         continue;
-      imageBeingWritten = file.c_str();
+      setImagesBeingWritten({file.c_str()});
       bool written = writeImage(file, options.grid.xres, options.grid.yres,
                                 shader->outputs[index].channels,
                                 result.images[index].data(), error, options.dataType);
-      imageBeingWritten = nullptr;
+      setImagesBeingWritten({});
       if (!written)
         return fail("cannot write '" + file + "': " + error);
       // testshade's report of each image it was asked for.
