@@ -27,6 +27,8 @@ struct CachedKernel {
   std::vector<OutputSpec> outputs;
   /// A relocatable object file for the host, defining osl_batch.
   std::string object;
+  /// The front end's warnings when it was compiled, printed again on a hit.
+  std::string warnings;
 };
 
 enum class CacheLookup { Hit, Miss, Corrupt };

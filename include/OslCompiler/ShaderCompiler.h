@@ -44,6 +44,9 @@ struct CompileOptions {
   std::vector<std::string> defines;
   /// The ray type raytype() answers 1 for (testshade's --raytype).
   std::string rayType = "camera";
+  /// oslc's -Werror (warnings are errors) and osl-run's -w (no warnings).
+  bool warningsAsErrors = false;
+  bool showWarnings = true;
   /// Reference mode (osl-run --interpret): one point at a time with
   /// ordinary branches and no masks; implies width 1.
   bool reference = false;
@@ -161,6 +164,11 @@ private:
   void collectOutputs();
   /// Bind, fold and count a linked group (GroupStats).
   bool specialiseGroup();
+  /// The front end on one source: its diagnostics go to `errs`, and its
+  /// warnings are also kept in `warnings` for the kernel cache to replay.
+  mlir::OwningOpRef<mlir::ModuleOp> parseSource(llvm::StringRef source,
+                                                llvm::StringRef filename,
+                                                llvm::ArrayRef<ParamOverride> params);
   std::unique_ptr<CompiledShader> loadObject(std::string object, std::string name,
                                              std::vector<OutputSpec> outputs);
   bool defineRuntimeSymbols(Jit &target);
@@ -170,6 +178,8 @@ private:
   /// Keep the object code of the kernel (for the cache).
   bool keepObject = false;
   llvm::raw_ostream &errs;
+  /// What the front end warned of in this compile.
+  std::string warnings;
   Stats *stats;
   mlir::MLIRContext context;
   mlir::OwningOpRef<mlir::ModuleOp> mlirModule;

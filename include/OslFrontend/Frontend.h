@@ -39,7 +39,9 @@ struct ParamOverride {
 /// that fixes the "screen", "NDC" and "raster" spaces; `colorSpace` is the
 /// working RGB space of the color functions (OSL's "colorspace" option);
 /// `defines`, oslc's -D and -U (see preprocess()); `rayType`, the ray
-/// being shaded (raytype() is 1 for it).
+/// being shaded (raytype() is 1 for it). Warnings are printed as oslc's
+/// (`filename:line: warning: message`) unless `showWarnings` is false, or
+/// are errors with `warningsAsErrors` (oslc's -Werror).
 mlir::OwningOpRef<mlir::ModuleOp>
 parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                mlir::MLIRContext &context,
@@ -48,7 +50,8 @@ parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                const mlir::osl::CameraImage &camera = {},
                llvm::StringRef colorSpace = "Rec709",
                llvm::ArrayRef<std::string> defines = {},
-               llvm::StringRef rayType = "camera");
+               llvm::StringRef rayType = "camera", bool warningsAsErrors = false,
+               bool showWarnings = true);
 
 /// Everything the front end reads of a shader as one string: its tokens
 /// after preprocessing (#includes expanded, macros applied), each with its

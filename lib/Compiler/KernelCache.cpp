@@ -119,9 +119,9 @@ CacheLookup KernelCache::lookup(llvm::StringRef key, CachedKernel &entry) const 
     return CacheLookup::Corrupt;
 
   FieldReader reader{body.drop_front(sizeof kMagic)};
-  llvm::StringRef storedKey, name, outputs, object;
+  llvm::StringRef storedKey, name, outputs, object, warnings;
   if (!reader.next(storedKey) || !reader.next(name) || !reader.next(outputs) ||
-      !reader.next(object) || !reader.rest.empty())
+      !reader.next(object) || !reader.next(warnings) || !reader.rest.empty())
     return CacheLookup::Corrupt;
   if (storedKey != key)
     return CacheLookup::Corrupt; // a hash collision or a foreign file
@@ -130,6 +130,7 @@ CacheLookup KernelCache::lookup(llvm::StringRef key, CachedKernel &entry) const 
     return CacheLookup::Corrupt;
   entry.shaderName = name.str();
   entry.object = object.str();
+  entry.warnings = warnings.str();
   return CacheLookup::Hit;
 }
 
@@ -144,6 +145,7 @@ bool KernelCache::store(llvm::StringRef key, const CachedKernel &entry,
   putField(data, entry.shaderName);
   putField(data, outputsText(entry.outputs));
   putField(data, entry.object);
+  putField(data, entry.warnings);
   uint64_t checksum = llvm::xxh3_64bits(data);
   data.append(reinterpret_cast<const char *>(&checksum), sizeof checksum);
 

@@ -71,6 +71,30 @@ ShaderCompiler::ShaderCompiler(const CompileOptions &options,
 
 ShaderCompiler::~ShaderCompiler() = default;
 
+mlir::OwningOpRef<mlir::ModuleOp>
+ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
+                            llvm::ArrayRef<ParamOverride> params) {
+  std::string text;
+  llvm::raw_string_ostream os(text);
+  // Warnings are always collected, so the cache keeps them for runs that
+  // show them, and dropped here when hidden.
+  auto module = parseOslShader(source, filename, context, params, os, options.includePaths,
+                               options.camera, options.colorSpace, options.defines,
+                               options.rayType, options.warningsAsErrors,
+                               /*showWarnings=*/true);
+  llvm::SmallVector<llvm::StringRef> lines;
+  llvm::StringRef(text).split(lines, '\n', -1, /*KeepEmpty=*/false);
+  for (llvm::StringRef line : lines) {
+    bool isWarning = line.contains(": warning: ");
+    if (isWarning)
+      warnings += (line + "\n").str();
+    if (!isWarning || options.showWarnings)
+      errs << line << "\n";
+  }
+  errs.flush();
+  return module;
+}
+
 bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
   ScopedTimer timer(stats, "front end");
   if (filename.ends_with(".mlir")) {
@@ -81,10 +105,7 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
     mlir::SourceMgrDiagnosticHandler handler(sourceMgr, &context, errs);
     mlirModule = mlir::parseSourceFile<mlir::ModuleOp>(sourceMgr, &context);
   } else {
-    mlirModule = parseOslShader(source, filename, context, options.params, errs,
-                                options.includePaths, options.camera,
-                                options.colorSpace, options.defines,
-                                options.rayType);
+    mlirModule = parseSource(source, filename, options.params);
   }
   if (!mlirModule)
     return false;
@@ -258,6 +279,8 @@ std::string ShaderCompiler::optionsKey() const {
      << "\nmath " << mlir::osl::mathLevelName(options.math) << "\nllvm pipeline "
      << int(options.llvmPipeline)
      << "\ncolorspace " << options.colorSpace << "\nraytype " << options.rayType
+     // -Werror decides whether a shader with warnings compiles at all.
+     << "\nwerror " << options.warningsAsErrors
      << "\ncamera " << options.camera.xres << " "
      << options.camera.yres << "\n";
   return key;
@@ -289,6 +312,9 @@ ShaderCompiler::compileCached(const std::string &key,
   if (found == CacheLookup::Hit) {
     if (auto shader = loadObject(std::move(entry.object), entry.shaderName, entry.outputs)) {
       cacheUsed = CacheUse::Hit;
+      // The same warnings as the compile that stored it.
+      if (options.showWarnings)
+        errs << entry.warnings;
       return shader;
     }
     found = CacheLookup::Corrupt; // a well-formed file the linker refused
@@ -301,7 +327,8 @@ ShaderCompiler::compileCached(const std::string &key,
     return shader;
   ScopedTimer timer(stats, "kernel cache");
   std::string error;
-  CachedKernel stored{shader->name, shader->outputs, shader->jit->compiledObject().str()};
+  CachedKernel stored{shader->name, shader->outputs, shader->jit->compiledObject().str(),
+                      warnings};
   // A cache that cannot be written costs the next run a compile, nothing
   // more: say so and go on.
   if (!cache.store(key, stored, error))
@@ -342,10 +369,7 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
            << "': " << buffer.getError().message() << "\n";
       return false;
     }
-    auto parsed = parseOslShader((*buffer)->getBuffer(), layer.shaderPath, context,
-                                 layer.params, errs, options.includePaths, options.camera,
-                                 options.colorSpace, options.defines,
-                                options.rayType);
+    auto parsed = parseSource((*buffer)->getBuffer(), layer.shaderPath, layer.params);
     if (!parsed) {
       errs << "note: in layer '" << layer.name << "'\n";
       return false;

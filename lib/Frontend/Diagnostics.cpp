@@ -11,6 +11,18 @@ void Diagnostics::error(SrcLoc loc, const llvm::Twine &message) {
   os.flush();
 }
 
+bool Diagnostics::warning(SrcLoc loc, const std::string &message) {
+  if (warningMode == WarningMode::AsErrors) {
+    error(loc, message);
+    return false;
+  }
+  if (warningMode == WarningMode::Hide || !warned.insert({loc.file, loc.line, message}).second)
+    return true;
+  os << files[loc.file] << ":" << loc.line << ": warning: " << message << "\n";
+  os.flush();
+  return true;
+}
+
 void Diagnostics::error(const llvm::Twine &message) {
   if (errors++ > 0)
     return;

@@ -6,7 +6,9 @@
 #include "llvm/ADT/Twine.h"
 #include "llvm/Support/raw_ostream.h"
 
+#include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace osl::frontend {
@@ -18,6 +20,9 @@ struct SrcLoc {
   unsigned col = 1;
   unsigned file = 0;
 };
+
+/// What happens to warnings: printed, dropped, or errors (oslc's -Werror).
+enum class WarningMode { Show, Hide, AsErrors };
 
 /// Prints `file:line:col: error: message`. The front end stops at the
 /// first error, so `hadError` is checked by every phase.
@@ -31,6 +36,12 @@ public:
   void error(SrcLoc loc, const llvm::Twine &message);
   /// An error with no source position (`file: error: message`).
   void error(const llvm::Twine &message);
+  /// Reports a warning as oslc does (`file:line: warning: message`, so
+  /// outputs compare with OSL's), once per position and message: a
+  /// function's body is emitted at every call. An error under AsErrors;
+  /// returns false then.
+  bool warning(SrcLoc loc, const std::string &message);
+  void setWarningMode(WarningMode mode) { warningMode = mode; }
   bool hadError() const { return errors > 0; }
   llvm::StringRef getFilename() const { return files[0]; }
   /// The name of source file `file` of a SrcLoc.
@@ -45,6 +56,8 @@ private:
   std::vector<std::string> files;
   llvm::raw_ostream &os;
   unsigned errors = 0;
+  WarningMode warningMode = WarningMode::Show;
+  std::set<std::tuple<unsigned, unsigned, std::string>> warned;
 };
 
 } // namespace osl::frontend

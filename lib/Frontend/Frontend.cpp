@@ -18,10 +18,14 @@ osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                     mlir::MLIRContext &context, llvm::ArrayRef<ParamOverride> overrides,
                     llvm::raw_ostream &errs, llvm::ArrayRef<std::string> includePaths,
                     const mlir::osl::CameraImage &camera, llvm::StringRef colorSpace,
-                    llvm::ArrayRef<std::string> defines, llvm::StringRef rayType) {
+                    llvm::ArrayRef<std::string> defines, llvm::StringRef rayType,
+                    bool warningsAsErrors, bool showWarnings) {
   context.loadDialect<mlir::osl::OslDialect, mlir::func::FuncDialect,
                       mlir::arith::ArithDialect>();
   Diagnostics diags(filename, errs);
+  diags.setWarningMode(warningsAsErrors ? WarningMode::AsErrors
+                       : showWarnings   ? WarningMode::Show
+                                        : WarningMode::Hide);
   if (!mlir::osl::ColorSystem::get(colorSpace)) {
     diags.error("unknown color space '" + colorSpace.str() +
                 "' (known: Rec709, sRGB, NTSC, EBU, PAL, SECAM, SMPTE, HDTV, CIE, AdobeRGB, "

@@ -37,7 +37,32 @@ const GlobalDecl kGlobals[] = {
     {"dtime", BaseType::Float},
 };
 
+/// Every identifier `s` reads or writes, nested functions included.
+void collectNames(const Expr &e, llvm::StringSet<> &names) {
+  if (e.kind == ExprKind::Ident)
+    names.insert(e.name);
+  for (const ExprPtr &a : e.args)
+    collectNames(*a, names);
+}
+
+void collectNames(const Stmt &s, llvm::StringSet<> &names) {
+  for (const StmtPtr &c : s.body)
+    collectNames(*c, names);
+  for (const Declarator &d : s.decls)
+    if (d.init)
+      collectNames(*d.init, names);
+  for (const Expr *e : {s.expr.get(), s.step.get()})
+    if (e)
+      collectNames(*e, names);
+  for (const Stmt *c : {s.init.get(), s.thenStmt.get(), s.elseStmt.get()})
+    if (c)
+      collectNames(*c, names);
+  if (s.func && s.func->body)
+    collectNames(*s.func->body, names);
+}
+
 } // namespace
+
 
 IRGen::IRGen(MLIRContext &ctx, Diagnostics &diags,
              llvm::ArrayRef<ParamOverride> overrides, const CameraImage &camera,
@@ -551,8 +576,17 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   current = paramScope;
   // Before the parameters: a default value may call exit().
   exitFlag = declareFlag(root, kExitFlag, shader.loc);
+  // OSL runs a parameter's default when the parameter is first used: the
+  // default of one nothing reads never runs, so its exit() or printf never
+  // happens. (Used ones run here, in order, which differs from OSL only
+  // when an effect of the body comes before the first use.)
+  llvm::StringSet<> used;
+  collectNames(*shader.body, used);
   for (const Param &p : shader.params)
-    if (!emitParam(p, paramScope))
+    if (p.init)
+      collectNames(*p.init, used);
+  for (const Param &p : shader.params)
+    if (!emitParam(p, paramScope, /*runDefault=*/p.isOutput || used.count(p.name)))
       return false;
 
   current = newScope(paramScope);
@@ -676,7 +710,7 @@ std::optional<RValue> IRGen::overrideValue(const Param &p, const std::string &te
   return r;
 }
 
-bool IRGen::emitParam(const Param &p, Scope *scope) {
+bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   OslType t = p.type;
   if ((t.base == BaseType::Matrix && t.isArray()) || (t.isStructLike() && t.isArray()) ||
       (t.base == BaseType::Closure && t.isArray()))
@@ -725,6 +759,10 @@ bool IRGen::emitParam(const Param &p, Scope *scope) {
     sized.name = p.name;
     sized.loc = p.loc;
     init = overrideValue(sized, ov->value);
+  } else if (!runDefault && !t.isString() && !t.isClosure() && hasSideEffects(*p.init)) {
+    if (t.arrayLen == 0 && p.init->kind == ExprKind::InitList)
+      t.arrayLen = int(p.init->args.size());
+    init = zeroValue(t, p.loc);
   } else {
     init = emitInitializer(*p.init, t, p.name, p.loc);
   }

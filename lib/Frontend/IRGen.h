@@ -90,10 +90,12 @@ struct Var {
   RValue val;            // the current value
   bool isGlobal = false; // a shader global, read lazily (see readVar)
   bool isOutputParam = false;
-  /// A function's non-output parameter: OSL does not let functions write
-  /// them. (Globals, u and v too, are writable, as testshade's lazyglobals
-  /// test shows.)
+  /// A function's non-output parameter: oslc warns when a function writes
+  /// one (an error under -Werror). Parameters are references in OSL, so the
+  /// write reaches the caller's variable (`writtenThrough`). (Globals, u
+  /// and v too, are writable, as testshade's lazyglobals test shows.)
   bool readOnly = false;
+  bool writtenThrough = false;
 };
 
 struct Scope;
@@ -265,7 +267,10 @@ public:
 private:
   // --- program structure -----------------------------------------------------
   bool emitShader(const ShaderDecl &shader, mlir::func::FuncOp func);
-  bool emitParam(const Param &p, Scope *scope);
+  /// Declares a shader parameter; with runDefault false (nothing reads it)
+  /// a default with effects (exit, printf, a user function) is not run.
+  bool emitParam(const Param &p, Scope *scope, bool runDefault);
+
   std::optional<RValue> overrideValue(const Param &p, const std::string &text);
   /// A declaration's initializer (an expression or `{...}`) as `type`;
   /// sets the length of unsized arrays.
@@ -316,6 +321,10 @@ private:
   llvm::SmallVector<size_t> libraryOutputArgs(const Expr &e) const;
   bool hasSideEffects(const Expr &e);
   const llvm::StringSet<> &functionAssigned(const FunctionDecl *fn);
+  /// Whether `fn` may write its parameter `name` (see Var::writtenThrough).
+  bool writesParam(const FunctionDecl &fn, llvm::StringRef name) {
+    return functionAssigned(&fn).count(name) > 0;
+  }
   /// The outer variables a region must carry, sorted by creation.
   std::vector<Var *> carriedVars(const llvm::StringSet<> &names);
   std::vector<mlir::Value> flatten(const std::vector<Var *> &vars, SrcLoc l);
@@ -358,8 +367,9 @@ private:
   std::optional<RValue> emitTernary(const Expr &e, const OslType *expected);
   std::optional<RValue> emitAssign(const Expr &e);
   std::optional<RValue> emitIncDec(const Expr &e);
-  /// Reports a write to a read-only variable (Var::readOnly); `how` says
-  /// how it would be written when not directly.
+  /// Warns of a write to a read-only variable (Var::readOnly) and marks it
+  /// written through; false when warnings are errors. `how` says how it is
+  /// written when not directly.
   bool checkWritable(const LValue &lv, SrcLoc l, const llvm::Twine &how = "");
   std::optional<RValue> emitIndexOrMember(const Expr &e);
   std::optional<RValue> emitCall(const Expr &e, const OslType *expected);

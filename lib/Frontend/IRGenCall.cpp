@@ -134,7 +134,7 @@ std::optional<RValue> IRGen::emitUserCall(const Expr &e,
       if (f.decl->params.size() != n)
         continue;
       const Param &p = f.decl->params[k];
-      outputSomewhere |= p.isOutput;
+      outputSomewhere |= p.isOutput || writesParam(*f.decl, p.name);
       if (!agreed)
         agreed = p.type;
       else if (*agreed != p.type)
@@ -287,15 +287,25 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
     error(call.loc, "non-void function '" + fn.name + "' has no 'return' statement");
     return std::nullopt;
   }
-  // Write output parameters back to the caller's variables.
+  // Write output parameters back to the caller's variables, and the
+  // non-output ones the function wrote (OSL passes references).
   for (size_t k = 0; k < fn.params.size(); ++k) {
-    if (!fn.params[k].isOutput)
+    if (!fn.params[k].isOutput) {
+      if (params[k]->writtenThrough && lvalues[k]) {
+        auto v = coerce(params[k]->val, lvalues[k]->type, call.args[k]->begin,
+                        "when writing back argument " + llvm::Twine(k + 1) + " of '" +
+                            fn.name + "'");
+        if (!v)
+          return std::nullopt;
+        storeLValue(*lvalues[k], *v, call.loc);
+      }
       continue;
+    }
     const LValue &lv = *lvalues[k];
     if (!checkWritable(lv, call.args[k]->begin,
-                       ", as passed to function '" + fn.name + "' as argument " +
-                           llvm::Twine(k + 1) + " (output parameter '" + fn.params[k].name +
-                           "')"))
+                       ", as passed to function " + fn.name + "() as arg " +
+                           llvm::Twine(k + 1) + " (output parameter \"" + fn.params[k].name +
+                           "\")"))
       return std::nullopt;
     auto v = coerce(params[k]->val, lv.type, call.args[k]->begin,
                     "when writing back output argument " + llvm::Twine(k + 1) + " of '" +

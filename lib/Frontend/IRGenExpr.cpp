@@ -758,7 +758,9 @@ std::optional<RValue> IRGen::coerceForAssignment(RValue v, OslType to, SrcLoc l,
 bool IRGen::checkWritable(const LValue &lv, SrcLoc l, const llvm::Twine &how) {
   if (!lv.var->readOnly)
     return true;
-  return error(l, "cannot write to non-output parameter '" + lv.var->name + "'" + how);
+  lv.var->writtenThrough = true;
+  return diags.warning(l, "cannot write to non-output parameter \"" + lv.var->name + "\"" +
+                              how.str());
 }
 
 std::optional<RValue> IRGen::emitAssign(const Expr &e) {

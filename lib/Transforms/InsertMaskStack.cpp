@@ -144,9 +144,11 @@ private:
     Block *thenBlock = guard.thenBlock();
     thenBlock->getOperations().splice(thenBlock->begin(), arm.getOperations(),
                                       arm.begin(), yield->getIterator());
+    // (This builder adds no terminators: an arm that yields nothing, e.g.
+    // one that only prints, still needs its scf.yield.)
+    OpBuilder tb = OpBuilder::atBlockEnd(thenBlock);
+    tb.create<scf::YieldOp>(loc, inner);
     if (!inner.empty()) {
-      OpBuilder tb = OpBuilder::atBlockEnd(thenBlock);
-      tb.create<scf::YieldOp>(loc, inner);
       OpBuilder eb = OpBuilder::atBlockBegin(guard.elseBlock());
       SmallVector<Value> zeros;
       for (Value v : inner)

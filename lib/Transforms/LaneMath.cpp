@@ -413,12 +413,27 @@ Value lane::pow(OpBuilder &b, Location loc, ValueRange x) {
   return result;
 }
 
-/// C fmod, with fmod(x, 0) = 0.
+/// OSL's (OIIO's) safe_fmod: x - N*y with N = int(x/y), and 0 where y = 0.
+/// N converts as x86 does, INT_MIN when x/y is out of int's range (or NaN),
+/// so huge quotients give OSL's large results, not C fmod's remainder. The
+/// derivative is x's alone, as OSL's dual fmod has it, also where y = 0.
 Value lane::fmod(OpBuilder &b, Location loc, ValueRange x) {
   Value zero = cst(b, loc, x[1], 0);
   Value isZero = fcmp(b, loc, arith::CmpFPredicate::OEQ, x[1], zero);
   Value safeDen = sel(b, loc, isZero, cst(b, loc, x[1], 1), x[1]);
-  return sel(b, loc, isZero, zero, b.create<arith::RemFOp>(loc, x[0], safeDen));
+  Value q = b.create<arith::DivFOp>(loc, x[0], safeDen);
+  Value intMin = cst(b, loc, q, -2147483648.0);
+  Value inRange = b.create<arith::AndIOp>(
+      loc, fcmp(b, loc, arith::CmpFPredicate::OGE, q, intMin),
+      fcmp(b, loc, arith::CmpFPredicate::OLT, q, cst(b, loc, q, 2147483648.0)));
+  Value n = sel(b, loc, inRange, b.create<math::TruncOp>(loc, q), intMin);
+  auto nTimesY = b.create<arith::MulFOp>(loc, n, safeDen);
+  nTimesY->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleNone));
+  Value r = b.create<arith::SubFOp>(loc, x[0], nTimesY);
+  Value result = sel(b, loc, isZero, zero, r);
+  if (Operation *op = result.getDefiningOp())
+    op->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleValueOnly));
+  return result;
 }
 
 Value lane::step(OpBuilder &b, Location loc, ValueRange x) {

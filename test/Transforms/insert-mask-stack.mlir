@@ -508,3 +508,25 @@ func.func @print_takes_the_arm_mask(%c: !osl.varying<i1>, %a: !osl.varying<f32>,
   osl.print "printf" "s"(%fmt) : i32
   return
 }
+
+// -----
+
+// An arm with an expensive op (noise) that yields nothing, only prints,
+// still goes under its guard, which then ends in an empty scf.yield (a
+// shader printing a noise value under a varying if did not verify).
+// CHECK-LABEL: func.func @guarded_arm_without_values
+// CHECK: %[[ANY:.+]] = osl.any
+// CHECK: scf.if %[[ANY]] {
+// CHECK:   osl.noise "perlin"
+// CHECK:   osl.print "printf"
+// CHECK-NEXT: }
+func.func @guarded_arm_without_values(%c: !osl.varying<i1>, %a: !osl.varying<f32>, %fmt: i32) {
+  osl.if %c : !osl.varying<i1> {
+    %n = osl.noise "perlin"(%a) : (!osl.varying<f32>) -> !osl.varying<f32>
+    osl.print "printf" "sf"(%fmt, %n) : i32, !osl.varying<f32>
+    osl.yield
+  } else {
+    osl.yield
+  }
+  return
+}

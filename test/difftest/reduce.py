@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Shrinks a shader on which osl-difftest fails, keeping it failing.
 
-  reduce.py --difftest PATH IN.osl OUT.osl
+  reduce.py --difftest PATH [--message TEXT] IN.osl OUT.osl
 
 Greedy delta debugging over lines: removes single lines, then lines with
 the block they open ({ ... }), then replaces expressions after '=' by 0,
@@ -16,6 +16,9 @@ import sys
 import tempfile
 
 
+MESSAGE = None
+
+
 def fails(difftest, text):
     with tempfile.NamedTemporaryFile("w", suffix=".osl", delete=False) as f:
         f.write(text)
@@ -23,6 +26,8 @@ def fails(difftest, text):
     try:
         r = subprocess.run([difftest, "--quiet", path], capture_output=True, text=True,
                            timeout=120)
+        if MESSAGE:
+            return MESSAGE in r.stderr
         return r.returncode == 1 and "MISMATCH" in r.stderr
     except subprocess.TimeoutExpired:
         return False
@@ -72,9 +77,12 @@ def simplify_expressions(difftest, lines):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--difftest", required=True)
+    ap.add_argument("--message")
     ap.add_argument("input")
     ap.add_argument("output")
     a = ap.parse_args()
+    global MESSAGE
+    MESSAGE = a.message
     lines = open(a.input).readlines()
     if not fails(a.difftest, "".join(lines)):
         print("%s does not fail; nothing to reduce" % a.input)

@@ -114,7 +114,9 @@ class Context:
     def testshade(self, args):
         # testshade shades one point unless -g says otherwise.
         flags = "".join(" " + shlex.quote(f) for f in self.compile_flags)
-        return self.osl_run_cmd() + flags + " -g 1 1 " + args + REDIRECT + " ;\n"
+        # -w: oslc has reported the warnings already; testshade loads
+        # compiled shaders and prints none.
+        return self.osl_run_cmd() + " -w" + flags + " -g 1 1 " + args + REDIRECT + " ;\n"
 
     def testrender(self, args):
         words = shlex.split(args)
@@ -123,7 +125,7 @@ class Context:
         rest = [w for w in words if w not in files]
         scene = next((w for w in files if w.endswith(".xml")), "scene.xml")
         out = next((w for w in files if not w.endswith(".xml")), "out.exr")
-        return (self.osl_run_cmd() + " --scene " + shlex.quote(scene) + " -o " +
+        return (self.osl_run_cmd() + " -w --scene " + shlex.quote(scene) + " -o " +
                 shlex.quote(out) + " " + " ".join(shlex.quote(w) for w in rest) +
                 REDIRECT + " ;\n")
 
@@ -142,7 +144,8 @@ class Context:
                 # oslc leaves X.oso in the current folder, where testshade
                 # then finds it: the source goes there for osl-run.
                 cmds += "cp %s . ;\n" % shlex.quote(src)
-            check = (self.osl_run_cmd() + " --check " +
+            werror = " -Werror" if "-Werror" in words else ""
+            check = (self.osl_run_cmd() + " --check" + werror + " " +
                      " ".join(shlex.quote(f) for f in flags) + " " + shlex.quote(src))
             cmds += ("%s%s && echo %s >> out.txt ;\n" %
                      (check, REDIRECT, shlex.quote("Compiled %s -> %s.oso" % (src, base))))

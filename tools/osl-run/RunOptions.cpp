@@ -73,6 +73,8 @@ const char *const osl::kUsage =
     "  --center               shade pixel centres: u = (x+0.5)/X\n"
     "  -I DIR                 search DIR for #include files\n"
     "  -D NAME[=VALUE], -U NAME  define or undefine a macro, as oslc does\n"
+    "  -Werror                warnings are errors, as with oslc -Werror\n"
+    "  -w                     print no warnings\n"
     "  --verify-each          verify the IR after every compiler pass (for\n"
     "                         debugging the compiler; slower)\n"
     "  --timeout SECONDS      stop with an error when the run takes longer\n"
@@ -392,6 +394,10 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       if (a == "-I" && !need(i, 1, "-I"))
         return false;
       o.compile.includePaths.push_back(a == "-I" ? std::string(argv[++i]) : a.substr(2));
+    } else if (a == "-Werror") {
+      o.compile.warningsAsErrors = true;
+    } else if (a == "-w") {
+      o.compile.showWarnings = false;
     } else if (a == "-D" || a == "-U" || (a.size() > 2 && (a.rfind("-D", 0) == 0 ||
                                                            a.rfind("-U", 0) == 0))) {
       // oslc's -D NAME[=VALUE] and -U NAME.
