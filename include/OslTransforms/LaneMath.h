@@ -82,6 +82,14 @@ Value log2(OpBuilder &b, Location loc, ValueRange x);
 Value log10(OpBuilder &b, Location loc, ValueRange x);
 Value sinh(OpBuilder &b, Location loc, ValueRange x);
 Value cosh(OpBuilder &b, Location loc, ValueRange x);
+/// osl-mlir's own formulas for the fast and polynomial levels: asin and
+/// acos of a clamped `c` through atan2 and sqrt, sinh and cosh through one
+/// exp (and a polynomial for sinh near 0).
+Value asinFromAtan2(OpBuilder &b, Location loc, Value c);
+Value acosFromAtan2(OpBuilder &b, Location loc, Value c);
+Value sinhFromExp(OpBuilder &b, Location loc, Value x);
+Value log10FromLog(OpBuilder &b, Location loc, Value x);
+Value coshFromExp(OpBuilder &b, Location loc, Value x);
 Value tanh(OpBuilder &b, Location loc, ValueRange x);
 Value expm1(OpBuilder &b, Location loc, ValueRange x);
 Value cbrt(OpBuilder &b, Location loc, ValueRange x);

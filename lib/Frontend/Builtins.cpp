@@ -96,11 +96,14 @@ Value scaleBy(IRGen &g, SrcLoc l, Value x, OslType r, double factor) {
   Value k = promote(g, g.constFloat(float(factor), l), r, l);
   return g.builder().create<MulOp>(g.loc(l), x, k);
 }
+// stdosl.h's x*(180.0/M_PI) and x*(M_PI/180.0), whose constant oslc folds
+// in float from M_PI as a float.
+constexpr float kFloatPi = 3.14159265358979323846f;
 Value emitRadians(IRGen &g, SrcLoc l, Vals a, OslType r) {
-  return scaleBy(g, l, a[0], r, 3.14159265358979323846 / 180.0);
+  return scaleBy(g, l, a[0], r, kFloatPi / 180.0f);
 }
 Value emitDegrees(IRGen &g, SrcLoc l, Vals a, OslType r) {
-  return scaleBy(g, l, a[0], r, 180.0 / 3.14159265358979323846);
+  return scaleBy(g, l, a[0], r, 180.0f / kFloatPi);
 }
 
 /// isnan/isinf/isfinite as IEEE comparisons (x != x only for NaN;

@@ -273,6 +273,18 @@ private:
       return div(cst(1), add(cst(1), mul(x, x)));
     if (isa<math::TanhOp>(def))
       return sub(cst(1), mul(r, r));
+    if (isa<math::SinhOp>(def)) // OSL's duals: cosh and sinh of the value
+      return b.create<math::CoshOp>(loc, x);
+    if (isa<math::CoshOp>(def))
+      return b.create<math::SinhOp>(loc, x);
+    if (isa<math::AsinOp, math::AcosOp>(def)) {
+      // +-1/sqrt(1 - x^2), and 0 at |x| = 1 as OSL's duals have it.
+      Value inside = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OLT,
+                                             b.create<math::AbsFOp>(loc, x), cst(1));
+      Value slope = div(cst(isa<math::AsinOp>(def) ? 1 : -1),
+                        b.create<math::SqrtOp>(loc, sub(cst(1), mul(x, x))));
+      return b.create<arith::SelectOp>(loc, inside, slope, cst(0)).getResult();
+    }
     if (isa<math::ExpOp>(def))
       return r;
     if (isa<math::Exp2Op>(def))

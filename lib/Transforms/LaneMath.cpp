@@ -211,12 +211,20 @@ static Value cosOfAsin(OpBuilder &b, Location loc, Value x) {
                                           oneRounding(b.create<arith::AddFOp>(loc, one, x))));
   return oneRounding(b.create<math::SqrtOp>(loc, p));
 }
+// asin, acos, sinh and cosh are math ops of their own (on a clamped input
+// for asin and acos) that each math level computes its way
+// (osl-approximate-math): OSL's algorithms by default, libm at precise,
+// and at fast and polynomial the formulas below on MLIR's exp and atan2.
 Value lane::asin(OpBuilder &b, Location loc, ValueRange x) {
-  Value c = clampUnit(b, loc, x[0]);
-  return oneRounding(b.create<math::Atan2Op>(loc, c, cosOfAsin(b, loc, c)));
+  return b.create<math::AsinOp>(loc, clampUnit(b, loc, x[0]));
 }
 Value lane::acos(OpBuilder &b, Location loc, ValueRange x) {
-  Value c = clampUnit(b, loc, x[0]);
+  return b.create<math::AcosOp>(loc, clampUnit(b, loc, x[0]));
+}
+Value lane::asinFromAtan2(OpBuilder &b, Location loc, Value c) {
+  return oneRounding(b.create<math::Atan2Op>(loc, c, cosOfAsin(b, loc, c)));
+}
+Value lane::acosFromAtan2(OpBuilder &b, Location loc, Value c) {
   return oneRounding(b.create<math::Atan2Op>(loc, cosOfAsin(b, loc, c), c));
 }
 Value lane::atan(OpBuilder &b, Location loc, ValueRange x) {
@@ -258,8 +266,15 @@ Value lane::log(OpBuilder &b, Location loc, ValueRange x) {
 Value lane::log2(OpBuilder &b, Location loc, ValueRange x) {
   return logOfPositive(b, loc, x[0], 1.0, true);
 }
+/// A math op of its own, like asin (see there): OSL's is log2 times
+/// log10(2), which ln times 1/ln(10) does not round alike.
 Value lane::log10(OpBuilder &b, Location loc, ValueRange x) {
-  return logOfPositive(b, loc, x[0], 1.0 / M_LN10, false);
+  Value positive = fcmp(b, loc, arith::CmpFPredicate::OGT, x[0], cst(b, loc, x[0], 0));
+  Value safe = sel(b, loc, positive, x[0], cst(b, loc, x[0], FLT_MIN));
+  return b.create<math::Log10Op>(loc, safe);
+}
+Value lane::log10FromLog(OpBuilder &b, Location loc, Value x) {
+  return logOfPositive(b, loc, x, 1.0 / M_LN10, false);
 }
 
 /// (e^x -+ e^-x) / 2 from one exp; near 0 sinh is x plus a cubic term,
@@ -270,6 +285,13 @@ static std::pair<Value, Value> expPair(OpBuilder &b, Location loc, Value x) {
   return {e, oneRounding(b.create<arith::DivFOp>(loc, cst(b, loc, x, 1), e))};
 }
 Value lane::sinh(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::SinhOp>(loc, x[0]);
+}
+Value lane::cosh(OpBuilder &b, Location loc, ValueRange x) {
+  return b.create<math::CoshOp>(loc, x[0]);
+}
+Value lane::sinhFromExp(OpBuilder &b, Location loc, Value x0) {
+  ValueRange x(x0);
   auto [e, inv] = expPair(b, loc, x[0]);
   Value wide = oneRounding(b.create<arith::MulFOp>(loc, oneRounding(b.create<arith::SubFOp>(loc, e, inv)),
                                              cst(b, loc, x[0], 0.5)));
@@ -284,7 +306,8 @@ Value lane::sinh(OpBuilder &b, Location loc, ValueRange x) {
                        b.create<math::AbsFOp>(loc, x[0]), cst(b, loc, x[0], 0.0625));
   return sel(b, loc, isSmall, small, wide);
 }
-Value lane::cosh(OpBuilder &b, Location loc, ValueRange x) {
+Value lane::coshFromExp(OpBuilder &b, Location loc, Value x0) {
+  ValueRange x(x0);
   auto [e, inv] = expPair(b, loc, x[0]);
   return oneRounding(b.create<arith::MulFOp>(loc, oneRounding(b.create<arith::AddFOp>(loc, e, inv)),
                                        cst(b, loc, x[0], 0.5)));
@@ -295,21 +318,9 @@ Value lane::tanh(OpBuilder &b, Location loc, ValueRange x) {
 Value lane::expm1(OpBuilder &b, Location loc, ValueRange x) {
   return b.create<math::ExpM1Op>(loc, x[0]);
 }
-/// sign(x) * |x|^(1/3) through exp2/log2; 0 stays 0.
+/// Computed by the math level: OSL's own algorithm by default.
 Value lane::cbrt(OpBuilder &b, Location loc, ValueRange x) {
-  Value mag = b.create<math::AbsFOp>(loc, x[0]);
-  Value isZero = fcmp(b, loc, arith::CmpFPredicate::OEQ, mag, cst(b, loc, mag, 0));
-  Value safe = sel(b, loc, isZero, cst(b, loc, mag, 1), mag);
-  Value l = b.create<arith::MulFOp>(loc, b.create<math::Log2Op>(loc, safe),
-                                    cst(b, loc, mag, 1.0 / 3));
-  Value r = b.create<math::Exp2Op>(loc, l);
-  // One Newton step, r -= (r^3 - |x|) / (3 r^2), repairs the exp2/log2 error.
-  Value r2 = b.create<arith::MulFOp>(loc, r, r);
-  Value num = b.create<arith::SubFOp>(loc, b.create<arith::MulFOp>(loc, r2, r), safe);
-  Value den = b.create<arith::MulFOp>(loc, r2, cst(b, loc, r, 3));
-  r = b.create<arith::SubFOp>(loc, r, b.create<arith::DivFOp>(loc, num, den));
-  r = sel(b, loc, isZero, cst(b, loc, r, 0), r);
-  return b.create<math::CopySignOp>(loc, r, x[0]);
+  return b.create<math::CbrtOp>(loc, x[0]);
 }
 Value lane::erf(OpBuilder &b, Location loc, ValueRange x) {
   return b.create<math::ErfOp>(loc, x[0]);
@@ -427,9 +438,12 @@ Value lane::fmod(OpBuilder &b, Location loc, ValueRange x) {
       loc, fcmp(b, loc, arith::CmpFPredicate::OGE, q, intMin),
       fcmp(b, loc, arith::CmpFPredicate::OLT, q, cst(b, loc, q, 2147483648.0)));
   Value n = sel(b, loc, inRange, b.create<math::TruncOp>(loc, q), intMin);
-  auto nTimesY = b.create<arith::MulFOp>(loc, n, safeDen);
-  nTimesY->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleNone));
-  Value r = b.create<arith::SubFOp>(loc, x[0], nTimesY);
+  // x - N*y is one fused multiply-add in OSL's library (as madd is, see
+  // OslMathApproximation.cpp); y without derivative leaves x's alone.
+  Value y = sel(b, loc, isZero, cst(b, loc, x[1], 1), x[1]);
+  if (Operation *op = y.getDefiningOp())
+    op->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleNone));
+  Value r = b.create<math::FmaOp>(loc, b.create<arith::NegFOp>(loc, n), y, x[0]);
   Value result = sel(b, loc, isZero, zero, r);
   if (Operation *op = result.getDefiningOp())
     op->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleValueOnly));
