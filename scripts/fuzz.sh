@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (tools/fuzz) in ./build-fuzz with ASan and
 # UBSan and runs each for SECONDS (default 30) from a seed corpus of every
-# .osl in the project and ../shared, and the project's IR; the front-end
+# .osl in the project (and ../shared, for long runs), and the project's IR; the front-end
 # fuzzer mutates with OSL's tokens (tools/fuzz/osl.dict). Exits non-zero on
 # any finding (crash, hang over 10 s, sanitizer report) or when a fuzzer
 # fails; reproducers land in build-fuzz/findings.
@@ -43,14 +43,18 @@ run() { # name extra-flags... -- seed-dirs...
     echo "$name exited with status $rc; the end of $log:"; tail -20 "$log"; return 1
   fi
 }
-# Seeds: every shader of the project, and of ../shared when it is beside
-# the clone (the conformance corpus, the render scenes, OSL's testsuite).
+# Seeds: every shader of the project, and for runs of 5 minutes or more
+# those of ../shared when it is beside the clone (the conformance corpus,
+# the render scenes, OSL's testsuite): libFuzzer runs every seed before it
+# starts, which takes minutes under the sanitizers for ../shared's ~700.
 rm -rf build-fuzz/seeds
 mkdir -p build-fuzz/seeds/osl build-fuzz/seeds/mlir
 seed_dirs=(shaders test conformance examples render)
-for d in ../shared/conformance ../shared/render ../shared/osl-testsuite; do
-  [ -d "$d" ] && seed_dirs+=("$d")
-done
+if [ "$seconds" -ge 300 ]; then
+  for d in ../shared/conformance ../shared/render ../shared/osl-testsuite; do
+    if [ -d "$d" ]; then seed_dirs+=("$d"); fi
+  done
+fi
 n=0
 while IFS= read -r -d '' f; do
   n=$((n + 1)); cp "$f" "build-fuzz/seeds/osl/$n-$(basename "$f")"
