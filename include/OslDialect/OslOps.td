@@ -229,7 +229,10 @@ def Osl_CeilOp : Osl_UnaryOp<"ceil", "Float", "round up">;
 def Osl_RoundOp : Osl_UnaryOp<"round", "Float", "round half away from zero">;
 def Osl_TruncOp : Osl_UnaryOp<"trunc", "Float", "round toward zero">;
 def Osl_SignOp : Osl_UnaryOp<"sign", "Float", "-1, 0 or 1">;
-def Osl_PowOp : Osl_BinaryOp<"pow", "Float", "x^y; 0 for x<0 with non-integer y">;
+def Osl_PowOp : Osl_BinaryOp<"pow", "Float", "x^y; 0 for x<0 with non-integer y"> {
+  // 0^y -> 0 as OSL's optimizer folds it.
+  let hasCanonicalizer = 1;
+}
 def Osl_FmodOp : Osl_BinaryOp<"fmod", "Float", "C fmod; fmod(x, 0) = 0">;
 def Osl_Atan2Op : Osl_BinaryOp<"atan2", "Float", "atan2(y, x)">;
 def Osl_StepOp : Osl_BinaryOp<"step", "Float", "step(edge, x): 0 if x < edge else 1">;

@@ -15,6 +15,7 @@
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/Builders.h"
 #include "mlir/IR/OpImplementation.h"
+#include "mlir/IR/Matchers.h"
 #include "mlir/IR/PatternMatch.h"
 #include "llvm/ADT/StringSwitch.h"
 
@@ -280,6 +281,41 @@ struct SimplifyIfResults : public OpRewritePattern<IfOp> {
 
 void IfOp::getCanonicalizationPatterns(RewritePatternSet &results, MLIRContext *context) {
   results.add<SimplifyIfResults>(context);
+}
+
+namespace {
+/// Whether `v` is a constant 0 (every component of a triple), through a
+/// broadcast.
+bool isConstantZero(Value v) {
+  if (auto broadcast = v.getDefiningOp<BroadcastOp>())
+    v = broadcast.getValue();
+  Attribute attr;
+  if (!matchPattern(v, m_Constant(&attr)))
+    return false;
+  if (auto f = dyn_cast<FloatAttr>(attr))
+    return f.getValue().isZero();
+  if (auto dense = dyn_cast<DenseElementsAttr>(attr))
+    return llvm::all_of(dense.getValues<APFloat>(), [](const APFloat &f) { return f.isZero(); });
+  return false;
+}
+
+/// 0^y is 0 for any y that is not the constant 0: OSL's optimizer folds it
+/// so (constfold_pow), also where y turns out 0 at run time, where OSL's
+/// pow itself would give 1.
+struct PowOfZeroBase : public OpRewritePattern<PowOp> {
+  using OpRewritePattern::OpRewritePattern;
+  LogicalResult matchAndRewrite(PowOp op, PatternRewriter &b) const override {
+    if (!isConstantZero(op.getLhs()) || isConstantZero(op.getRhs()))
+      return failure();
+    b.replaceOp(op, buildZero(b, op.getLoc(), op.getType()));
+    return success();
+  }
+};
+
+} // namespace
+
+void PowOp::getCanonicalizationPatterns(RewritePatternSet &results, MLIRContext *context) {
+  results.add<PowOfZeroBase>(context);
 }
 
 LogicalResult WhileOp::verifyRegions() {

@@ -380,10 +380,11 @@ template <typename OpTy>
 struct GeometryLowering : public OslPattern<OpTy> {
   using OslPattern<OpTy>::OslPattern;
 
+  /// x*u + y*v + z*w as OSL's library computes it (Imath's dot, compiled
+  /// with contraction): fma(z, w, fma(x, u, y*v)).
   static Value dot(OpBuilder &b, Location loc, ArrayRef<Value> a, ArrayRef<Value> c) {
-    Value s = lane::mul(b, loc, {a[0], c[0]});
-    s = lane::add(b, loc, {s, lane::mul(b, loc, {a[1], c[1]})});
-    return lane::add(b, loc, {s, lane::mul(b, loc, {a[2], c[2]})});
+    Value s = b.create<math::FmaOp>(loc, a[0], c[0], lane::mul(b, loc, {a[1], c[1]}));
+    return b.create<math::FmaOp>(loc, a[2], c[2], s);
   }
 
   LogicalResult matchAndRewrite(OpTy op, typename OpTy::Adaptor adaptor,
@@ -412,10 +413,15 @@ struct GeometryLowering : public OslPattern<OpTy> {
                                          lane::mul(b, loc, {v[0][k], v[1][j]})}));
       }
     } else {
-      // normalize: a zero vector stays zero (safe division).
+      // normalize as OSL's library: times 1/length where the length is
+      // above 0, else the zero vector.
       Value len = lane::sqrt(b, loc, {dot(b, loc, v[0], v[0])});
+      Value zero = lane::constantLike(b, loc, len, 0);
+      Value positive = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OGT, len, zero);
+      Value inverse = b.create<arith::DivFOp>(loc, lane::constantLike(b, loc, len, 1), len);
       for (int i = 0; i < 3; ++i)
-        out.push_back(lane::div(b, loc, {v[0][i], len}));
+        out.push_back(b.create<arith::SelectOp>(
+            loc, positive, b.create<arith::MulFOp>(loc, v[0][i], inverse), zero));
     }
     rewriter.replaceOp(op, lanes.pack(out, this->convert(resultType)));
     return success();

@@ -230,17 +230,23 @@ Value lane::acosFromAtan2(OpBuilder &b, Location loc, Value c) {
 Value lane::atan(OpBuilder &b, Location loc, ValueRange x) {
   return b.create<math::AtanOp>(loc, x[0]);
 }
-/// atan2(0, 0) is 0 in OSL, not the approximation's NaN.
+/// atan2 of two zeros is OSL's (and IEEE's) +-0 or +-pi by the signs, not
+/// an approximation's NaN: pi where x is -0, with y's sign.
 Value lane::atan2(OpBuilder &b, Location loc, ValueRange x) {
   Value zero = cst(b, loc, x[0], 0);
   Value bothZero = b.create<arith::AndIOp>(
       loc, fcmp(b, loc, arith::CmpFPredicate::OEQ, x[0], zero),
       fcmp(b, loc, arith::CmpFPredicate::OEQ, x[1], zero));
+  // The sign bit of x (also of -0), in any float width (--math=double).
+  Value xNegative = fcmp(b, loc, arith::CmpFPredicate::OLT,
+                         b.create<math::CopySignOp>(loc, cst(b, loc, x[1], 1), x[1]), zero);
+  Value onAxis = b.create<math::CopySignOp>(
+      loc, sel(b, loc, xNegative, cst(b, loc, x[0], M_PI), zero), x[0]);
   auto angle = b.create<math::Atan2Op>(loc, x[0], x[1]);
   // OSL's dual atan2 has the opposite sign of the true derivative; its
   // derivatives are the ones to reproduce (see osl-derivatives).
   angle->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleOslAtan2));
-  return sel(b, loc, bothZero, zero, angle);
+  return sel(b, loc, bothZero, onAxis, angle);
 }
 Value lane::exp(OpBuilder &b, Location loc, ValueRange x) {
   return b.create<math::ExpOp>(loc, x[0]);
@@ -485,25 +491,34 @@ Value lane::select(OpBuilder &b, Location loc, ValueRange x) {
   return sel(b, loc, x[0], x[1], x[2]);
 }
 
+/// As OSL: every component compared, the results and-ed, except != whose
+/// are or-ed.
 Value lane::compareComponents(OpBuilder &b, Location loc, StringRef predicate,
                               ValueRange lhs, ValueRange rhs) {
   Value result;
   for (auto [l, r] : llvm::zip(lhs, rhs)) {
-    Value c = compare(b, loc, predicate == "ne" ? "eq" : predicate, l, r);
-    result = result ? b.create<arith::AndIOp>(loc, result, c).getResult() : c;
+    Value c = compare(b, loc, predicate, l, r);
+    if (!result)
+      result = c;
+    else if (predicate == "ne")
+      result = b.create<arith::OrIOp>(loc, result, c);
+    else
+      result = b.create<arith::AndIOp>(loc, result, c);
   }
-  return predicate == "ne" ? logicalNot(b, loc, {result}) : result;
+  return result;
 }
 
+/// OSL compares floats unordered: a comparison with a NaN is true, also
+/// == (OSL's JIT emits fcmp ueq, ugt...).
 Value lane::compare(OpBuilder &b, Location loc, StringRef p, Value lhs, Value rhs) {
   if (isFloat(lhs)) {
     auto pred = llvm::StringSwitch<arith::CmpFPredicate>(p)
-                    .Case("eq", arith::CmpFPredicate::OEQ)
+                    .Case("eq", arith::CmpFPredicate::UEQ)
                     .Case("ne", arith::CmpFPredicate::UNE)
-                    .Case("lt", arith::CmpFPredicate::OLT)
-                    .Case("le", arith::CmpFPredicate::OLE)
-                    .Case("gt", arith::CmpFPredicate::OGT)
-                    .Default(arith::CmpFPredicate::OGE);
+                    .Case("lt", arith::CmpFPredicate::ULT)
+                    .Case("le", arith::CmpFPredicate::ULE)
+                    .Case("gt", arith::CmpFPredicate::UGT)
+                    .Default(arith::CmpFPredicate::UGE);
     return fcmp(b, loc, pred, lhs, rhs);
   }
   auto pred = llvm::StringSwitch<arith::CmpIPredicate>(p)

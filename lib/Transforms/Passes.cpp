@@ -33,6 +33,10 @@ void mlir::osl::buildOslLevelPipeline(OpPassManager &pm, const std::string &para
                                       bool reference, bool countLanes) {
   OpPassManager &fn = pm.nest<func::FuncOp>();
   fn.addPass(createBindParams(BindParamsOptions{paramValues}));
+  // Arithmetic on constants folds before the canonicalizer's own patterns
+  // see it, as OSL's runtime optimizer folds (0 - 0 becomes a constant 0,
+  // then 0^y is 0).
+  fn.addPass(createFoldConstants());
   fn.addPass(createCanonicalizerPass());
   if (reference)
     fn.addPass(createUniformReference());
