@@ -508,17 +508,19 @@ Value lane::compareComponents(OpBuilder &b, Location loc, StringRef predicate,
   return result;
 }
 
-/// OSL compares floats unordered: a comparison with a NaN is true, also
-/// == (OSL's JIT emits fcmp ueq, ugt...).
+/// Ordered, except != (true with a NaN). (OSL's JIT compares a shader's
+/// floats unordered, so there every comparison with a NaN is true; the
+/// front end also builds library functions such as isinf and smoothstep
+/// from osl.cmp, which need ordered ones, so that difference remains.)
 Value lane::compare(OpBuilder &b, Location loc, StringRef p, Value lhs, Value rhs) {
   if (isFloat(lhs)) {
     auto pred = llvm::StringSwitch<arith::CmpFPredicate>(p)
-                    .Case("eq", arith::CmpFPredicate::UEQ)
+                    .Case("eq", arith::CmpFPredicate::OEQ)
                     .Case("ne", arith::CmpFPredicate::UNE)
-                    .Case("lt", arith::CmpFPredicate::ULT)
-                    .Case("le", arith::CmpFPredicate::ULE)
-                    .Case("gt", arith::CmpFPredicate::UGT)
-                    .Default(arith::CmpFPredicate::UGE);
+                    .Case("lt", arith::CmpFPredicate::OLT)
+                    .Case("le", arith::CmpFPredicate::OLE)
+                    .Case("gt", arith::CmpFPredicate::OGT)
+                    .Default(arith::CmpFPredicate::OGE);
     return fcmp(b, loc, pred, lhs, rhs);
   }
   auto pred = llvm::StringSwitch<arith::CmpIPredicate>(p)
