@@ -437,7 +437,11 @@ Value lane::pow(OpBuilder &b, Location loc, ValueRange x) {
 Value lane::fmod(OpBuilder &b, Location loc, ValueRange x) {
   Value zero = cst(b, loc, x[1], 0);
   Value isZero = fcmp(b, loc, arith::CmpFPredicate::OEQ, x[1], zero);
+  // y made safe, and without derivative: x - N*y then keeps x's alone (N
+  // is piecewise constant).
   Value safeDen = sel(b, loc, isZero, cst(b, loc, x[1], 1), x[1]);
+  if (Operation *op = safeDen.getDefiningOp())
+    op->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleNone));
   Value q = b.create<arith::DivFOp>(loc, x[0], safeDen);
   Value intMin = cst(b, loc, q, -2147483648.0);
   Value inRange = b.create<arith::AndIOp>(
@@ -445,11 +449,8 @@ Value lane::fmod(OpBuilder &b, Location loc, ValueRange x) {
       fcmp(b, loc, arith::CmpFPredicate::OLT, q, cst(b, loc, q, 2147483648.0)));
   Value n = sel(b, loc, inRange, b.create<math::TruncOp>(loc, q), intMin);
   // x - N*y is one fused multiply-add in OSL's library (as madd is, see
-  // OslMathApproximation.cpp); y without derivative leaves x's alone.
-  Value y = sel(b, loc, isZero, cst(b, loc, x[1], 1), x[1]);
-  if (Operation *op = y.getDefiningOp())
-    op->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleNone));
-  Value r = b.create<math::FmaOp>(loc, b.create<arith::NegFOp>(loc, n), y, x[0]);
+  // OslMathApproximation.cpp).
+  Value r = b.create<math::FmaOp>(loc, b.create<arith::NegFOp>(loc, n), safeDen, x[0]);
   Value result = sel(b, loc, isZero, zero, r);
   if (Operation *op = result.getDefiningOp())
     op->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleValueOnly));
