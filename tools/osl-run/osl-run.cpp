@@ -164,6 +164,11 @@ void armTimeout(int seconds) {
   alarm(unsigned(seconds));
 }
 
+/// The exit status once the images are written: a texture that could not
+/// be read or a string call that failed (a bad regex) is an error
+/// (reported once, where it happened).
+int statusAfterShading() { return textureFileErrors() > 0 || stringErrors() > 0 ? 1 : 0; }
+
 /// Shades and writes a grid whose images exceed --image-memory, `bandRows`
 /// rows at a time, each image written as it goes (under a temporary name,
 /// renamed when whole). What the shader prints comes band by band, before
@@ -210,7 +215,7 @@ int shadeInBands(RunOptions &options, const CompiledShader &shader,
   for (auto &[index, file] : files)
     if (file != "null" && !options.outputs.empty())
       llvm::outs() << "Output " << shader.outputs[index].name << " to " << file << "\n";
-  return textureFileErrors() > 0 || stringErrors() > 0 ? 1 : 0;
+  return statusAfterShading();
 }
 
 } // namespace
@@ -370,8 +375,5 @@ int main(int argc, char **argv) {
     double points = double(options.grid.xres) * options.grid.yres * options.iters;
     llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
   }
-  // The images are written, but a texture that could not be read or a
-  // string call that failed (a bad regex) is an error (reported once, where
-  // it happened).
-  return textureFileErrors() > 0 || stringErrors() > 0 ? 1 : 0;
+  return statusAfterShading();
 }
