@@ -250,12 +250,22 @@ def Osl_NormalizeOp : Osl_UnaryOp<"normalize", "Triple", "unit vector (0 stays 0
 
 def Osl_CmpOp : Osl_LaneOp<"cmp", "Compare"> {
   let summary = "comparison: eq, ne, lt, le, gt, ge";
-  let arguments = (ins StrAttr:$predicate, Osl_Value:$lhs, Osl_Value:$rhs);
+  let description = [{
+    Floats compare ordered (false with a NaN) except `ne`, which is true with
+    a NaN; with `unordered`, every predicate is true when either side is a
+    NaN, as OSL's JIT compares a shader's own operands. The front end's
+    library code (isinf, smoothstep, ...) needs ordered comparisons.
+    Triples and matrices: `ne` is or-ed over the components, the others
+    and-ed.
+  }];
+  let arguments = (ins StrAttr:$predicate, Osl_Value:$lhs, Osl_Value:$rhs,
+                       UnitAttr:$unordered);
   let results = (outs Osl_Bool:$result);
   let assemblyFormat = "$predicate `,` $lhs `,` $rhs attr-dict `:` type($lhs) `,` type($rhs) `->` type($result)";
-  let builders = [OpBuilder<(ins "::llvm::StringRef":$predicate, "::mlir::Value":$lhs, "::mlir::Value":$rhs), [{
+  let builders = [OpBuilder<(ins "::llvm::StringRef":$predicate, "::mlir::Value":$lhs,
+                                "::mlir::Value":$rhs, CArg<"bool", "false">:$unordered), [{
     build($_builder, $_state, ::mlir::osl::inferLaneResultType(kLaneKind, {lhs, rhs}),
-          $_builder.getStringAttr(predicate), lhs, rhs);
+          $_builder.getStringAttr(predicate), lhs, rhs, unordered);
   }]>];
 }
 

@@ -112,13 +112,14 @@ Value clamp(OpBuilder &b, Location loc, ValueRange x);
 Value smoothstep(OpBuilder &b, Location loc, ValueRange x);
 Value select(OpBuilder &b, Location loc, ValueRange x);
 
-/// OSL comparison `predicate` (eq, ne, lt, le, gt, ge) on two lane values.
+/// OSL comparison `predicate` (eq, ne, lt, le, gt, ge) on two lane values;
+/// `unordered`: floats compare true with a NaN (osl.cmp's attribute).
 Value compare(OpBuilder &b, Location loc, StringRef predicate, Value lhs,
-              Value rhs);
+              Value rhs, bool unordered = false);
 /// `compare` on values split into components (a triple's three lane
 /// values): triples are equal when every component is.
 Value compareComponents(OpBuilder &b, Location loc, StringRef predicate, ValueRange lhs,
-                        ValueRange rhs);
+                        ValueRange rhs, bool unordered = false);
 /// Converts between f32, i32 and i1 lane values with OSL's rules.
 Value convert(OpBuilder &b, Location loc, Value x, Type toElement);
 

@@ -254,7 +254,10 @@ public:
   mlir::Value fDiv(mlir::Value x, mlir::Value y, SrcLoc l);
   mlir::Value fNeg(mlir::Value x, SrcLoc l);
   mlir::Value fAbs(mlir::Value x, SrcLoc l);
-  mlir::Value cmp(llvm::StringRef pred, mlir::Value x, mlir::Value y, SrcLoc l);
+  /// osl.cmp, folded when both sides are constant scalars; `unordered` for
+  /// the shader's own comparisons (see osl.cmp).
+  mlir::Value cmp(llvm::StringRef pred, mlir::Value x, mlir::Value y, SrcLoc l,
+                  bool unordered = false);
   mlir::Value select(mlir::Value c, mlir::Value x, mlir::Value y, SrcLoc l);
   /// Per lane, `a` where `c` else `b`, field by field and element by
   /// element (same types; not strings).

@@ -415,15 +415,9 @@ std::optional<RValue> IRGen::emitBinaryOp(llvm::StringRef op, RValue l, RValue r
                                .Case("<=", "le")
                                .Case(">", "gt")
                                .Default("ge");
-    // Fold comparisons of scalar constants (so constant conditions pick
-    // their branch at compile time).
-    if (auto x = getConstScalar(a))
-      if (auto y = getConstScalar(c)) {
-        bool r = op == "==" ? *x == *y : op == "!=" ? *x != *y : op == "<" ? *x < *y
-                 : op == "<=" ? *x <= *y : op == ">" ? *x > *y : *x >= *y;
-        return RValue::num(OslType(BaseType::Bool), constBool(r, sl));
-      }
-    return RValue::num(OslType(BaseType::Bool), b.create<CmpOp>(ml, pred, a, c));
+    // Unordered as OSL's JIT compares; constant scalars fold (so constant
+    // conditions pick their branch at compile time).
+    return RValue::num(OslType(BaseType::Bool), cmp(pred, a, c, sl, /*unordered=*/true));
   }
   OslType resultType = common;
   if (common.isTriple() && l.type.isTriple() && r.type.isTriple()) {

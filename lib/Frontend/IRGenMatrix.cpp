@@ -78,10 +78,11 @@ Value IRGen::fAbs(Value x, SrcLoc l) {
   return b.create<AbsOp>(loc(l), x);
 }
 
-Value IRGen::cmp(StringRef pred, Value x, Value y, SrcLoc l) {
+Value IRGen::cmp(StringRef pred, Value x, Value y, SrcLoc l, bool unordered) {
   auto a = getConstScalar(x), c = getConstScalar(y);
   if (a && c) {
-    bool r = pred == "eq"   ? *a == *c
+    bool r = (unordered && (std::isnan(*a) || std::isnan(*c))) ? true
+             : pred == "eq" ? *a == *c
              : pred == "ne" ? *a != *c
              : pred == "lt" ? *a < *c
              : pred == "le" ? *a <= *c
@@ -89,7 +90,7 @@ Value IRGen::cmp(StringRef pred, Value x, Value y, SrcLoc l) {
                             : *a >= *c;
     return constBool(r, l);
   }
-  return b.create<CmpOp>(loc(l), pred, x, y);
+  return b.create<CmpOp>(loc(l), pred, x, y, unordered);
 }
 
 Value IRGen::select(Value c, Value x, Value y, SrcLoc l) {
@@ -392,10 +393,15 @@ std::optional<RValue> IRGen::emitMatrixBinaryOp(StringRef op, RValue lhs, RValue
   if (op == "==" || op == "!=") {
     MatrixElems a = lm ? lhs.elems : scaledIdentity(lhs.value, l).elems;
     MatrixElems c = rm ? rhs.elems : scaledIdentity(rhs.value, l).elems;
-    Value equal = constBool(true, l);
-    for (int k = 0; k < 16; ++k)
-      equal = boolAnd(equal, cmp("eq", a[k], c[k], l), l);
-    return RValue::num(OslType(BaseType::Bool), op == "==" ? equal : boolNot(equal, l));
+    // As OSL: == and-s the elements' comparisons, != or-s them (both
+    // unordered, so a NaN element makes both true).
+    bool eq = op == "==";
+    Value result = constBool(eq, l);
+    for (int k = 0; k < 16; ++k) {
+      Value e = cmp(eq ? "eq" : "ne", a[k], c[k], l, /*unordered=*/true);
+      result = eq ? boolAnd(result, e, l) : boolOr(result, e, l);
+    }
+    return RValue::num(OslType(BaseType::Bool), result);
   }
   if (op == "*") {
     if (lm && rm)

@@ -495,10 +495,10 @@ Value lane::select(OpBuilder &b, Location loc, ValueRange x) {
 /// As OSL: every component compared, the results and-ed, except != whose
 /// are or-ed.
 Value lane::compareComponents(OpBuilder &b, Location loc, StringRef predicate,
-                              ValueRange lhs, ValueRange rhs) {
+                              ValueRange lhs, ValueRange rhs, bool unordered) {
   Value result;
   for (auto [l, r] : llvm::zip(lhs, rhs)) {
-    Value c = compare(b, loc, predicate, l, r);
+    Value c = compare(b, loc, predicate, l, r, unordered);
     if (!result)
       result = c;
     else if (predicate == "ne")
@@ -509,19 +509,21 @@ Value lane::compareComponents(OpBuilder &b, Location loc, StringRef predicate,
   return result;
 }
 
-/// Ordered, except != (true with a NaN). (OSL's JIT compares a shader's
-/// floats unordered, so there every comparison with a NaN is true; the
-/// front end also builds library functions such as isinf and smoothstep
-/// from osl.cmp, which need ordered ones, so that difference remains.)
-Value lane::compare(OpBuilder &b, Location loc, StringRef p, Value lhs, Value rhs) {
+/// Ordered, except != (true with a NaN), unless `unordered`: OSL's JIT
+/// compares a shader's floats unordered (every comparison with a NaN is
+/// true), while library functions such as isinf and smoothstep, which the
+/// front end builds from osl.cmp, need ordered ones.
+Value lane::compare(OpBuilder &b, Location loc, StringRef p, Value lhs, Value rhs,
+                    bool unordered) {
   if (isFloat(lhs)) {
-    auto pred = llvm::StringSwitch<arith::CmpFPredicate>(p)
-                    .Case("eq", arith::CmpFPredicate::OEQ)
-                    .Case("ne", arith::CmpFPredicate::UNE)
-                    .Case("lt", arith::CmpFPredicate::OLT)
-                    .Case("le", arith::CmpFPredicate::OLE)
-                    .Case("gt", arith::CmpFPredicate::OGT)
-                    .Default(arith::CmpFPredicate::OGE);
+    using P = arith::CmpFPredicate;
+    auto pred = llvm::StringSwitch<P>(p)
+                    .Case("eq", unordered ? P::UEQ : P::OEQ)
+                    .Case("ne", P::UNE)
+                    .Case("lt", unordered ? P::ULT : P::OLT)
+                    .Case("le", unordered ? P::ULE : P::OLE)
+                    .Case("gt", unordered ? P::UGT : P::OGT)
+                    .Default(unordered ? P::UGE : P::OGE);
     return fcmp(b, loc, pred, lhs, rhs);
   }
   auto pred = llvm::StringSwitch<arith::CmpIPredicate>(p)

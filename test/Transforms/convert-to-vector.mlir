@@ -469,3 +469,38 @@ func.func @print() {
   osl.print "printf" "sf"(%fmt, %u) mask %c : !osl.varying<i1> : i32, !osl.varying<f32>
   return
 }
+
+// -----
+
+// A shader's own comparisons are unordered as in OSL's JIT (true with a
+// NaN); library comparisons stay ordered, and != is unordered either way.
+// Triples: == and-s the components, != or-s them.
+// CHECK-LABEL: osl.shader_name = "unordered_comparisons"
+// CHECK: arith.cmpf ult, %{{.+}}, %{{.+}} : vector<8xf32>
+// CHECK: arith.cmpf olt, %{{.+}}, %{{.+}} : vector<8xf32>
+// CHECK: arith.cmpf ueq
+// CHECK: arith.cmpf ueq
+// CHECK: arith.andi
+// CHECK: arith.cmpf ueq
+// CHECK: arith.andi
+// CHECK: arith.cmpf une
+// CHECK: arith.cmpf une
+// CHECK: arith.ori
+// CHECK: arith.cmpf une
+// CHECK: arith.ori
+func.func @unordered_comparisons() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %p = osl.global "P" : !osl.varying<vector<3xf32>>
+  %one = arith.constant 1.0 : f32
+  %zero = arith.constant dense<0.0> : vector<3xf32>
+  %a = osl.cmp "lt", %u, %one {unordered} : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %b = osl.cmp "lt", %u, %one : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %c = osl.cmp "eq", %p, %zero {unordered} : !osl.varying<vector<3xf32>>, vector<3xf32> -> !osl.varying<i1>
+  %d = osl.cmp "ne", %p, %zero {unordered} : !osl.varying<vector<3xf32>>, vector<3xf32> -> !osl.varying<i1>
+  %ab = osl.and %a, %b : !osl.varying<i1>, !osl.varying<i1> -> !osl.varying<i1>
+  %cd = osl.and %c, %d : !osl.varying<i1>, !osl.varying<i1> -> !osl.varying<i1>
+  %all = osl.and %ab, %cd : !osl.varying<i1>, !osl.varying<i1> -> !osl.varying<i1>
+  %f = osl.convert %all : !osl.varying<i1> -> !osl.varying<f32>
+  osl.output "r" = %f : !osl.varying<f32>
+  return
+}
