@@ -66,7 +66,7 @@ def FoldConstants : Pass<"osl-fold-constants", "::mlir::func::FuncOp"> {
     which is how a value that looked varying becomes uniform before
     osl-varying-propagation runs.
   }];
-  let dependentDialects = ["::mlir::arith::ArithDialect"];
+  let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::math::MathDialect"];
 }
 
 def VaryingPropagation : Pass<"osl-varying-propagation", "::mlir::func::FuncOp"> {

@@ -312,7 +312,40 @@ struct PowOfZeroBase : public OpRewritePattern<PowOp> {
   }
 };
 
+/// x - x is 0 even when x is not a constant (an inf or a NaN at run time):
+/// OSL's optimizer folds it so (constfold_sub), and shaders' outputs
+/// show it.
+struct SubOfItself : public OpRewritePattern<SubOp> {
+  using OpRewritePattern::OpRewritePattern;
+  LogicalResult matchAndRewrite(SubOp op, PatternRewriter &b) const override {
+    if (op.getLhs() != op.getRhs())
+      return failure();
+    b.replaceOp(op, buildZero(b, op.getLoc(), op.getType()));
+    return success();
+  }
+};
+
+/// x * 0 and 0 * x are 0 for any x, inf and NaN included, when the 0 is a
+/// constant: OSL's optimizer folds them so (constfold_mul).
+struct MulByZero : public OpRewritePattern<MulOp> {
+  using OpRewritePattern::OpRewritePattern;
+  LogicalResult matchAndRewrite(MulOp op, PatternRewriter &b) const override {
+    if (!isConstantZero(op.getLhs()) && !isConstantZero(op.getRhs()))
+      return failure();
+    b.replaceOp(op, buildZero(b, op.getLoc(), op.getType()));
+    return success();
+  }
+};
+
 } // namespace
+
+void SubOp::getCanonicalizationPatterns(RewritePatternSet &results, MLIRContext *context) {
+  results.add<SubOfItself>(context);
+}
+
+void MulOp::getCanonicalizationPatterns(RewritePatternSet &results, MLIRContext *context) {
+  results.add<MulByZero>(context);
+}
 
 void PowOp::getCanonicalizationPatterns(RewritePatternSet &results, MLIRContext *context) {
   results.add<PowOfZeroBase>(context);

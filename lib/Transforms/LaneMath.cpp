@@ -5,11 +5,13 @@
 #include "mlir/Dialect/Math/IR/Math.h"
 #include "mlir/Dialect/Vector/IR/VectorOps.h"
 #include "mlir/IR/BuiltinAttributes.h"
+#include "mlir/IR/Matchers.h"
 #include "mlir/IR/TypeUtilities.h"
 #include "llvm/ADT/StringSwitch.h"
 
 #include <cfloat>
 #include <cmath>
+#include <optional>
 
 using namespace mlir;
 using namespace mlir::osl;
@@ -89,12 +91,52 @@ Value lane::mul(OpBuilder &b, Location loc, ValueRange x) {
 /// OSL's safe division: x/0 = 0. For ints the divisor is also made safe
 /// first, since every lane executes the division (x86 traps on /0 and on
 /// INT_MIN/-1).
+/// The value every lane of `v` holds when it is a compile-time constant:
+/// a scalar constant, or a broadcast of one or of a constant triple's
+/// component (as the lowering unpacks uniform constants).
+static std::optional<double> constantLaneValue(Value v) {
+  while (true) {
+    Operation *def = v.getDefiningOp();
+    if (!def)
+      return std::nullopt;
+    if (isa<vector::BroadcastOp, vector::SplatOp>(def) &&
+        !isa<VectorType>(def->getOperand(0).getType())) {
+      v = def->getOperand(0);
+      continue;
+    }
+    if (auto extract = dyn_cast<vector::ExtractOp>(def)) {
+      DenseElementsAttr dense;
+      if (!matchPattern(extract.getVector(), m_Constant(&dense)) ||
+          extract.hasDynamicPosition() || extract.getStaticPosition().size() != 1)
+        return std::nullopt;
+      int64_t at = extract.getStaticPosition()[0];
+      if (!isa<FloatType>(dense.getElementType()) || at < 0 || at >= dense.getNumElements())
+        return std::nullopt;
+      return (*(dense.getValues<APFloat>().begin() + at)).convertToDouble();
+    }
+    FloatAttr f;
+    if (matchPattern(v, m_Constant(&f)))
+      return f.getValueAsDouble();
+    DenseElementsAttr splat;
+    if (matchPattern(v, m_Constant(&splat)) && splat.isSplat() &&
+        isa<FloatType>(splat.getElementType()))
+      return splat.getSplatValue<APFloat>().convertToDouble();
+    return std::nullopt;
+  }
+}
+
+/// OSL's float division: by a non-zero constant, a plain division (OSL's
+/// scalar JIT emits no check); otherwise a quotient that is not finite
+/// (x/0, inf/y, a NaN, an overflow) is 0.
 Value lane::div(OpBuilder &b, Location loc, ValueRange x) {
   Value num = x[0], den = x[1];
   if (isFloat(num)) {
     Value q = b.create<arith::DivFOp>(loc, num, den);
-    Value isZero = fcmp(b, loc, arith::CmpFPredicate::OEQ, den, cst(b, loc, den, 0));
-    return sel(b, loc, isZero, cst(b, loc, num, 0), q);
+    if (auto k = constantLaneValue(den); k && *k != 0)
+      return q;
+    Value finite = fcmp(b, loc, arith::CmpFPredicate::OLT, b.create<math::AbsFOp>(loc, q),
+                        cst(b, loc, q, INFINITY));
+    return sel(b, loc, finite, q, cst(b, loc, num, 0));
   }
   Value zero = cst(b, loc, den, 0), one = cst(b, loc, den, 1);
   Value isZero = icmp(b, loc, arith::CmpIPredicate::eq, den, zero);

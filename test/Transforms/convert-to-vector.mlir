@@ -40,16 +40,43 @@ func.func @uniform_stays_scalar() {
 
 // -----
 
-// OSL's safe division: x/0 = 0, by a select on the divisor.
+// OSL's safe division: a quotient that is not finite (x/0, inf/y, NaN,
+// overflow) is 0, by a select on |q| < inf.
 // CHECK-LABEL: osl.shader_name = "safe_division"
 // CHECK: %[[Q:.+]] = arith.divf %{{.+}}, %{{.+}} : vector<8xf32>
-// CHECK: %[[Z:.+]] = arith.cmpf oeq, %{{.+}}, %{{.+}} : vector<8xf32>
-// CHECK: arith.select %[[Z]], %{{.+}}, %[[Q]] : vector<8xi1>, vector<8xf32>
+// CHECK: %[[A:.+]] = math.absf %[[Q]] : vector<8xf32>
+// CHECK: %[[F:.+]] = arith.cmpf olt, %[[A]], %{{.+}} : vector<8xf32>
+// CHECK: arith.select %[[F]], %[[Q]], %{{.+}} : vector<8xi1>, vector<8xf32>
 func.func @safe_division() {
   %u = osl.global "u" : !osl.varying<f32>
   %v = osl.global "v" : !osl.varying<f32>
   %q = osl.div %u, %v : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
   osl.output "q" = %q : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// By a non-zero constant (a scalar or a triple's component) the division
+// is plain, as OSL's scalar JIT emits it: inf / 2 stays inf.
+// CHECK-LABEL: osl.shader_name = "division_by_constant"
+// CHECK: arith.divf %{{.+}}, %{{.+}} : vector<8xf32>
+// CHECK-NOT: math.absf
+// CHECK: arith.divf %{{.+}}, %{{.+}} : vector<8xf32>
+// CHECK-NOT: math.absf
+// CHECK: arith.divf %{{.+}}, %{{.+}} : vector<8xf32>
+// CHECK-NOT: math.absf
+// CHECK: arith.divf %{{.+}}, %{{.+}} : vector<8xf32>
+// CHECK: math.absf
+func.func @division_by_constant() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %p = osl.global "P" : !osl.varying<vector<3xf32>>
+  %two = arith.constant 2.0 : f32
+  %k = arith.constant dense<[1.0, 4.0, 0.0]> : vector<3xf32>
+  %q = osl.div %u, %two : !osl.varying<f32>, f32 -> !osl.varying<f32>
+  %t = osl.div %p, %k : !osl.varying<vector<3xf32>>, vector<3xf32> -> !osl.varying<vector<3xf32>>
+  osl.output "q" = %q : !osl.varying<f32>
+  osl.output "t" = %t : !osl.varying<vector<3xf32>>
   return
 }
 
