@@ -180,7 +180,7 @@ class Osl_TernaryOp<string mnemonic, string kind, string summ>
 }
 
 // Arithmetic on int, float and triples (componentwise). Division and modulo
-// are OSL's safe versions: x/0 = 0, int x%0 = 0.
+// are OSL's safe versions: x/0 = 0 (see osl.div), int x%0 = 0.
 def Osl_AddOp : Osl_BinaryOp<"add", "Numeric", "addition">;
 def Osl_SubOp : Osl_BinaryOp<"sub", "Numeric", "subtraction"> {
   // x - x -> 0 as OSL's optimizer folds it (also for inf and NaN).
@@ -190,7 +190,7 @@ def Osl_MulOp : Osl_BinaryOp<"mul", "Numeric", "multiplication"> {
   // x * 0 -> 0 as OSL's optimizer folds it (also for inf and NaN).
   let hasCanonicalizer = 1;
 }
-def Osl_DivOp : Osl_BinaryOp<"div", "Numeric", "safe division (x/0 = 0)">;
+def Osl_DivOp : Osl_BinaryOp<"div", "Numeric", "safe division: a float quotient that is not finite is 0 unless the divisor is a non-zero constant; int x/0 = 0">;
 def Osl_ModOp : Osl_BinaryOp<"mod", "Int", "int remainder, truncating, x%0 = 0">;
 def Osl_NegOp : Osl_UnaryOp<"neg", "Numeric", "negation">;
 def Osl_MinOp : Osl_BinaryOp<"min", "Numeric", "minimum">;

@@ -250,7 +250,7 @@ public:
   mlir::Value fAdd(mlir::Value x, mlir::Value y, SrcLoc l);
   mlir::Value fSub(mlir::Value x, mlir::Value y, SrcLoc l);
   mlir::Value fMul(mlir::Value x, mlir::Value y, SrcLoc l);
-  /// Safe division, as osl.div: x/0 = 0.
+  /// Safe division, as osl.div (folded when both sides are constants).
   mlir::Value fDiv(mlir::Value x, mlir::Value y, SrcLoc l);
   mlir::Value fNeg(mlir::Value x, SrcLoc l);
   mlir::Value fAbs(mlir::Value x, SrcLoc l);
