@@ -335,6 +335,19 @@ def Osl_InsertOp : Osl_Op<"insert", [Pure]> {
 // Library calls
 //===----------------------------------------------------------------------===//
 
+def Osl_HashOp : Osl_Op<"hash", [Pure]> {
+  let summary = "OSL's hash of numbers: an int from the keys' bits";
+  let description = [{
+    hash(int), hash(float), hash(float, float), hash(point) and
+    hash(point, float): Bob Jenkins' lookup3 final mix (OSL's inthash) of
+    the keys' 32-bit patterns, an int taken as it is and a float's bits,
+    a triple's three components in order.
+  }];
+  let arguments = (ins Variadic<Osl_Value>:$keys);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "`(` $keys `)` attr-dict `:` type($keys) `->` type($result)";
+}
+
 def Osl_NoiseOp : Osl_Op<"noise", [Pure, AttrSizedOperandSegments]> {
   let summary = "noise(name, p [, t]) with a float or triple result";
   let description = [{

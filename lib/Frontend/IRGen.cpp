@@ -235,7 +235,14 @@ bool IRGen::checkStructType(const OslType &t, SrcLoc l) {
     return true;
   for (size_t j = 0; j < t.structDecl->fields.size(); ++j) {
     const StructField &f = t.structDecl->fields[j];
-    if (f.type.base == BaseType::String || f.type.base == BaseType::Closure ||
+    // String fields: single ones, in structs that are not in arrays.
+    bool unsupportedString =
+        f.type.base == BaseType::String && (t.isArray() || f.type.isArray());
+    if (unsupportedString)
+      return error(l, "field '" + f.name + "' of struct '" + t.structDecl->name +
+                          "': string fields of arrays of structs, and arrays of strings "
+                          "as fields, are not supported yet");
+    if (f.type.base == BaseType::Closure ||
         (f.type.base == BaseType::Matrix && (t.isArray() || f.type.isArray())))
       return error(l, "field '" + f.name + "' of struct '" + t.structDecl->name +
                           "': '" + f.type.str() + "' fields are not supported yet");
@@ -750,8 +757,13 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
     return error(p.loc, "closure parameter '" + p.name + "' cannot be given a value");
   if (ov) {
     if (t.arrayLen == 0) {
-      // Length from the default's initializer list.
-      if (p.init->kind == ExprKind::InitList)
+      // An unsized array takes its length from the value given (OSL's
+      // `float a[]` parameters), as many elements as it has numbers.
+      size_t numbers = llvm::StringRef(ov->value).count(',') + 1;
+      size_t per = t.element().isTriple() ? 3 : 1;
+      if (t.base != BaseType::String && numbers % per == 0)
+        t.arrayLen = int(numbers / per);
+      else if (p.init->kind == ExprKind::InitList)
         t.arrayLen = int(p.init->args.size());
     }
     Param sized;

@@ -338,6 +338,12 @@ private:
   bool checkNoStringArrays(const llvm::StringSet<> &names, SrcLoc l, llvm::StringRef what);
   bool checkStrings(const std::vector<std::pair<Var *, RValue>> &snap, SrcLoc l,
                     llvm::StringRef what);
+  /// The string fields of the carried struct variables, which control
+  /// flow may not change yet (they are not carried like other leaves).
+  std::vector<std::pair<Var *, std::vector<RValue>>>
+  structStringSnapshot(const std::vector<Var *> &carried);
+  bool checkStructStrings(const std::vector<std::pair<Var *, std::vector<RValue>>> &snap,
+                          SrcLoc l, llvm::StringRef what);
   /// The snapshot's variables' current values; restores the snapshot.
   std::vector<RValue> takeStrings(const std::vector<std::pair<Var *, RValue>> &snap);
   /// A string variable the arms of an `if` leave different: what each arm

@@ -314,7 +314,11 @@ std::vector<Var *> IRGen::carriedVars(const llvm::StringSet<> &names) {
 namespace {
 /// The IR values of a variable's value: one, an array's (or a matrix's)
 /// elements, or a struct's fields' values in order.
+/// (A struct's string fields are not among them: they are compile-time
+/// strings that control flow may not change; see checkStructStrings.)
 void collectLeaves(const RValue &r, std::vector<Value> &out) {
+  if (r.type.isString() && !r.type.isArray())
+    return;
   if (r.type.isStructLike()) {
     for (const RValue &f : r.fields)
       collectLeaves(f, out);
@@ -325,6 +329,8 @@ void collectLeaves(const RValue &r, std::vector<Value> &out) {
   }
 }
 void replaceLeaves(RValue &r, ValueRange values, size_t &k) {
+  if (r.type.isString() && !r.type.isArray())
+    return;
   if (r.type.isStructLike()) {
     for (RValue &f : r.fields)
       replaceLeaves(f, values, k);
@@ -386,6 +392,46 @@ namespace {
 bool sameString(const RValue &a, const RValue &b) {
   return a.str == b.str && a.value == b.value && a.choices == b.choices;
 }
+/// The string fields of a struct value, nested ones included, in order.
+void collectStringFields(const RValue &r, std::vector<RValue> &out) {
+  if (r.type.isStructLike()) {
+    for (const RValue &f : r.fields)
+      collectStringFields(f, out);
+  } else if (r.type.isString()) {
+    out.push_back(r);
+  }
+}
+} // namespace
+
+std::vector<std::pair<Var *, std::vector<RValue>>>
+IRGen::structStringSnapshot(const std::vector<Var *> &carried) {
+  std::vector<std::pair<Var *, std::vector<RValue>>> snap;
+  for (Var *v : carried) {
+    std::vector<RValue> fields;
+    collectStringFields(v->val, fields);
+    if (!fields.empty())
+      snap.push_back({v, std::move(fields)});
+  }
+  return snap;
+}
+
+bool IRGen::checkStructStrings(
+    const std::vector<std::pair<Var *, std::vector<RValue>>> &snap, SrcLoc l,
+    llvm::StringRef what) {
+  for (auto &[v, before] : snap) {
+    std::vector<RValue> now;
+    collectStringFields(v->val, now);
+    bool same = now.size() == before.size();
+    for (size_t k = 0; same && k < now.size(); ++k)
+      same = sameString(now[k], before[k]);
+    if (!same)
+      return error(l, "a string field of '" + v->name + "' is changed inside " + what +
+                          "; strings cannot depend on control flow yet");
+  }
+  return true;
+}
+
+namespace {
 /// The compile-time strings a string may be (one, or its choices).
 std::vector<std::string> candidateStrings(const RValue &s) {
   return s.isStringChoice() ? s.choices : std::vector<std::string>{s.str};
@@ -458,12 +504,13 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
   std::vector<Var *> carried = carriedVars(assigned);
   std::vector<Value> init = flatten(carried, l);
   auto strings = stringSnapshot(assigned);
+  auto structStrings = structStringSnapshot(carried);
   Location mloc = loc(l);
 
   auto tmp = b.create<IfOp>(mloc, TypeRange{}, cond);
   Block *thenBlock = b.createBlock(&tmp.getThenRegion());
   auto tv = thenArm();
-  if (!tv)
+  if (!tv || !checkStructStrings(structStrings, l, "a conditional"))
     return std::nullopt;
   std::vector<Value> thenVals = flatten(carried, l);
   std::vector<RValue> thenStrings = takeStrings(strings);
@@ -471,7 +518,7 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
 
   Block *elseBlock = b.createBlock(&tmp.getElseRegion());
   auto ev = elseArm();
-  if (!ev)
+  if (!ev || !checkStructStrings(structStrings, l, "a conditional"))
     return std::nullopt;
   std::vector<Value> elseVals = flatten(carried, l);
   std::vector<RValue> elseStrings = takeStrings(strings);
@@ -596,6 +643,7 @@ bool IRGen::emitWhile(const Expr *condExpr, const Stmt &body, const Expr *step,
   std::vector<Var *> carried = carriedVars(names);
   std::vector<Value> init = flatten(carried, l);
   auto strings = stringSnapshot(names);
+  auto structStrings = structStringSnapshot(carried);
   Location mloc = loc(l);
   std::vector<Type> types;
   std::vector<Location> locs;
@@ -674,7 +722,8 @@ bool IRGen::emitWhile(const Expr *condExpr, const Stmt &body, const Expr *step,
     }
   }
   b.create<YieldOp>(mloc, flatten(carried, l));
-  if (!checkStrings(strings, l, "a loop"))
+  if (!checkStrings(strings, l, "a loop") ||
+      !checkStructStrings(structStrings, l, "a loop"))
     return false;
   b.setInsertionPointAfter(whileOp);
   unflatten(carried, whileOp.getResults());

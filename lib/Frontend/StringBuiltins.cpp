@@ -60,6 +60,8 @@ public:
   std::optional<RValue> emitPrint();
 
 private:
+  /// hash of numbers and triples (osl.hash); emit() hashes strings.
+  std::optional<RValue> emitNumericHash();
   bool emitArgs();
   /// Adds one formatted value: a number, triple or string as one operand;
   /// an array's elements or a matrix's 16 values each, with the count in
@@ -273,6 +275,39 @@ std::optional<RValue> StringCall::emitPrint() {
   return RValue::voidValue();
 }
 
+/// hash(int), hash(float), hash(float, float), hash(point), hash(point,
+/// float): osl.hash of the keys (ints become floats where OSL's overloads
+/// take floats).
+std::optional<RValue> StringCall::emitNumericHash() {
+  auto isKey = [](const OslType &t, bool triple) {
+    return !t.isArray() && (t.isInt() || t.isFloat() || (triple && t.isTriple()));
+  };
+  bool ok = args.size() <= 2 && isKey(args[0].type, true) &&
+            (args.size() == 1 || isKey(args[1].type, false));
+  if (!ok) {
+    g.error(call.loc, "wrong arguments to 'hash'; candidates: int hash(string), int hash(int), "
+                      "int hash(float), int hash(float, float), int hash(point), "
+                      "int hash(point, float)");
+    return std::nullopt;
+  }
+  SmallVector<Value> keys;
+  bool varying = false;
+  for (size_t k = 0; k < args.size(); ++k) {
+    RValue key = args[k];
+    if (key.type.isInt() && args.size() == 2) {
+      auto f = g.coerce(key, OslType(BaseType::Float), call.args[k]->loc, "");
+      if (!f)
+        return std::nullopt;
+      key = *f;
+    }
+    varying |= isVarying(key.value.getType());
+    keys.push_back(key.value);
+  }
+  OpBuilder &b = g.builder();
+  Type result = withUniformity(b.getI32Type(), varying);
+  return RValue::num(OslType(BaseType::Int), b.create<HashOp>(g.loc(call.loc), result, keys));
+}
+
 std::optional<RValue> StringCall::emit() {
   if (!emitArgs())
     return std::nullopt;
@@ -291,9 +326,8 @@ std::optional<RValue> StringCall::emit() {
   } else if (name == "concat") {
     for (size_t k = 0; ok && k < args.size(); ++k)
       ok = addOperand(k, 's');
-  } else if (name == "hash" && args.size() == 1 && !args[0].type.isString()) {
-    // OSL also hashes numbers and triples; only strings are here yet.
-    ok = g.error(call.loc, "hash() of a '" + args[0].type.str() + "' is not supported yet");
+  } else if (name == "hash" && !args.empty() && !args[0].type.isString()) {
+    return emitNumericHash();
   } else {
     size_t required = 0, optional = 0;
     for (char c : pattern) {

@@ -483,6 +483,29 @@ void lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Lanes &lanes, Type resultT
   }
 }
 
+struct HashLowering : public OslPattern<HashOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(HashOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    Lanes lanes{rewriter, loc, width};
+    SmallVector<Value> keys;
+    for (auto &key : lanes.unpackAll(adaptor.getKeys(), op.getKeys(), isVarying(op.getType())))
+      for (Value k : key) {
+        Type i32 = rewriter.getI32Type();
+        if (auto vt = dyn_cast<VectorType>(k.getType()))
+          i32 = VectorType::get(vt.getShape(), i32);
+        if (k.getType() != i32)
+          k = rewriter.create<arith::BitcastOp>(loc, i32, k);
+        keys.push_back(k);
+      }
+    if (keys.empty() || keys.size() > 5)
+      return op.emitError("hash takes 1 to 5 key components");
+    rewriter.replaceOp(op, buildIntHash(rewriter, loc, keys));
+    return success();
+  }
+};
+
 struct NoiseLowering : public OslPattern<NoiseOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(NoiseOp op, OpAdaptor adaptor,
@@ -1069,7 +1092,7 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
                CmpLowering, ConvertLowering, ConstructLowering, ExtractLowering,
                InsertLowering, GeometryLowering<DotOp>, GeometryLowering<LengthOp>,
                GeometryLowering<DistanceOp>, GeometryLowering<CrossOp>,
-               GeometryLowering<NormalizeOp>, NoiseLowering, TransformLowering,
+               GeometryLowering<NormalizeOp>, NoiseLowering, HashLowering, TransformLowering,
                SplineFamilyLowering<SplineOp>,
                SplineFamilyLowering<SplineInverseOp>, ColorLowering<TransformcOp>,
                ColorLowering<BlackbodyOp>, ColorLowering<WavelengthColorOp>,
