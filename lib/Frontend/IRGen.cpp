@@ -321,9 +321,10 @@ std::optional<RValue> IRGen::coerce(RValue v, OslType to, SrcLoc l,
     r.type = v.type;
     r.type.base = to.base;
     r.elems = v.elems;
+    r.fields = v.fields; // a string array's strings
     return r;
   }
-  if (to.isString() || (to.isArray() && to.base == BaseType::String)) {
+  if (to.isString()) {
     v.type = to;
     return v;
   }
@@ -750,8 +751,31 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   for (const ParamOverride &o : overrides)
     if (o.name == p.name)
       ov = &o;
-  if (t.isArray() && t.base == BaseType::String && ov)
-    return error(p.loc, "string array parameter '" + p.name + "' cannot be given a value yet");
+  if (t.isArray() && t.base == BaseType::String && ov) {
+    // Comma-separated strings, each optionally quoted (as a serialized
+    // group writes them); an unsized array takes their count.
+    llvm::SmallVector<llvm::StringRef> parts;
+    llvm::StringRef(ov->value).split(parts, ',');
+    if (t.arrayLen == 0)
+      t.arrayLen = int(parts.size());
+    if (int(parts.size()) != t.arrayLen)
+      return error(p.loc, "parameter '" + p.name + "' of type '" + t.str() + "' takes " +
+                              std::to_string(t.arrayLen) + " strings, got '" + ov->value +
+                              "'");
+    RValue strings;
+    strings.type = t;
+    for (llvm::StringRef part : parts) {
+      part = part.trim();
+      part.consume_front("\"");
+      part.consume_back("\"");
+      strings.fields.push_back(RValue::string(part.str()));
+    }
+    Var *v = declareVar(scope, p.name, t, p.loc, strings);
+    if (!v)
+      return false;
+    v->isOutputParam = p.isOutput;
+    return true;
+  }
   std::optional<RValue> init;
   if (ov && t.isClosure())
     return error(p.loc, "closure parameter '" + p.name + "' cannot be given a value");
