@@ -390,11 +390,15 @@ private:
   const StructDecl *lookupStruct(llvm::StringRef name) const;
   /// `S(a, b, ...)`: a struct from one value per field.
   std::optional<RValue> emitStructConstructor(const StructDecl &s, const Expr &e);
-  /// The best-ranked candidate for these arguments, or null.
+  /// The best-ranked candidate for these arguments, or null. An argument
+  /// with `initListSizes[k] >= 0` is an initializer list of that many
+  /// values, not evaluated yet: it fits a struct with as many fields, an
+  /// array of that length (or unsized) or a triple of three.
   const FunctionRef *resolveOverload(const std::vector<FunctionRef> &cands,
                                      const std::vector<RValue> &args,
                                      const std::vector<std::optional<LValue>> &lvalues,
-                                     const OslType *expected);
+                                     const OslType *expected,
+                                     const std::vector<int> *initListSizes = nullptr);
   /// An operator with a struct operand calls the user's `__operator__X__`
   /// overload when one takes the operands; returns false if none does.
   bool tryOverloadedOperator(llvm::StringRef op, const Expr &site,

@@ -124,6 +124,10 @@ std::optional<RValue> IRGen::emitUserCall(const Expr &e,
   // Evaluate the arguments; output positions are kept as lvalues.
   std::vector<RValue> args(n);
   std::vector<std::optional<LValue>> lvalues(n);
+  // Initializer lists whose type the candidates do not agree on take the
+  // type of the overload the other arguments choose (OSL: f({1}, 1)).
+  std::vector<int> initListSizes(n, -1);
+  bool deferred = false;
   for (size_t k = 0; k < n; ++k) {
     const Expr &a = *e.args[k];
     const OslType *argExpected = nullptr;
@@ -142,6 +146,12 @@ std::optional<RValue> IRGen::emitUserCall(const Expr &e,
     }
     if (agreed && agree)
       argExpected = &*agreed;
+    if (!argExpected && a.kind == ExprKind::InitList) {
+      initListSizes[k] = int(a.args.size());
+      args[k].type = OslType(BaseType::Void);
+      deferred = true;
+      continue;
+    }
     if (outputSomewhere && isLValueShaped(a)) {
       lvalues[k] = emitLValue(a);
       if (!lvalues[k])
@@ -154,8 +164,19 @@ std::optional<RValue> IRGen::emitUserCall(const Expr &e,
       args[k] = *v;
     }
   }
-  const FunctionRef *best = resolveOverload(cands, args, lvalues, expected);
-  if (!best && isBuiltinName(e.name)) {
+  const FunctionRef *best =
+      resolveOverload(cands, args, lvalues, expected, deferred ? &initListSizes : nullptr);
+  if (best && deferred) {
+    for (size_t k = 0; k < n; ++k) {
+      if (initListSizes[k] < 0)
+        continue;
+      auto v = emitExpr(*e.args[k], &best->decl->params[k].type);
+      if (!v)
+        return std::nullopt;
+      args[k] = *v;
+    }
+  }
+  if (!best && isBuiltinName(e.name) && !deferred) {
     // No user overload takes these arguments: the library function does
     // (a header overloading abs() for its struct still calls abs(float)).
     PreEvaluated scoped(*this, e, args);
@@ -164,7 +185,8 @@ std::optional<RValue> IRGen::emitUserCall(const Expr &e,
   if (!best) {
     std::string argText;
     for (size_t k = 0; k < n; ++k)
-      argText += (k ? ", " : "") + args[k].type.str();
+      argText += (k ? ", " : "") + (initListSizes[k] >= 0 ? std::string("{...}")
+                                                          : args[k].type.str());
     std::string candText;
     for (const FunctionRef &f : cands)
       candText += (candText.empty() ? "" : "; ") + signatureText(*f.decl);
@@ -188,7 +210,7 @@ std::optional<RValue> IRGen::emitUserCall(const Expr &e,
 const FunctionRef *
 IRGen::resolveOverload(const std::vector<FunctionRef> &cands, const std::vector<RValue> &args,
                        const std::vector<std::optional<LValue>> &lvalues,
-                       const OslType *expected) {
+                       const OslType *expected, const std::vector<int> *initListSizes) {
   // Rank the candidates: total conversion cost, then the return type.
   size_t n = args.size();
   const FunctionRef *best = nullptr;
@@ -201,6 +223,15 @@ IRGen::resolveOverload(const std::vector<FunctionRef> &cands, const std::vector<
     bool ok = true;
     for (size_t k = 0; k < n && ok; ++k) {
       const Param &p = fn.params[k];
+      if (initListSizes && (*initListSizes)[k] >= 0) {
+        int size = (*initListSizes)[k];
+        const OslType &t = p.type;
+        ok = !p.isOutput &&
+             (t.isArray() ? (t.arrayLen == 0 || t.arrayLen == size)
+              : t.isStructLike() ? int(t.structDecl->fields.size()) == size
+                                 : t.isTriple() && size == 3);
+        continue;
+      }
       int c = conversionCost(args[k].type, p.type);
       if (c < 0) {
         ok = false;
