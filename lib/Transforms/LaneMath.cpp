@@ -175,10 +175,12 @@ Value lane::min(OpBuilder &b, Location loc, ValueRange x) {
   return sel(b, loc, less, x[1], x[0]);
 }
 
+/// As OSL: max(a, b) is b when a <= b (so max(0, -0) is -0), else a (a NaN
+/// in a); min(a, b) is b when b < a, else a.
 Value lane::max(OpBuilder &b, Location loc, ValueRange x) {
-  Value less = isFloat(x[0]) ? fcmp(b, loc, arith::CmpFPredicate::OLT, x[0], x[1])
-                             : icmp(b, loc, arith::CmpIPredicate::slt, x[0], x[1]);
-  return sel(b, loc, less, x[1], x[0]);
+  Value notAbove = isFloat(x[0]) ? fcmp(b, loc, arith::CmpFPredicate::OLE, x[0], x[1])
+                                 : icmp(b, loc, arith::CmpIPredicate::sle, x[0], x[1]);
+  return sel(b, loc, notAbove, x[1], x[0]);
 }
 
 Value lane::abs(OpBuilder &b, Location loc, ValueRange x) {
