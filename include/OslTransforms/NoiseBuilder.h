@@ -54,8 +54,9 @@ buildPeriodicNoiseTriple(mlir::OpBuilder &b, mlir::Location loc,
                          NoiseKind kind, mlir::ValueRange coords,
                          mlir::ValueRange periods);
 
-/// OSL's inthash (Bob Jenkins' lookup3) of 1 to 5 keys, all i32 or all
-/// vector<W x i32>; the cell seeds of Gabor noise use it like cellnoise.
+/// OSL's inthash (Bob Jenkins' lookup3) of 1 to 5 keys, all scalars or all
+/// vector<W x ...>; an f32 key hashes by its bits (osl.hash, hashnoise).
+/// The cell seeds of Gabor noise use it like cellnoise.
 mlir::Value buildIntHash(mlir::OpBuilder &b, mlir::Location loc,
                          llvm::ArrayRef<mlir::Value> keys);
 

@@ -491,14 +491,7 @@ struct HashLowering : public OslPattern<HashOp> {
     Lanes lanes{rewriter, loc, width};
     SmallVector<Value> keys;
     for (auto &key : lanes.unpackAll(adaptor.getKeys(), op.getKeys(), isVarying(op.getType())))
-      for (Value k : key) {
-        Type i32 = rewriter.getI32Type();
-        if (auto vt = dyn_cast<VectorType>(k.getType()))
-          i32 = VectorType::get(vt.getShape(), i32);
-        if (k.getType() != i32)
-          k = rewriter.create<arith::BitcastOp>(loc, i32, k);
-        keys.push_back(k);
-      }
+      llvm::append_range(keys, key);
     if (keys.empty() || keys.size() > 5)
       return op.emitError("hash takes 1 to 5 key components");
     rewriter.replaceOp(op, buildIntHash(rewriter, loc, keys));

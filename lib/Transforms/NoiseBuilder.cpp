@@ -39,6 +39,7 @@
 #include "mlir/Dialect/Math/IR/Math.h"
 #include "mlir/IR/BuiltinAttributes.h"
 #include "mlir/IR/BuiltinTypes.h"
+#include "mlir/IR/TypeUtilities.h"
 #include "llvm/ADT/DenseMap.h"
 #include "llvm/ADT/STLExtras.h"
 #include "llvm/ADT/STLFunctionalExtras.h"
@@ -868,7 +869,11 @@ Value buildIntHash(OpBuilder &b, Location loc, ArrayRef<Value> keys) {
   if (auto vt = dyn_cast<VectorType>(keyType))
     floatType = VectorType::get(vt.getShape(), floatType);
   Emitter e(b, loc, floatType);
-  return e.inthash(keys);
+  // Float keys hash by their bits, as hashnoise's coordinates do.
+  SmallVector<Value, 5> bits;
+  for (Value k : keys)
+    bits.push_back(isa<FloatType>(getElementTypeOrSelf(k.getType())) ? e.bitsOf(k) : k);
+  return e.inthash(bits);
 }
 
 std::optional<NoiseKind> parseNoiseName(llvm::StringRef name) {
