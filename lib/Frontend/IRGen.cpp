@@ -785,7 +785,7 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
       // `float a[]` parameters), as many elements as it has numbers.
       size_t numbers = llvm::StringRef(ov->value).count(',') + 1;
       size_t per = t.element().isTriple() ? 3 : 1;
-      if (t.base != BaseType::String && numbers % per == 0)
+      if (numbers % per == 0)
         t.arrayLen = int(numbers / per);
       else if (p.init->kind == ExprKind::InitList)
         t.arrayLen = int(p.init->args.size());
