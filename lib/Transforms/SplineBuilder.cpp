@@ -54,6 +54,14 @@ std::optional<SplineBasis> lookupBasis(StringRef name) {
   return std::nullopt;
 }
 
+Value selectLane(OpBuilder &b, Location loc, Value cond, Value t, Value f) {
+  return b.create<arith::SelectOp>(loc, cond, t, f);
+}
+
+Value cmpF(OpBuilder &b, Location loc, arith::CmpFPredicate p, Value x, Value y) {
+  return b.create<arith::CmpFOp>(loc, p, x, y);
+}
+
 /// A spline over `knots` (components per knot) with a possibly dynamic
 /// knot count, evaluated at lane values of one shape.
 class LaneSpline {
@@ -78,7 +86,11 @@ public:
 
   /// The value of component `c` of the spline at x.
   Value evaluate(Value x, size_t c) {
-    x = lane::clamp(b, loc, {x, floatConst(0), floatConst(1)});
+    // OSL clamps a Dual2 x as x < 0 ? 0 : (x > 1 ? 1 : x): x exactly at 0 or 1
+    // keeps its derivative (lane::clamp, OSL's clamp(), takes the bound's).
+    Value zero = floatConst(0), one = floatConst(1);
+    x = selectLane(b, loc, cmpF(b, loc, arith::CmpFPredicate::OLT, x, zero), zero,
+                   selectLane(b, loc, cmpF(b, loc, arith::CmpFPredicate::OGT, x, one), one, x));
     Value segX = b.create<arith::MulFOp>(
         loc, x, b.create<arith::SIToFPOp>(loc, floatLane, nsegs));
     Value seg = b.create<arith::FPToSIOp>(loc, intLane, segX);
@@ -142,14 +154,6 @@ private:
     return r;
   }
 };
-
-Value selectLane(OpBuilder &b, Location loc, Value cond, Value t, Value f) {
-  return b.create<arith::SelectOp>(loc, cond, t, f);
-}
-
-Value cmpF(OpBuilder &b, Location loc, arith::CmpFPredicate p, Value x, Value y) {
-  return b.create<arith::CmpFOp>(loc, p, x, y);
-}
 
 /// OIIO's invert of the spline on [xmin, xmax] for target y: the x found
 /// and whether [xmin, xmax] brackets y.
