@@ -1007,7 +1007,13 @@ private:
         ExprPtr e = parseExpression();
         if (!e)
           return nullptr;
+        SrcLoc close = cur().loc;
         if (!expectPunct(")", "to close '('"))
+          return nullptr;
+        // (a, b, c) reads like a triple but is the comma operator: oslc warns.
+        if (e->kind == ExprKind::Comma &&
+            !diags.warning(close, "Comma operator inside parenthesis is probably an error -- "
+                                  "it is not a vector/color."))
           return nullptr;
         return e;
       }

@@ -224,7 +224,7 @@ private:
       return true;
     }
     if (d == "pragma")
-      return true;
+      return pragma(line);
     if (d == "error") {
       std::string msg;
       for (size_t k = 1; k < line.size(); ++k)
@@ -234,6 +234,20 @@ private:
     }
     diags.error(name.loc, "unsupported preprocessor directive '#" + d + "'");
     return false;
+  }
+
+  /// oslc's `#pragma error "msg"` and `#pragma warning "msg"` report msg at
+  /// their line; other pragmas (osl nowarn, once...) change nothing here.
+  bool pragma(const std::vector<Token> &line) {
+    if (line.size() < 3 || !line[1].is(TokKind::Ident) || !line[2].is(TokKind::String))
+      return true;
+    if (line[1].text == "error") {
+      diags.error(line[1].loc, line[2].text);
+      return false;
+    }
+    if (line[1].text == "warning")
+      return diags.warning(line[1].loc, line[2].text);
+    return true;
   }
 
   bool define(const Token &directiveTok, std::vector<Token> &line) {
