@@ -58,6 +58,8 @@ struct OutputSpec {
   /// A closure (Ci): its one row holds closure handles (OslRuntime/Closure.h)
   /// as float bits, not an image.
   bool closure = false;
+  /// An int output: whole numbers (stored as floats in the rows).
+  bool integer = false;
 };
 
 struct ShadeResult {

@@ -20,11 +20,15 @@ namespace osl {
 /// channel4..., and a single channel is named Y, as OSL's testshade does.
 /// The path "null" discards the image (testshade's `-o NAME null`).
 /// `dataType` is the stored type as testshade's -od names it (uint8, half,
-/// float...); empty stores floats. Returns false with a message in `error`
-/// on failure.
+/// float...); empty stores floats. `integerValues` marks an int output
+/// (whole numbers), written as testshade writes one: int pixels in a format
+/// that stores 32-bit ints (TIFF), or converted to `dataType` as OIIO
+/// converts ints (fractions of INT_MAX); without `dataType`, a format without
+/// ints (EXR) stores the values as floats. Returns false with a message in
+/// `error` on failure.
 bool writeImage(const std::string &path, int xres, int yres, int channels,
                 const float *data, std::string &error,
-                const std::string &dataType = "");
+                const std::string &dataType = "", bool integerValues = false);
 
 /// An image written a band of rows at a time, so an image larger than
 /// memory never has to be held whole (osl-run streams huge grids). Same
@@ -39,7 +43,8 @@ public:
   ImageStream &operator=(ImageStream &&) noexcept;
 
   bool open(const std::string &path, int xres, int yres, int channels,
-            std::string &error, const std::string &dataType = "");
+            std::string &error, const std::string &dataType = "",
+            bool integerValues = false);
   /// Rows [rowBegin, rowEnd), xres * channels floats each; bands must come
   /// in order.
   bool writeRows(int rowBegin, int rowEnd, const float *data, std::string &error);

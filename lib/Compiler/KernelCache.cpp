@@ -45,7 +45,8 @@ struct FieldReader {
 std::string outputsText(const std::vector<OutputSpec> &outputs) {
   std::string text;
   for (const OutputSpec &o : outputs)
-    text += o.name + " " + std::to_string(o.channels) + (o.closure ? " closure" : "") + "\n";
+    text += o.name + " " + std::to_string(o.channels) + (o.closure ? " closure" : "") +
+            (o.integer ? " int" : "") + "\n";
   return text;
 }
 
@@ -53,12 +54,13 @@ bool parseOutputs(llvm::StringRef text, std::vector<OutputSpec> &outputs) {
   llvm::SmallVector<llvm::StringRef> lines;
   text.split(lines, '\n', -1, /*KeepEmpty=*/false);
   for (llvm::StringRef line : lines) {
+    bool integer = line.consume_back(" int");
     bool closure = line.consume_back(" closure");
     auto [name, channels] = line.rsplit(' ');
     int n;
     if (name.empty() || channels.getAsInteger(10, n) || n < 1)
       return false;
-    outputs.push_back({name.str(), n, closure});
+    outputs.push_back({name.str(), n, closure, integer});
   }
   return true;
 }

@@ -128,7 +128,7 @@ void ShaderCompiler::collectOutputs() {
       outputSpecs.back().channels += channels;
     else
       outputSpecs.push_back({out.getName().str(), channels,
-                             mlir::isa<mlir::osl::ClosureType>(t)});
+                             mlir::isa<mlir::osl::ClosureType>(t), t.isInteger(32)});
   });
 }
 

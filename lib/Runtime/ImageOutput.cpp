@@ -22,7 +22,7 @@ std::unique_ptr<OIIO::ImageOutput> openOutput(const std::string &path,
                                               const std::string &formatFrom, int xres,
                                               int yres, int channels,
                                               const std::string &dataType,
-                                              std::string &error) {
+                                              bool integerPixels, std::string &error) {
   if (xres <= 0 || yres <= 0 || channels <= 0) {
     error = "cannot write an empty image to " + formatFrom;
     return nullptr;
@@ -42,6 +42,8 @@ std::unique_ptr<OIIO::ImageOutput> openOutput(const std::string &path,
       return nullptr;
     }
   }
+  if (integerPixels && dataType.empty())
+    type = OIIO::TypeDesc::INT;
   OIIO::ImageSpec spec(xres, yres, channels, type);
   static const char *const kRGBA[] = {"R", "G", "B", "A"};
   for (int c = 0; c < channels; ++c)
@@ -55,10 +57,31 @@ std::unique_ptr<OIIO::ImageOutput> openOutput(const std::string &path,
   return out;
 }
 
+/// testshade writes an int output's pixels as ints: stored as such in a
+/// format with 32-bit ints (TIFF), converted by OIIO to -od's type (which
+/// scales them as fractions of INT_MAX). Without -od, a format without ints
+/// (EXR) stores the values as floats here, as the conformance corpus has them.
+bool writesIntPixels(const std::string &formatFrom, const std::string &dataType) {
+  if (!dataType.empty())
+    return true;
+  auto out = OIIO::ImageOutput::create(formatFrom);
+  return out && std::string(out->format_name()) == "tiff";
+}
+
+/// The rows as OIIO reads them: floats, or the ints they hold exactly.
+bool writeScanlines(OIIO::ImageOutput &out, int rowBegin, int rowEnd, size_t count,
+                    const float *data, bool integerPixels) {
+  if (!integerPixels)
+    return out.write_scanlines(rowBegin, rowEnd, 0, OIIO::TypeDesc::FLOAT, data);
+  std::vector<int32_t> ints(data, data + count);
+  return out.write_scanlines(rowBegin, rowEnd, 0, OIIO::TypeDesc::INT, ints.data());
+}
+
 } // namespace
 
 bool writeImage(const std::string &path, int xres, int yres, int channels,
-                const float *data, std::string &error, const std::string &dataType) {
+                const float *data, std::string &error, const std::string &dataType,
+                bool integerValues) {
   // testshade's `-o NAME null` shades the output but writes nothing.
   if (path == "null")
     return true;
@@ -66,10 +89,11 @@ bool writeImage(const std::string &path, int xres, int yres, int channels,
     error = "cannot write an empty image to " + path;
     return false;
   }
-  auto out = openOutput(path, path, xres, yres, channels, dataType, error);
+  bool integerPixels = integerValues && writesIntPixels(path, dataType);
+  auto out = openOutput(path, path, xres, yres, channels, dataType, integerPixels, error);
   if (!out)
     return false;
-  if (!out->write_image(OIIO::TypeDesc::FLOAT, data)) {
+  if (!writeScanlines(*out, 0, yres, size_t(xres) * yres * channels, data, integerPixels)) {
     error = "cannot write " + path + ": " + out->geterror();
     out->close();
     return false;
@@ -85,6 +109,7 @@ struct ImageStream::Impl {
   std::unique_ptr<OIIO::ImageOutput> out;
   std::string path, temporary;
   int xres = 0, channels = 0;
+  bool integerPixels = false;
 };
 
 ImageStream::ImageStream() = default;
@@ -99,7 +124,8 @@ ImageStream::~ImageStream() {
 }
 
 bool ImageStream::open(const std::string &path, int xres, int yres, int channels,
-                       std::string &error, const std::string &dataType) {
+                       std::string &error, const std::string &dataType,
+                       bool integerValues) {
   impl = std::make_unique<Impl>();
   impl->path = path;
   // Same directory, so the rename is atomic; the format comes from `path`.
@@ -113,7 +139,9 @@ bool ImageStream::open(const std::string &path, int xres, int yres, int channels
   // attribute: only grids too large for memory stream, and they are
   // bound by shading, not compression.
   OIIO::attribute("exr_threads", 1);
-  impl->out = openOutput(impl->temporary, path, xres, yres, channels, dataType, error);
+  impl->integerPixels = integerValues && writesIntPixels(path, dataType);
+  impl->out = openOutput(impl->temporary, path, xres, yres, channels, dataType,
+                         impl->integerPixels, error);
   return impl->out != nullptr;
 }
 
@@ -122,7 +150,9 @@ bool ImageStream::writeRows(int rowBegin, int rowEnd, const float *data, std::st
     error = "image stream is not open";
     return false;
   }
-  if (!impl->out->write_scanlines(rowBegin, rowEnd, 0, OIIO::TypeDesc::FLOAT, data)) {
+  if (!writeScanlines(*impl->out, rowBegin, rowEnd,
+                      size_t(rowEnd - rowBegin) * impl->xres * impl->channels, data,
+                      impl->integerPixels)) {
     error = "cannot write " + impl->path + ": " + impl->out->geterror();
     return false;
   }

@@ -172,7 +172,7 @@ struct LinkShaderGroupPass
           ok = false;
           return;
         }
-        if (getUniformType(out.getValue().getType()) != getUniformType(param.getType())) {
+        if (!connectable(out.getValue().getType(), param.getType())) {
           param.emitError("cannot connect output '")
               << fromLayer << "." << fromOutput << "' ("
               << typeName(out.getValue().getType()) << ") to input '" << l.name << "."
@@ -195,6 +195,26 @@ struct LinkShaderGroupPass
                << name.getKey() << "' (for another layer's, write LAYER.NAME); outputs:"
                << names;
     return success();
+  }
+
+  /// As OSL: an output connects to an input of its type, and an int output
+  /// to a float input (converted).
+  static bool connectable(Type output, Type input) {
+    Type from = getUniformType(output), to = getUniformType(input);
+    return from == to || (from.isInteger(32) && to.isF32());
+  }
+
+  /// The connected param reads `value`, converted to the param's type.
+  static void replaceConnected(ParamOp param, Value value) {
+    Type to = getUniformType(param.getType());
+    if (getUniformType(value.getType()) != to) {
+      OpBuilder b(param.getContext());
+      b.setInsertionPointAfterValue(value);
+      value = b.create<ConvertOp>(param.getLoc(),
+                                  withUniformity(to, isVarying(value.getType())), value);
+    }
+    param.replaceAllUsesWith(value);
+    param.erase();
   }
 
   static OutputOp findOutput(func::FuncOp f, StringRef name) {
@@ -242,8 +262,7 @@ struct LinkShaderGroupPass
       auto it = placed.find(fromLayer);
       if (it == placed.end())
         continue;
-      param.replaceAllUsesWith(it->second.lookup(fromOutput));
-      param.erase();
+      replaceConnected(param, it->second.lookup(fromOutput));
     }
     return outputs;
   }
@@ -281,10 +300,8 @@ struct LinkShaderGroupPass
         first = p;
     OpBuilder b(first);
     llvm::StringMap<Value> outputs = inlineLayer(l, b);
-    for (ParamOp param : reads) {
-      param.replaceAllUsesWith(outputs.lookup(connection(param)->second));
-      param.erase();
-    }
+    for (ParamOp param : reads)
+      replaceConnected(param, outputs.lookup(connection(param)->second));
   }
 
   /// Unspecialised parameters: the value lives in a writable global that

@@ -147,8 +147,13 @@ class Context:
             werror = " -Werror" if "-Werror" in words else ""
             check = (self.osl_run_cmd() + " --check" + werror + " " +
                      " ".join(shlex.quote(f) for f in flags) + " " + shlex.quote(src))
-            cmds += ("%s%s && echo %s >> out.txt ;\n" %
-                     (check, REDIRECT, shlex.quote("Compiled %s -> %s.oso" % (src, base))))
+            # oslc names X.oso after the shader the file declares; a shader
+            # whose name is not its file's is found by that name (osl-run
+            # takes an extensionless file as the shader's source).
+            name = declared_shader_name(os.path.join(self.workdir, src)) or base
+            also = "" if name == base else " && cp %s %s" % (shlex.quote(src), shlex.quote(name))
+            cmds += ("%s%s%s && echo %s >> out.txt ;\n" %
+                     (check, REDIRECT, also, shlex.quote("Compiled %s -> %s.oso" % (src, name))))
         return cmds
 
     def oslinfo(self, args):
@@ -168,6 +173,20 @@ class Context:
 
 
 REDIRECT = " >> out.txt 2>>out.txt "
+
+SHADER_DECL = re.compile(r"\b(?:shader|surface|displacement|volume|light)\s+([A-Za-z_]\w*)\s*[(\[]")
+
+
+def declared_shader_name(path):
+    """The name of the shader a source file declares, or None."""
+    try:
+        with open(path, errors="replace") as f:
+            text = f.read()
+    except OSError:
+        return None
+    text = re.sub(r"/\*.*?\*/|//[^\n]*", " ", text, flags=re.S)
+    m = SHADER_DECL.search(text)
+    return m.group(1) if m else None
 
 
 def image_diff_command(a, b, ns, extraargs=""):

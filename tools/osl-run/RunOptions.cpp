@@ -511,9 +511,12 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         return false;
     if (!o.group.validate(error))
       return false;
-    if (!o.outputs.empty())
-      for (auto &[name, file] : o.outputs)
-        o.group.outputs.push_back(name);
+    // testshade also takes the root layer's own outputs as ROOT.NAME.
+    std::string rootPrefix = o.group.layers.back().name + ".";
+    for (auto &[name, file] : o.outputs)
+      o.group.outputs.push_back(llvm::StringRef(name).starts_with(rootPrefix)
+                                    ? name.substr(rootPrefix.size())
+                                    : name);
     o.compile.params.clear();
   } else {
     if (!o.group.connections.empty() || !o.group.entries.empty() || !o.reparams.empty()) {

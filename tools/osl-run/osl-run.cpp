@@ -58,8 +58,10 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
     requested.push_back({image->name, shader.name + ".png"});
   }
   for (auto &[name, file] : requested) {
-    auto it = std::find_if(shader.outputs.begin(), shader.outputs.end(),
-                           [&](const OutputSpec &o) { return o.name == name; });
+    // A group's root layer outputs are also ROOT.NAME, as testshade has them.
+    auto it = std::find_if(shader.outputs.begin(), shader.outputs.end(), [&](const OutputSpec &o) {
+      return o.name == name || (options.isGroup && name == shader.name + "." + o.name);
+    });
     if (it == shader.outputs.end()) {
       error = "shader '" + shader.name + "' has no output '" + name + "'; outputs:";
       for (const OutputSpec &o : shader.outputs)
@@ -183,7 +185,8 @@ int shadeInBands(RunOptions &options, const CompiledShader &shader,
       continue;
     ImageStream stream;
     if (!stream.open(file, options.grid.xres, options.grid.yres,
-                     shader.outputs[index].channels, error, options.dataType))
+                     shader.outputs[index].channels, error, options.dataType,
+                     shader.outputs[index].integer))
       return fail(error);
     streams.emplace_back(index, std::move(stream));
   }
@@ -212,9 +215,9 @@ int shadeInBands(RunOptions &options, const CompiledShader &shader,
   setImagesBeingWritten({});
   stats.add("shading", shading);
   llvm::outs() << "\n";
-  for (auto &[index, file] : files)
-    if (file != "null" && !options.outputs.empty())
-      llvm::outs() << "Output " << shader.outputs[index].name << " to " << file << "\n";
+  for (size_t i = 0; i < files.size(); ++i)
+    if (files[i].second != "null" && !options.outputs.empty())
+      llvm::outs() << "Output " << options.outputs[i].first << " to " << files[i].second << "\n";
   return statusAfterShading();
 }
 
@@ -334,19 +337,21 @@ int main(int argc, char **argv) {
     if (!imagesFirst)
       emitPrints(result.printed, shader->name);
     llvm::outs() << "\n";
-    for (auto &[index, file] : files) {
+    for (size_t i = 0; i < files.size(); ++i) {
+      auto &[index, file] = files[i];
       if (file == "null")
         continue;
       setImagesBeingWritten({file.c_str()});
       bool written = writeImage(file, options.grid.xres, options.grid.yres,
                                 shader->outputs[index].channels,
-                                result.images[index].data(), error, options.dataType);
+                                result.images[index].data(), error, options.dataType,
+                                shader->outputs[index].integer);
       setImagesBeingWritten({});
       if (!written)
         return fail("cannot write '" + file + "': " + error);
       // testshade's report of each image it was asked for.
       if (imagesFirst)
-        llvm::outs() << "Output " << shader->outputs[index].name << " to " << file << "\n";
+        llvm::outs() << "Output " << options.outputs[i].first << " to " << file << "\n";
     }
     if (imagesFirst) {
       llvm::outs().flush();
