@@ -37,6 +37,9 @@ namespace {
 constexpr const char *kGlobalRowAttr = "osl.global_row";
 /// Marks the loads of derivative rows made here.
 constexpr const char *kDerivativeRowAttr = "osl.derivative_row";
+/// On a loop rebuilt to carry derivatives: how many of its inits and
+/// results it had before (the rest are derivatives).
+constexpr const char *kPrimalCountsAttr = "osl.primal_counts";
 
 class Differentiator {
 public:
@@ -51,11 +54,24 @@ public:
       return it->second;
     if (auto ifOp = v.getDefiningOp<scf::IfOp>()) // memoizes the rebuilt branch
       return deriveIfResult(ifOp, cast<OpResult>(v), user);
+    // Likewise a loop's result (v dies with the loop it rebuilds: a memo
+    // entry for it could be found by a later value at the same address).
+    if (isa_and_nonnull<scf::ForOp, scf::WhileOp>(v.getDefiningOp())) {
+      unsigned index = cast<OpResult>(v).getResultNumber(); // v is gone after
+      FailureOr<Operation *> rebuilt = deriveLoop(v.getDefiningOp(), user);
+      if (failed(rebuilt))
+        return failure();
+      return memo.lookup((*rebuilt)->getResult(index));
+    }
     FailureOr<Value> d = compute(v, user);
     if (succeeded(d))
       memo[v] = *d;
     return d;
   }
+
+  /// Drops what is known of `v` before its op is erased: a value made
+  /// later may reuse its storage, and must not find this entry.
+  void forget(Value v) { memo.erase(v); }
 
   static Value zeroLike(OpBuilder &b, Location loc, Type t) {
     return b.create<arith::ConstantOp>(loc, b.getZeroAttr(t));
@@ -68,10 +84,18 @@ private:
 
   FailureOr<Value> compute(Value v, Operation *user) {
     Operation *def = v.getDefiningOp();
-    if (!def) // a function argument (pointers) or a loop-carried value
-      return isa<BlockArgument>(v) && isa<func::FuncOp>(v.getParentBlock()->getParentOp())
-                 ? FailureOr<Value>(Value())
-                 : fail(user, "a value carried around a loop");
+    if (!def) {
+      // A value carried around a loop: the loop carries its derivative too
+      // (its region arguments move to the rebuilt loop with their blocks).
+      Operation *parent = v.getParentBlock()->getParentOp();
+      if (isa<scf::ForOp, scf::WhileOp>(parent)) {
+        if (failed(deriveLoop(parent, user)))
+          return failure();
+        return memo.lookup(v);
+      }
+      return isa<func::FuncOp>(parent) ? FailureOr<Value>(Value()) // pointers
+                                       : fail(user, parent->getName().getStringRef());
+    }
     if (isa<arith::ConstantOp>(def) || def->hasAttr(kNoDerivativeAttr))
       return Value();
     // A derivative has no derivatives of its own in OSL (Dx(Dx(x)) is 0,
@@ -249,6 +273,132 @@ private:
     return memo[requested];
   }
 
+  /// Rebuilds `loop` (scf.for or scf.while) carrying one more value per
+  /// float carried value, its derivative, and memoizes those for the
+  /// region arguments and results. Every float carried value is
+  /// differentiated: a loop is rebuilt once per axis.
+  FailureOr<Operation *> deriveLoop(Operation *loop, Operation *user) {
+    if (auto forOp = dyn_cast<scf::ForOp>(loop))
+      return deriveFor(forOp, user);
+    return deriveWhile(cast<scf::WhileOp>(loop), user);
+  }
+
+  /// The derivatives of `values[i]` for i in `which` (0 where null),
+  /// appended to `out`; placed before `at` when they are 0.
+  LogicalResult deriveAll(ValueRange values, ArrayRef<unsigned> which, Operation *at,
+                          Operation *user, SmallVectorImpl<Value> &out) {
+    for (unsigned i : which) {
+      FailureOr<Value> d = derive(values[i], user);
+      if (failed(d))
+        return failure();
+      Value dv = *d;
+      if (!dv) {
+        OpBuilder b(at);
+        dv = zeroLike(b, at->getLoc(), values[i].getType());
+      }
+      out.push_back(dv);
+    }
+    return success();
+  }
+
+  /// The float ones among the first `count` of `types`.
+  static SmallVector<unsigned> floatIndices(TypeRange types, size_t count) {
+    SmallVector<unsigned> floats;
+    for (auto [i, t] : llvm::enumerate(types.take_front(count)))
+      if (isa<FloatType>(getElementTypeOrSelf(t)))
+        floats.push_back(unsigned(i));
+    return floats;
+  }
+
+  /// How many of a loop's carried values (inits) and results are its own,
+  /// not derivatives an earlier axis added: those have no derivatives.
+  static std::pair<size_t, size_t> primalCounts(Operation *loop, size_t inits) {
+    if (auto counts = loop->getAttrOfType<DenseI64ArrayAttr>(kPrimalCountsAttr))
+      return {size_t(counts[0]), size_t(counts[1])};
+    return {inits, loop->getNumResults()};
+  }
+
+  /// `rebuilt` replaces `old`, whose first results it has, then one
+  /// derivative per float result in `floats`.
+  void replaceLoop(Operation *old, Operation *rebuilt, ArrayRef<unsigned> floats) {
+    unsigned n = old->getNumResults();
+    for (unsigned i = 0; i < n; ++i) {
+      Value result = old->getResult(i);
+      result.replaceAllUsesWith(rebuilt->getResult(i));
+      if (auto it = memo.find(result); it != memo.end()) {
+        memo[rebuilt->getResult(i)] = it->second;
+        memo.erase(it);
+      }
+    }
+    for (auto [k, i] : llvm::enumerate(floats))
+      memo[rebuilt->getResult(i)] = rebuilt->getResult(n + k);
+    rebuilt->setDiscardableAttrs(old->getDiscardableAttrDictionary());
+    if (!rebuilt->hasAttr(kPrimalCountsAttr)) {
+      size_t inits = old->getNumOperands() - (isa<scf::ForOp>(old) ? 3 : 0);
+      rebuilt->setAttr(kPrimalCountsAttr,
+                       DenseI64ArrayAttr::get(old->getContext(), {int64_t(inits), int64_t(n)}));
+    }
+    old->erase();
+  }
+
+  FailureOr<Operation *> deriveFor(scf::ForOp loop, Operation *user) {
+    SmallVector<unsigned> floats =
+        floatIndices(loop.getResultTypes(), primalCounts(loop, loop.getInitArgs().size()).second);
+    SmallVector<Value> inits(loop.getInitArgs());
+    if (failed(deriveAll(loop.getInitArgs(), floats, loop, user, inits)))
+      return failure();
+    OpBuilder b(loop);
+    auto rebuilt = b.create<scf::ForOp>(loop.getLoc(), loop.getLowerBound(),
+                                        loop.getUpperBound(), loop.getStep(), inits);
+    rebuilt.getRegion().takeBody(loop.getRegion());
+    Block *body = rebuilt.getBody();
+    for (unsigned i : floats)
+      memo[body->getArgument(1 + i)] =
+          body->addArgument(loop.getResult(i).getType(), loop.getLoc());
+    replaceLoop(loop, rebuilt, floats);
+    auto yield = cast<scf::YieldOp>(body->getTerminator());
+    SmallVector<Value> dYield;
+    if (failed(deriveAll(yield.getOperands(), floats, yield, user, dYield)))
+      return failure();
+    yield.getResultsMutable().append(dYield);
+    return rebuilt.getOperation();
+  }
+
+  FailureOr<Operation *> deriveWhile(scf::WhileOp loop, Operation *user) {
+    Block &before = loop.getBefore().front(), &after = loop.getAfter().front();
+    auto [ownInits, ownResults] = primalCounts(loop, loop.getInits().size());
+    SmallVector<unsigned> carried = floatIndices(before.getArgumentTypes(), ownInits);
+    SmallVector<unsigned> forwarded = floatIndices(loop.getResultTypes(), ownResults);
+    SmallVector<Value> inits(loop.getInits());
+    if (failed(deriveAll(loop.getInits(), carried, loop, user, inits)))
+      return failure();
+    SmallVector<Type> types(loop.getResultTypes());
+    for (unsigned j : forwarded)
+      types.push_back(loop.getResult(j).getType());
+    OpBuilder b(loop);
+    auto rebuilt = b.create<scf::WhileOp>(loop.getLoc(), types, inits);
+    rebuilt.getBefore().takeBody(loop.getBefore());
+    rebuilt.getAfter().takeBody(loop.getAfter());
+    for (unsigned i : carried)
+      memo[before.getArgument(i)] =
+          before.addArgument(before.getArgument(i).getType(), loop.getLoc());
+    for (unsigned j : forwarded)
+      memo[after.getArgument(j)] =
+          after.addArgument(after.getArgument(j).getType(), loop.getLoc());
+    replaceLoop(loop, rebuilt, forwarded);
+    auto condition = rebuilt.getConditionOp();
+    SmallVector<Value> dForwarded;
+    if (failed(deriveAll(condition.getArgs(), forwarded, condition, user, dForwarded)))
+      return failure();
+    condition.getArgsMutable().append(dForwarded);
+    auto yield = cast<scf::YieldOp>(after.getTerminator());
+    SmallVector<Value> dYield;
+    if (failed(deriveAll(yield.getOperands(), carried, yield, user, dYield)))
+      return failure();
+    yield.getResultsMutable().append(dYield);
+    return rebuilt.getOperation();
+  }
+
   /// f'(x) for the unary math ops (result r = f(x) where that helps).
   Value unarySlope(OpBuilder &b, Location loc, Operation *def, Value x) {
     Value r = def->getResult(0);
@@ -415,10 +565,20 @@ struct DerivativesPass : public mlir::osl::impl::DerivativesBase<DerivativesPass
           OpBuilder b(op);
           result = Differentiator::zeroLike(b, op.getLoc(), op.getType());
         }
-        // ...and for the later axes, the result is a derivative already.
-        if (Operation *def = result.getDefiningOp())
-          def->setAttr(kNoDerivativeAttr, UnitAttr::get(def->getContext()));
+        // ...and for the later axes, the result is a derivative already. A
+        // loop's or branch's result (or a loop's region argument) is marked
+        // through result + -0, which folds away later: the loop itself must
+        // stay differentiable.
+        Operation *def = result.getDefiningOp();
+        if (!def || def->getNumRegions() > 0) {
+          OpBuilder b(op);
+          Value negZero = lane::constant(b, op.getLoc(), result.getType(), -0.0);
+          def = b.create<arith::AddFOp>(op.getLoc(), result, negZero);
+          result = def->getResult(0);
+        }
+        def->setAttr(kNoDerivativeAttr, UnitAttr::get(def->getContext()));
         op.replaceAllUsesWith(result);
+        diff.forget(op.getResult());
         op.erase();
       }
     }

@@ -92,8 +92,22 @@ func.func @osl_atan2(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
 
 // -----
 
-// A value carried around a loop is not differentiated yet: a clear error.
-func.func @loop_carried(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+// A value carried around a loop carries its derivative too: the loop is
+// rebuilt with one more iter_arg, starting at d(init) (dudx, 140 floats in)
+// and yielding the derivative of what the body yields (the product rule).
+// CHECK-LABEL: func.func @loop_carried_for
+// CHECK: %[[DU:.+]] = llvm.load %{{.+}} {alignment = 4 : i64, osl.derivative_row}
+// CHECK: %[[R:.+]]:2 = scf.for %{{.+}} iter_args(%[[ACC:.+]] = %{{.+}}, %[[DACC:.+]] = %[[DU]]) -> (vector<4xf32>, vector<4xf32>)
+// CHECK:   %[[N:.+]] = arith.mulf %[[ACC]], %[[ACC]]
+// CHECK:   %[[A:.+]] = arith.mulf %[[DACC]], %[[ACC]]
+// CHECK:   %[[B:.+]] = arith.mulf %[[ACC]], %[[DACC]]
+// CHECK:   %[[S:.+]] = arith.addf %[[A]], %[[B]]
+// CHECK:   scf.yield %[[N]], %[[S]]
+// CHECK: } {osl.primal_counts = array<i64: 1, 1>}
+// CHECK: %[[MARKED:.+]] = arith.addf %[[R]]#1, %{{.+}} {osl.no_derivative}
+// CHECK: llvm.intr.masked.store %[[MARKED]]
+// CHECK-NOT: osl.lane_deriv
+func.func @loop_carried_for(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
   %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
   %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
   %c0 = arith.constant 0 : index
@@ -101,10 +115,48 @@ func.func @loop_carried(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
   %c1 = arith.constant 1 : index
   %r = scf.for %i = %c0 to %c4 step %c1 iter_args(%acc = %u) -> (vector<4xf32>) {
     %n = arith.mulf %acc, %acc : vector<4xf32>
-    // expected-error @+1 {{cannot take the derivative through a value carried around a loop yet}}
-    %d = osl.lane_deriv "x" %n : vector<4xf32>
-    scf.yield %d : vector<4xf32>
+    scf.yield %n : vector<4xf32>
   }
+  %d = osl.lane_deriv "x" %r : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
+
+// -----
+
+// A while loop: the derivative goes around through the condition's
+// forwarded values and the body's yield (x * 1.5 gives dx * 1.5); the int
+// counter carries none.
+// CHECK-LABEL: func.func @loop_carried_while
+// CHECK: %[[DU:.+]] = llvm.load %{{.+}} {alignment = 4 : i64, osl.derivative_row}
+// CHECK: %[[R:.+]]:3 = scf.while (%[[X:.+]] = %{{.+}}, %[[K:.+]] = %{{.+}}, %[[DX:.+]] = %[[DU]]) : (vector<4xf32>, i32, vector<4xf32>) -> (vector<4xf32>, i32, vector<4xf32>)
+// CHECK:   scf.condition(%{{.+}}) %[[X]], %[[K]], %[[DX]]
+// CHECK: ^bb0(%[[X2:.+]]: vector<4xf32>, %[[K2:.+]]: i32, %[[DX2:.+]]: vector<4xf32>):
+// CHECK:   %[[D:.+]] = arith.mulf %[[DX2]], %{{.+}}
+// CHECK:   scf.yield %{{.+}}, %{{.+}}, %[[D]]
+// CHECK: %[[MARKED:.+]] = arith.addf %[[R]]#2, %{{.+}} {osl.no_derivative}
+// CHECK: llvm.intr.masked.store %[[MARKED]]
+func.func @loop_carried_while(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %k0 = arith.constant 0 : i32
+  %two = arith.constant dense<2.0> : vector<4xf32>
+  %r:2 = scf.while (%x = %u, %k = %k0) : (vector<4xf32>, i32) -> (vector<4xf32>, i32) {
+    %lt = arith.cmpf olt, %x, %two : vector<4xf32>
+    %any = vector.reduction <or>, %lt : vector<4xi1> into i1
+    scf.condition(%any) %x, %k : vector<4xf32>, i32
+  } do {
+  ^bb0(%x2: vector<4xf32>, %k2: i32):
+    %f = arith.constant dense<1.5> : vector<4xf32>
+    %n = arith.mulf %x2, %f : vector<4xf32>
+    %one = arith.constant 1 : i32
+    %k3 = arith.addi %k2, %one : i32
+    scf.yield %n, %k3 : vector<4xf32>, i32
+  }
+  %d = osl.lane_deriv "x" %r#0 : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return
 }
 
@@ -144,7 +196,9 @@ func.func @uniform_loop_carried(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) 
 // -----
 
 // A value chosen by a uniform branch: the branch is rebuilt to also yield
-// the derivative of what each arm yields.
+// the derivative of what each arm yields (marked as a derivative through
+// + -0, which folds away later, since the branch itself stays
+// differentiable).
 // CHECK-LABEL: func.func @uniform_branch
 // CHECK: %[[R:.+]]:2 = scf.if %arg3 -> (vector<4xf32>, vector<4xf32>) {
 // CHECK:   %[[T:.+]] = arith.mulf %[[U:.+]], %{{.+}}
@@ -153,7 +207,8 @@ func.func @uniform_loop_carried(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) 
 // CHECK: } else {
 // CHECK:   %[[Z:.+]] = arith.constant dense<0.000000e+00>
 // CHECK:   scf.yield %{{.+}}, %[[Z]]
-// CHECK: llvm.intr.masked.store %[[R]]#1
+// CHECK: %[[MARKED:.+]] = arith.addf %[[R]]#1, %{{.+}} {osl.no_derivative}
+// CHECK: llvm.intr.masked.store %[[MARKED]]
 func.func @uniform_branch(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32, %arg3: i1) {
   %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
   %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
