@@ -2,6 +2,7 @@
 #include "OslCompiler/ShaderCompiler.h"
 #include "OslRuntime/ClosureCall.h"
 #include "OslCompiler/KernelCache.h"
+#include "GroupInputs.h"
 
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/LaneStats.h"
@@ -387,29 +388,8 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
     if (llvm::is_contained(group.entries, layer.name))
       func->setAttr("osl.entry", b.getUnitAttr());
     groupCounts.opsBefore += countOps(func);
-    // Mark connected inputs and userdata; each must name a parameter.
-    auto markParam = [&](const std::string &name, llvm::StringRef attr,
-                         mlir::Attribute value) {
-      bool found = false;
-      func.walk([&](mlir::osl::ParamOp p) {
-        if (p.getName() == name) {
-          p->setAttr(attr, value);
-          found = true;
-        }
-      });
-      if (!found)
-        errs << "error: layer '" << layer.name << "' (shader '" << shader
-             << "') has no parameter '" << name << "'\n";
-      return found;
-    };
-    for (const GroupConnection &c : group.connections)
-      if (c.toLayer == layer.name &&
-          !markParam(c.toInput, "osl.connect",
-                     b.getStrArrayAttr({c.fromLayer, c.fromOutput})))
-        return false;
-    for (const std::string &name : layer.userdata)
-      if (!markParam(name, "osl.userdata", b.getUnitAttr()))
-        return false;
+    if (!markGroupInputs(func, layer, group, shader, errs))
+      return false;
     for (mlir::Operation &op : llvm::make_early_inc_range(*parsed->getBody())) {
       op.remove();
       mlirModule->getBody()->push_back(&op);

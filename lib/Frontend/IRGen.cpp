@@ -570,8 +570,11 @@ OwningOpRef<ModuleOp> IRGen::emitProgram(const Program &program) {
 
 bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   for (const ParamOverride &o : overrides) {
-    bool found = llvm::any_of(shader.params,
-                              [&](const Param &p) { return p.name == o.name; });
+    // A struct parameter's fields are set as NAME.FIELD (nested: NAME.A.B).
+    bool found = llvm::any_of(shader.params, [&](const Param &p) {
+      return p.name == o.name ||
+             (p.type.isStructLike() && llvm::StringRef(o.name).starts_with(p.name + "."));
+    });
     if (!found)
       return error(shader.loc, "shader '" + shader.name + "' has no parameter '" +
                                    o.name + "'");
@@ -624,18 +627,22 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
     if (!p.isOutput)
       continue;
     Var *v = paramScope->vars[p.name];
-    if (v->type.isString() || v->type.isStructLike())
-      continue; // strings are compile-time; structs have no image form
-    if (v->type.hasElems()) {
-      // One output per element (a matrix: 16, row-major); the compiler
-      // merges them into one image with as many channels.
-      for (size_t i = 0; i < v->val.elems.size(); ++i) {
-        auto out = b.create<OutputOp>(loc(p.loc), p.name, v->val.elems[i]);
-        out->setAttr("osl.index", b.getI64IntegerAttr(int64_t(i)));
+    // A struct's fields are outputs of their own, NAME.FIELD, which layers
+    // connect (a struct input takes them field by field).
+    forEachStructLeaf(p.name, v->type, v->val, [&](const std::string &name, RValue &leaf) {
+      if (leaf.type.isString())
+        return; // strings are compile-time
+      if (leaf.type.hasElems()) {
+        // One output per element (a matrix: 16, row-major); the compiler
+        // merges them into one image with as many channels.
+        for (size_t i = 0; i < leaf.elems.size(); ++i) {
+          auto out = b.create<OutputOp>(loc(p.loc), name, leaf.elems[i]);
+          out->setAttr("osl.index", b.getI64IntegerAttr(int64_t(i)));
+        }
+        return;
       }
-      continue;
-    }
-    b.create<OutputOp>(loc(p.loc), p.name, v->val.value);
+      b.create<OutputOp>(loc(p.loc), name, leaf.value);
+    });
   }
   if (ci->val.value != emptyCi)
     b.create<OutputOp>(loc(endLoc), "Ci", ci->val.value);
@@ -650,6 +657,17 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   for (Operation *op : dead)
     op->erase();
   return true;
+}
+
+void IRGen::forEachStructLeaf(const std::string &name, const OslType &type, RValue &value,
+                              llvm::function_ref<void(const std::string &, RValue &)> fn) {
+  if (!type.isStructLike() || type.isArray()) {
+    fn(name, value);
+    return;
+  }
+  for (size_t j = 0; j < value.fields.size(); ++j)
+    forEachStructLeaf(name + "." + type.structDecl->fields[j].name, fieldType(type, j),
+                      value.fields[j], fn);
 }
 
 std::optional<RValue> IRGen::overrideValue(const Param &p, const std::string &text) {
@@ -724,11 +742,12 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
       (t.base == BaseType::Closure && t.isArray()))
     return error(p.loc, "shader parameters of type '" + t.str() + "' are not supported yet");
   if (t.isStructLike()) {
-    // A struct parameter takes its default: instance values name fields
-    // (`p.field`), which osl-run does not set yet.
+    // Instance values and connections name the fields (`p.field`): each
+    // numeric field is a parameter of its own.
     for (const ParamOverride &o : overrides)
       if (o.name == p.name)
-        return error(p.loc, "struct parameter '" + p.name + "' cannot be given a value yet");
+        return error(p.loc, "struct parameter '" + p.name +
+                                "' takes values field by field ('" + p.name + ".FIELD')");
     if (!checkStructType(t, p.loc))
       return false;
     auto init = emitInitializer(*p.init, t, p.name, p.loc);
@@ -736,6 +755,38 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
       return false;
     auto c = coerce(*init, t, p.loc, "in the default of '" + p.name + "'");
     if (!c)
+      return false;
+    bool ok = true;
+    forEachStructLeaf(p.name, t, *c, [&](const std::string &name, RValue &leaf) {
+      if (!ok || leaf.type.isString() || leaf.type.isClosure())
+        return;
+      const ParamOverride *fieldValue = nullptr;
+      for (const ParamOverride &o : overrides)
+        if (o.name == name)
+          fieldValue = &o;
+      if (fieldValue) {
+        Param field;
+        field.type = leaf.type;
+        field.name = name;
+        field.loc = p.loc;
+        std::optional<RValue> given = overrideValue(field, fieldValue->value);
+        if (!given) {
+          ok = false;
+          return;
+        }
+        leaf = *given;
+      }
+      if (leaf.type.hasElems()) {
+        for (size_t i = 0; i < leaf.elems.size(); ++i) {
+          auto op = b.create<ParamOp>(loc(p.loc), leaf.elems[i].getType(), name, leaf.elems[i]);
+          op->setAttr("osl.index", b.getI64IntegerAttr(int64_t(i)));
+          leaf.elems[i] = op.getResult();
+        }
+      } else {
+        leaf.value = b.create<ParamOp>(loc(p.loc), leaf.value.getType(), name, leaf.value);
+      }
+    });
+    if (!ok)
       return false;
     Var *v = declareVar(scope, p.name, t, p.loc, *c);
     if (!v)
@@ -812,8 +863,8 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
       op->setAttr("osl.index", b.getI64IntegerAttr(int64_t(i)));
       val.elems[i] = op.getResult();
     }
-  } else if (!t.isString() && !t.isClosure()) {
-    // (A closure parameter is its default: instance values are numbers.)
+  } else if (!t.isString()) {
+    // (A closure parameter takes no instance value, but may be connected.)
     Value d = val.value;
     val.value = b.create<ParamOp>(loc(p.loc), d.getType(), p.name, d).getResult();
   }

@@ -275,6 +275,11 @@ private:
   bool emitParam(const Param &p, Scope *scope, bool runDefault);
 
   std::optional<RValue> overrideValue(const Param &p, const std::string &text);
+  /// Calls fn on each leaf of a struct value (nested structs flattened),
+  /// named NAME.FIELD as OSL names a struct parameter's fields; on the value
+  /// itself when it is not a struct. An array of structs is one leaf.
+  void forEachStructLeaf(const std::string &name, const OslType &type, RValue &value,
+                         llvm::function_ref<void(const std::string &, RValue &)> fn);
   /// A declaration's initializer (an expression or `{...}`) as `type`;
   /// sets the length of unsized arrays.
   std::optional<RValue> emitInitializer(const Expr &init, OslType &type,

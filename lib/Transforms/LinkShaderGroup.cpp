@@ -9,6 +9,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
+#include "OslTransforms/GroupNames.h"
 #include "OslTransforms/LaneMath.h"
 #include "OslTransforms/Passes.h"
 
@@ -149,16 +150,24 @@ struct LinkShaderGroupPass
           ok = false;
           return;
         }
-        if (param->hasAttr("osl.index")) {
+        auto [outputName, component] = splitComponentName(fromOutput);
+        func::FuncOp fromFunc = layers[it->second].func;
+        std::optional<int64_t> element = elementIndex(param);
+        bool exists = false;
+        fromFunc.walk([&](OutputOp o) { exists |= o.getName() == outputName; });
+        int64_t inputLength = arrayLength(l.func, param.getName(), /*outputs=*/false);
+        int64_t outputLength = arrayLength(fromFunc, outputName, /*outputs=*/true);
+        if (exists && component < 0 && inputLength != outputLength) {
           // One message for the array, not one per element.
-          if (!reportedArrays.insert((l.name + "." + param.getName()).str()).second)
-            return;
-          param.emitError("array input '") << param.getName() << "' of layer '" << l.name
-                                           << "' cannot be connected yet";
+          if (reportedArrays.insert((l.name + "." + param.getName()).str()).second)
+            param.emitError("cannot connect output '")
+                << fromLayer << "." << fromOutput << "' (" << describeLength(outputLength)
+                << ") to input '" << l.name << "." << param.getName() << "' ("
+                << describeLength(inputLength) << ")";
           ok = false;
           return;
         }
-        OutputOp out = findOutput(layers[it->second].func, fromOutput);
+        OutputOp out = findOutput(fromFunc, outputName, element);
         if (!out) {
           param.emitError("layer '") << fromLayer << "' has no output '" << fromOutput
                                      << "' (connected to input '" << param.getName()
@@ -166,13 +175,12 @@ struct LinkShaderGroupPass
           ok = false;
           return;
         }
-        if (out->hasAttr("osl.index")) {
-          param.emitError("array output '") << fromOutput << "' of layer '" << fromLayer
-                                             << "' cannot be connected yet";
-          ok = false;
-          return;
-        }
-        if (!connectable(out.getValue().getType(), param.getType())) {
+        Type outType = out.getValue().getType();
+        if (component >= 0 && isTriple(getUniformType(outType)))
+          outType = withUniformity(Float32Type::get(param.getContext()), isVarying(outType));
+        else if (component >= 0)
+          outType = Type(); // a component of a non-triple: not connectable
+        if (!outType || !connectable(outType, param.getType())) {
           param.emitError("cannot connect output '")
               << fromLayer << "." << fromOutput << "' ("
               << typeName(out.getValue().getType()) << ") to input '" << l.name << "."
@@ -197,33 +205,89 @@ struct LinkShaderGroupPass
     return success();
   }
 
-  /// As OSL: an output connects to an input of its type, and an int output
-  /// to a float input (converted).
+  /// As OSL: an output connects to an input of its type, an int output to a
+  /// float input, and a float to a triple (converted).
   static bool connectable(Type output, Type input) {
     Type from = getUniformType(output), to = getUniformType(input);
-    return from == to || (from.isInteger(32) && to.isF32());
+    return from == to || (from.isInteger(32) && to.isF32()) ||
+           ((from.isF32() || from.isInteger(32)) && isTriple(to));
   }
 
-  /// The connected param reads `value`, converted to the param's type.
-  static void replaceConnected(ParamOp param, Value value) {
+  /// The connected param reads `output` of a layer's `outputs` (OUT[k]: its
+  /// component k), converted to the param's type.
+  static void replaceConnected(ParamOp param, const llvm::StringMap<Value> &outputs,
+                               StringRef output) {
+    auto [name, component] = splitComponentName(output);
+    Value value = outputs.lookup(outputKey(name, elementIndex(param)));
+    OpBuilder b(param.getContext());
+    b.setInsertionPointAfterValue(value);
+    if (component >= 0)
+      value = b.create<ExtractOp>(
+          param.getLoc(), withUniformity(b.getF32Type(), isVarying(value.getType())), value,
+          b.getI64IntegerAttr(component));
     Type to = getUniformType(param.getType());
-    if (getUniformType(value.getType()) != to) {
-      OpBuilder b(param.getContext());
-      b.setInsertionPointAfterValue(value);
+    if (getUniformType(value.getType()) != to)
       value = b.create<ConvertOp>(param.getLoc(),
                                   withUniformity(to, isVarying(value.getType())), value);
-    }
+    SmallVector<Operation *> users(param->getUsers());
     param.replaceAllUsesWith(value);
     param.erase();
+    for (Operation *user : users)
+      retypeParamDefault(user);
   }
 
-  static OutputOp findOutput(func::FuncOp f, StringRef name) {
+  /// A parameter whose default is another parameter (`output S b = a`)
+  /// takes the type of what now feeds it (a varying output, say).
+  static void retypeParamDefault(Operation *op) {
+    auto param = dyn_cast<ParamOp>(op);
+    if (!param || param.getType() == param.getDefaultValue().getType())
+      return;
+    param.getResult().setType(param.getDefaultValue().getType());
+    for (Operation *user : param->getUsers())
+      retypeParamDefault(user);
+  }
+
+  static OutputOp findOutput(func::FuncOp f, StringRef name,
+                             std::optional<int64_t> element = std::nullopt) {
     OutputOp found;
     f.walk([&](OutputOp out) {
-      if (out.getName() == name)
+      if (out.getName() == name && elementIndex(out) == element)
         found = out;
     });
     return found;
+  }
+
+  /// An array parameter or output is one op per element, marked osl.index.
+  static std::optional<int64_t> elementIndex(Operation *op) {
+    if (auto index = op->getAttrOfType<IntegerAttr>("osl.index"))
+      return index.getInt();
+    return std::nullopt;
+  }
+
+  /// The element count of the array input or output `name` of `f`; 0 when
+  /// it is not an array.
+  static int64_t arrayLength(func::FuncOp f, StringRef name, bool outputs) {
+    int64_t length = 0;
+    f.walk([&](Operation *op) {
+      StringRef opName;
+      if (auto out = dyn_cast<OutputOp>(op); out && outputs)
+        opName = out.getName();
+      else if (auto param = dyn_cast<ParamOp>(op); param && !outputs)
+        opName = param.getName();
+      if (opName == name && elementIndex(op))
+        length = std::max(length, *elementIndex(op) + 1);
+    });
+    return length;
+  }
+
+  static std::string describeLength(int64_t length) {
+    return length ? "an array of " + std::to_string(length) : "not an array";
+  }
+
+  /// How an inlined layer's outputs are found: by name, and an array's
+  /// elements by name and index.
+  static std::string outputKey(StringRef name, std::optional<int64_t> element) {
+    return element ? (name + "#" + std::to_string(*element)).str() : name.str();
   }
 
   /// Clones layer `l` at `b`; returns its outputs' final values. Entry
@@ -241,7 +305,7 @@ struct LinkShaderGroupPass
       auto out = dyn_cast<OutputOp>(copy);
       if (!out)
         continue;
-      outputs[out.getName()] = out.getValue();
+      outputs[outputKey(out.getName(), elementIndex(out))] = out.getValue();
       std::string groupName = &l == &layers.back()
                                   ? out.getName().str()
                                   : (l.name + "." + out.getName()).str();
@@ -262,7 +326,7 @@ struct LinkShaderGroupPass
       auto it = placed.find(fromLayer);
       if (it == placed.end())
         continue;
-      replaceConnected(param, it->second.lookup(fromOutput));
+      replaceConnected(param, it->second, fromOutput);
     }
     return outputs;
   }
@@ -301,7 +365,7 @@ struct LinkShaderGroupPass
     OpBuilder b(first);
     llvm::StringMap<Value> outputs = inlineLayer(l, b);
     for (ParamOp param : reads)
-      replaceConnected(param, outputs.lookup(connection(param)->second));
+      replaceConnected(param, outputs, connection(param)->second);
   }
 
   /// Unspecialised parameters: the value lives in a writable global that

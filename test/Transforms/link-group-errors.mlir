@@ -31,15 +31,15 @@ module {
 
 module {
   func.func @up() attributes {osl.layer = "up"} {
-    %zero = arith.constant 0.0 : f32
-    osl.output "out" = %zero : f32
+    %zero = arith.constant dense<0.0> : vector<3xf32>
+    osl.output "out" = %zero : vector<3xf32>
     return
   }
   func.func @root() attributes {osl.layer = "root"} {
-    %c = arith.constant dense<0.0> : vector<3xf32>
-    // expected-error @+1 {{cannot connect output 'up.out' (float) to input 'root.Cin' (color/point/vector/normal)}}
-    %in = osl.param "Cin"(%c) {osl.connect = ["up", "out"]} : vector<3xf32>
-    osl.output "Cout" = %in : vector<3xf32>
+    %c = arith.constant 0.0 : f32
+    // expected-error @+1 {{cannot connect output 'up.out' (color/point/vector/normal) to input 'root.f' (float)}}
+    %in = osl.param "f"(%c) {osl.connect = ["up", "out"]} : f32
+    osl.output "Cout" = %in : f32
     return
   }
 }

@@ -1,0 +1,5 @@
+// A struct for test/Tools/shader-group-connections.osl.
+struct Pair {
+    float s;
+    color c;
+};
