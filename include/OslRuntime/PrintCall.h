@@ -20,12 +20,14 @@ namespace osl {
 
 /// Where an osl.print's text goes, with the operand kinds before the
 /// values: `s` the format string, and fprintf's file name before it.
+/// "renderer_error" is the renderer's own report of a bad request (an
+/// unknown space name), printed as testshade's renderer prints it.
 struct PrintStream {
   const char *name;
   const char *operands;
 };
 inline constexpr PrintStream kPrintStreams[] = {
-    {"printf", "s"}, {"fprintf", "ss"}, {"warning", "s"}, {"error", "s"}};
+    {"printf", "s"}, {"fprintf", "ss"}, {"warning", "s"}, {"error", "s"}, {"renderer_error", "s"}};
 
 /// The index of a print stream in kPrintStreams, or -1.
 constexpr int32_t printStreamCode(std::string_view name) {

@@ -560,13 +560,32 @@ bool stringArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
 /// the shader is compiled.
 bool colorSpaceArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
                    std::string &out) {
-  if (!stringArg(g, v, e, fn, "a color space name", out))
-    return false;
-  if (isColorSpaceName(out, g.workingColorSpace()))
+  return stringArg(g, v, e, fn, "a color space name", out);
+}
+
+/// Whether the renderer knows every space of a transform; each unknown one is
+/// reported when the point runs (the transform is then the identity, as in
+/// OSL).
+bool knownSpaces(IRGen &g, std::initializer_list<llvm::StringRef> names, SrcLoc l) {
+  bool known = true;
+  for (llvm::StringRef name : names)
+    if (!namedSpaceTransform(name, "common", g.cameraImage())) {
+      g.reportAtRunTime("Unknown transformation \"" + name.str() + "\"", l);
+      known = false;
+    }
+  return known;
+}
+
+/// Whether transformc(from, to, ...) can convert; if not, the color stays as
+/// it is and the renderer reports it when the point runs, as OSL's does.
+bool knownColorTransform(IRGen &g, const std::string &from, const std::string &to,
+                         SrcLoc l) {
+  if (isColorSpaceName(from, g.workingColorSpace()) &&
+      isColorSpaceName(to, g.workingColorSpace()))
     return true;
-  return g.error(e.loc, "unknown color space '" + out + "' in '" + fn +
-                            "' (known: rgb, RGB, linear, hsv, hsl, YIQ, XYZ, xyY, sRGB, " +
-                            g.workingColorSpace() + ")");
+  g.reportAtRunTime("Unknown color space transformation \"" + from + "\" -> \"" + to + "\"",
+                    l);
+  return false;
 }
 
 /// transformc([from,] to, C): from defaults to "rgb".
@@ -590,6 +609,8 @@ std::optional<RValue> emitTransformc(IRGen &g, const Expr &call) {
   auto c = g.coerce((*args)[n - 1], color, call.args[n - 1]->begin, "in 'transformc'");
   if (!c)
     return std::nullopt;
+  if (!knownColorTransform(g, from, to, call.loc))
+    return *c;
   Value r = g.builder().create<TransformcOp>(g.loc(call.loc), c->value.getType(), from, to,
                                              g.workingColorSpace(), c->value);
   return RValue::num(color, r);
@@ -809,15 +830,13 @@ std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
   if (isProjectionSpace(to)) {
     // The camera's projection depends on the image size the front end was
     // given: a constant matrix, applied with the w divide.
+    // (An unknown space is reported, and its half is the identity.)
     bool known = true;
     RValue m = g.namedMatrix(from, to, call.loc, known);
-    if (!known) {
-      g.error(call.loc, "unknown coordinate space in transform from '" + from + "' to '" +
-                            to + "'");
-      return std::nullopt;
-    }
     return RValue::num(p.type, g.transformByMatrix(m.elems, p.value, p.type.base, call.loc));
   }
+  if (!knownSpaces(g, {from, to}, call.loc))
+    return p;
   std::string kind = baseTypeName(p.type.base).str();
   Value v = g.builder().create<TransformOp>(g.loc(call.loc), p.value.getType(), from, to,
                                             kind, p.value);
@@ -1009,15 +1028,18 @@ std::optional<RValue> emitConstructor(IRGen &g, OslType t, const std::vector<Exp
       std::string checked;
       if (!colorSpaceArg(g, args[0], *call.args[0], "color", checked))
         return std::nullopt;
-      value = g.builder().create<TransformcOp>(g.loc(call.loc), value.getType(), space, "rgb",
-                                               g.workingColorSpace(), value);
+      // OSL names the destination "RGB" in its report.
+      if (knownColorTransform(g, space, "RGB", call.loc))
+        value = g.builder().create<TransformcOp>(g.loc(call.loc), value.getType(), space,
+                                                 "rgb", g.workingColorSpace(), value);
     } else if (space != "common") {
       if (space.empty()) {
         g.error(call.args[0]->loc, "empty space name");
         return std::nullopt;
       }
-      value = g.builder().create<TransformOp>(g.loc(call.loc), value.getType(), space,
-                                              "common", baseTypeName(t.base), value);
+      if (knownSpaces(g, {space}, call.loc))
+        value = g.builder().create<TransformOp>(g.loc(call.loc), value.getType(), space,
+                                                "common", baseTypeName(t.base), value);
     }
   }
   return RValue::num(t, value);

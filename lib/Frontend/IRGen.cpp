@@ -407,6 +407,14 @@ RValue IRGen::stringChoice(std::vector<RValue> strings, Value index, SrcLoc l) {
   return r;
 }
 
+void IRGen::reportAtRunTime(const std::string &message, SrcLoc l) {
+  std::string format; // the message as a format string: '%' doubled
+  for (char c : message)
+    format += c == '%' ? std::string("%%") : std::string(1, c);
+  b.create<PrintOp>(loc(l), "renderer_error", "s",
+                    ValueRange{stringHandle(RValue::string(format), l)}, Value());
+}
+
 Value IRGen::stringHandle(const RValue &s, SrcLoc l) {
   if (s.isRuntimeString())
     return s.value;

@@ -206,6 +206,9 @@ public:
   /// The run-time handle (i32) of any string: compile-time strings are
   /// interned (osl.string_constant), a choice selects among its handles.
   mlir::Value stringHandle(const RValue &s, SrcLoc l);
+  /// What testshade's renderer reports when the point runs (an unknown
+  /// space name, say): "ERROR: message", once per run.
+  void reportAtRunTime(const std::string &message, SrcLoc l);
   /// The strings `s` may be when the shader is compiled (one, or its
   /// choices); reports that `what` must be known then for a string
   /// computed at run time.

@@ -161,6 +161,9 @@ RValue IRGen::namedMatrix(StringRef from, StringRef to, SrcLoc l, bool &known) {
   auto fromCommon = namedSpaceTransform(from, "common", camera);
   auto toSpace = namedSpaceTransform("common", to, camera);
   known = false;
+  for (StringRef name : {from, to})
+    if (!namedSpaceTransform(name, "common", camera))
+      reportAtRunTime("Unknown transformation \"" + name.str() + "\"", l);
   RValue a = constMatrix(fromCommon ? *fromCommon : identity, l);
   RValue c = constMatrix(toSpace ? *toSpace : identity, l);
   return matrixValue(matrixMultiply(a.elems, c.elems, l));

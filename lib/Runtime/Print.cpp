@@ -26,7 +26,7 @@ std::vector<LaneText> &threadTexts() {
   return texts;
 }
 
-enum : int32_t { kPrintf, kFprintf, kWarning, kError };
+enum : int32_t { kPrintf, kFprintf, kWarning, kError, kRendererError };
 
 std::mutex reportedMutex;
 std::set<std::pair<int32_t, std::string>> reported;
@@ -72,6 +72,10 @@ int osl::emitPrints(const PrintLog &log, const std::string &shaderName) {
     errors += error;
     // Standard output first, so that a file holding both keeps the order.
     std::fflush(stdout);
+    if (t.stream == kRendererError) {
+      std::fprintf(stderr, "ERROR: %s\n", text.c_str());
+      continue;
+    }
     std::fprintf(stderr, "%s: Shader %s [%s]: %s\n", error ? "ERROR" : "WARNING",
                  error ? "error" : "warning", shaderName.c_str(), text.c_str());
   }
