@@ -556,11 +556,15 @@ bool stringArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
   return true;
 }
 
-/// A color space name of transformc or a color constructor, known when
-/// the shader is compiled.
-bool colorSpaceArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
-                   std::string &out) {
-  return stringArg(g, v, e, fn, "a color space name", out);
+/// A string argument known when the shader is compiled, or chosen per
+/// point among such strings (forEachStringChoice then runs each choice on
+/// its lanes).
+bool namesArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
+              llvm::StringRef what) {
+  if (!v.type.isString())
+    return g.error(e.loc, "'" + fn + "' expects " + what + " (a string) here, got '" +
+                              v.type.str() + "'");
+  return bool(g.compileTimeStrings(v, e.loc, llvm::Twine(what) + " of '" + fn + "'"));
 }
 
 /// Whether the renderer knows every space of a transform; each unknown one is
@@ -600,20 +604,28 @@ std::optional<RValue> emitTransformc(IRGen &g, const Expr &call) {
                           "color transformc(string from, string to, color)");
     return std::nullopt;
   }
-  std::string from = "rgb", to;
-  if (n == 3 && !colorSpaceArg(g, (*args)[0], *call.args[0], "transformc", from))
-    return std::nullopt;
-  if (!colorSpaceArg(g, (*args)[n - 2], *call.args[n - 2], "transformc", to))
+  RValue from = RValue::string("rgb");
+  if (n == 3) {
+    if (!namesArg(g, (*args)[0], *call.args[0], "transformc", "a color space name"))
+      return std::nullopt;
+    from = (*args)[0];
+  }
+  const RValue &to = (*args)[n - 2];
+  if (!namesArg(g, to, *call.args[n - 2], "transformc", "a color space name"))
     return std::nullopt;
   OslType color(BaseType::Color);
   auto c = g.coerce((*args)[n - 1], color, call.args[n - 1]->begin, "in 'transformc'");
   if (!c)
     return std::nullopt;
-  if (!knownColorTransform(g, from, to, call.loc))
-    return *c;
-  Value r = g.builder().create<TransformcOp>(g.loc(call.loc), c->value.getType(), from, to,
-                                             g.workingColorSpace(), c->value);
-  return RValue::num(color, r);
+  return g.forEachStringChoice(from, call.loc, [&](const std::string &f) {
+    return g.forEachStringChoice(to, call.loc, [&](const std::string &t) {
+      if (!knownColorTransform(g, f, t, call.loc))
+        return std::optional<RValue>(*c);
+      Value r = g.builder().create<TransformcOp>(g.loc(call.loc), c->value.getType(), f, t,
+                                                 g.workingColorSpace(), c->value);
+      return std::optional<RValue>(RValue::num(color, r));
+    });
+  });
 }
 
 /// The values of noise("gabor", ..., "name", value, ...)'s options (null
@@ -805,8 +817,7 @@ std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
   for (size_t k = 0; k + 1 < n; ++k) {
     if (!(*args)[k].type.isString())
       return wrong();
-    std::string name;
-    if (!stringArg(g, (*args)[k], *call.args[k], "transform", "a space name", name))
+    if (!namesArg(g, (*args)[k], *call.args[k], "transform", "a space name"))
       return std::nullopt;
   }
   if (p.type.base == BaseType::Color) {
@@ -814,33 +825,39 @@ std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
             "transform() applies to points, vectors and normals, not 'color'");
     return std::nullopt;
   }
-  std::string from = n == 3 ? (*args)[0].str : "common";
-  std::string to = n == 3 ? (*args)[1].str : (*args)[0].str;
-  if (from.empty() || to.empty()) {
-    g.error(call.loc, "transform() needs non-empty space names");
-    return std::nullopt;
-  }
-  if (from == to)
-    return p;
-  if (isProjectionSpace(from)) {
-    g.error(call.args[0]->loc, "the renderer knows '" + from +
-                                   "' only as a destination space");
-    return std::nullopt;
-  }
-  if (isProjectionSpace(to)) {
-    // The camera's projection depends on the image size the front end was
-    // given: a constant matrix, applied with the w divide.
-    // (An unknown space is reported, and its half is the identity.)
-    bool known = true;
-    RValue m = g.namedMatrix(from, to, call.loc, known);
-    return RValue::num(p.type, g.transformByMatrix(m.elems, p.value, p.type.base, call.loc));
-  }
-  if (!knownSpaces(g, {from, to}, call.loc))
-    return p;
-  std::string kind = baseTypeName(p.type.base).str();
-  Value v = g.builder().create<TransformOp>(g.loc(call.loc), p.value.getType(), from, to,
-                                            kind, p.value);
-  return RValue::num(p.type, v);
+  // Names may be chosen per point: each pair of names runs on its lanes.
+  auto between = [&](const std::string &from, const std::string &to) -> std::optional<RValue> {
+    if (from.empty() || to.empty()) {
+      g.error(call.loc, "transform() needs non-empty space names");
+      return std::nullopt;
+    }
+    if (from == to)
+      return p;
+    if (isProjectionSpace(from)) {
+      g.error(call.args[0]->loc, "the renderer knows '" + from +
+                                     "' only as a destination space");
+      return std::nullopt;
+    }
+    if (isProjectionSpace(to)) {
+      // The camera's projection depends on the image size the front end was
+      // given: a constant matrix, applied with the w divide.
+      // (An unknown space is reported, and its half is the identity.)
+      bool known = true;
+      RValue m = g.namedMatrix(from, to, call.loc, known);
+      return RValue::num(p.type, g.transformByMatrix(m.elems, p.value, p.type.base, call.loc));
+    }
+    if (!knownSpaces(g, {from, to}, call.loc))
+      return p;
+    std::string kind = baseTypeName(p.type.base).str();
+    Value v = g.builder().create<TransformOp>(g.loc(call.loc), p.value.getType(), from, to,
+                                              kind, p.value);
+    return RValue::num(p.type, v);
+  };
+  RValue from = n == 3 ? (*args)[0] : RValue::string("common");
+  const RValue &to = (*args)[n - 2];
+  return g.forEachStringChoice(from, call.loc, [&](const std::string &f) {
+    return g.forEachStringChoice(to, call.loc, [&](const std::string &t) { return between(f, t); });
+  });
 }
 
 /// spline() and splineinverse(): (basis, x, knots...), (basis, x, knots[])
@@ -985,10 +1002,9 @@ std::optional<RValue> emitConstructor(IRGen &g, OslType t, const std::vector<Exp
                           "(string space, ...)");
     return std::nullopt;
   };
-  std::string space;
   size_t first = 0;
   if (!args.empty() && args[0].type.isString()) {
-    if (!stringArg(g, args[0], *call.args[0], name, "the space name", space))
+    if (!namesArg(g, args[0], *call.args[0], name, "the space name"))
       return std::nullopt;
     first = 1;
   }
@@ -1024,23 +1040,29 @@ std::optional<RValue> emitConstructor(IRGen &g, OslType t, const std::vector<Exp
     return wrong();
   }
   if (first == 1) {
-    if (t.base == BaseType::Color) {
-      std::string checked;
-      if (!colorSpaceArg(g, args[0], *call.args[0], "color", checked))
-        return std::nullopt;
-      // OSL names the destination "RGB" in its report.
-      if (knownColorTransform(g, space, "RGB", call.loc))
-        value = g.builder().create<TransformcOp>(g.loc(call.loc), value.getType(), space,
-                                                 "rgb", g.workingColorSpace(), value);
-    } else if (space != "common") {
+    auto inSpace = [&](const std::string &space) -> std::optional<RValue> {
+      if (t.base == BaseType::Color) {
+        // OSL names the destination "RGB" in its report.
+        if (!knownColorTransform(g, space, "RGB", call.loc))
+          return RValue::num(t, value);
+        return RValue::num(t, g.builder().create<TransformcOp>(
+                                  g.loc(call.loc), value.getType(), space, "rgb",
+                                  g.workingColorSpace(), value));
+      }
       if (space.empty()) {
         g.error(call.args[0]->loc, "empty space name");
         return std::nullopt;
       }
-      if (knownSpaces(g, {space}, call.loc))
-        value = g.builder().create<TransformOp>(g.loc(call.loc), value.getType(), space,
-                                                "common", baseTypeName(t.base), value);
-    }
+      if (space == "common" || !knownSpaces(g, {space}, call.loc))
+        return RValue::num(t, value);
+      return RValue::num(t, g.builder().create<TransformOp>(g.loc(call.loc), value.getType(),
+                                                            space, "common",
+                                                            baseTypeName(t.base), value));
+    };
+    auto r = g.forEachStringChoice(args[0], call.loc, inSpace);
+    if (!r)
+      return std::nullopt;
+    value = r->value;
   }
   return RValue::num(t, value);
 }

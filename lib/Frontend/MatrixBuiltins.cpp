@@ -21,16 +21,13 @@ std::string typesText(const std::vector<RValue> &args) {
 }
 
 /// A space name known when the shader is compiled.
-bool spaceName(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
-               std::string &out) {
-  if (v.isStringChoice())
-    return g.error(e.loc, "'" + fn + "' needs space names known when the shader is "
-                                     "compiled; this string is chosen per point");
-  if (!g.compileTimeStrings(v, e.loc, "the space names of '" + fn.str() + "'"))
+bool spaceNames(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn) {
+  auto names = g.compileTimeStrings(v, e.loc, "the space names of '" + fn.str() + "'");
+  if (!names)
     return false;
-  if (v.str.empty())
-    return g.error(e.loc, "empty space name");
-  out = v.str;
+  for (const std::string &name : *names)
+    if (name.empty())
+      return g.error(e.loc, "empty space name");
   return true;
 }
 
@@ -54,17 +51,23 @@ std::optional<RValue> emitMatrixConstructor(IRGen &g, const Expr &call) {
     return std::nullopt;
   };
   size_t first = !args.empty() && args[0].type.isString() ? 1 : 0;
-  std::string space;
-  if (first && !spaceName(g, args[0], *call.args[0], "matrix", space))
+  if (first && !spaceNames(g, args[0], *call.args[0], "matrix"))
     return std::nullopt;
   RValue m;
   size_t count = args.size() - first;
+  // Space names may be chosen per point: each choice runs on its lanes.
+  auto named = [&](const RValue &from, const RValue &to) {
+    return g.forEachStringChoice(from, call.loc, [&](const std::string &f) {
+      return g.forEachStringChoice(to, call.loc, [&](const std::string &t) {
+        bool known = true;
+        return std::optional<RValue>(g.namedMatrix(f, t, call.loc, known));
+      });
+    });
+  };
   if (first && count == 1 && args[1].type.isString()) {
-    std::string to;
-    if (!spaceName(g, args[1], *call.args[1], "matrix", to))
+    if (!spaceNames(g, args[1], *call.args[1], "matrix"))
       return std::nullopt;
-    bool known = true;
-    return g.namedMatrix(space, to, call.loc, known);
+    return named(args[0], args[1]);
   }
   if (count == 1 && (args[first].type.isScalar() || (!first && args[0].type.isMatrix()))) {
     auto c = g.coerce(args[first], matrixType, call.args[first]->begin, "in 'matrix(...)'");
@@ -83,12 +86,13 @@ std::optional<RValue> emitMatrixConstructor(IRGen &g, const Expr &call) {
   } else {
     return wrong();
   }
-  if (!first || space == "common")
+  if (!first || (!args[0].isStringChoice() && args[0].str == "common"))
     return m;
   // An unknown space leaves the matrix as it is (OSL reports it at run time).
-  bool known = true;
-  RValue toCommon = g.namedMatrix(space, "common", call.loc, known);
-  return IRGen::matrixValue(g.matrixMultiply(toCommon.elems, m.elems, call.loc));
+  auto toCommon = named(args[0], RValue::string("common"));
+  if (!toCommon)
+    return std::nullopt;
+  return IRGen::matrixValue(g.matrixMultiply(toCommon->elems, m.elems, call.loc));
 }
 
 /// getmatrix(from, to, output M) and getmatrix(from, output M) (to
@@ -100,7 +104,7 @@ std::optional<RValue> emitGetMatrix(IRGen &g, const Expr &call) {
                       "string to, output matrix); int getmatrix(string from, output matrix)");
     return std::nullopt;
   }
-  std::string names[2] = {"", "common"};
+  RValue names[2] = {RValue::string(""), RValue::string("common")};
   for (size_t k = 0; k + 1 < n; ++k) {
     auto v = g.emitExpr(*call.args[k]);
     if (!v)
@@ -110,20 +114,37 @@ std::optional<RValue> emitGetMatrix(IRGen &g, const Expr &call) {
                                      v->type.str() + "'");
       return std::nullopt;
     }
-    if (!spaceName(g, *v, *call.args[k], "getmatrix", names[k]))
+    if (!spaceNames(g, *v, *call.args[k], "getmatrix"))
       return std::nullopt;
+    names[k] = *v;
   }
   auto lv = g.emitLValue(*call.args[n - 1]);
   if (!lv)
     return std::nullopt;
-  bool known = true;
-  RValue m = g.namedMatrix(names[0], names[1], call.loc, known);
-  auto v = g.coerce(m, lv->type, call.args[n - 1]->begin,
+  // Names may be chosen per point: each pair runs on its lanes and gives
+  // the matrix and whether both spaces are known.
+  auto perNames = [&](bool wantMatrix) {
+    return g.forEachStringChoice(names[0], call.loc, [&](const std::string &f) {
+      return g.forEachStringChoice(names[1], call.loc, [&](const std::string &t) {
+        if (wantMatrix) {
+          bool known = true;
+          return std::optional<RValue>(g.namedMatrix(f, t, call.loc, known));
+        }
+        bool known = bool(namedSpaceTransform(f, t, g.cameraImage()));
+        return std::optional<RValue>(
+            RValue::num(OslType(BaseType::Int), g.constInt(known ? 1 : 0, call.loc)));
+      });
+    });
+  };
+  auto m = perNames(/*wantMatrix=*/true);
+  if (!m)
+    return std::nullopt;
+  auto v = g.coerce(*m, lv->type, call.args[n - 1]->begin,
                     "in output argument " + llvm::Twine(n) + " of 'getmatrix'");
   if (!v)
     return std::nullopt;
   g.storeLValue(*lv, *v, call.loc);
-  return RValue::num(OslType(BaseType::Int), g.constInt(known ? 1 : 0, call.loc));
+  return perNames(/*wantMatrix=*/false);
 }
 
 /// determinant(M) and transpose(M).
