@@ -506,6 +506,7 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       error = "a shader given both positionally ('" + o.shaderPath + "') and as a group layer";
       return false;
     }
+    o.groupBeforeReparams = o.group;
     for (const RunOptions::Reparam &r : o.reparams)
       if (!o.group.reparam(r.layer, r.name, r.value, error))
         return false;

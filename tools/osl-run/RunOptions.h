@@ -47,6 +47,9 @@ struct RunOptions {
     std::string layer, name, value;
   };
   std::vector<Reparam> reparams;
+  /// The group as given, before --reparam: testshade shades its first pass
+  /// (of --iters) with these values.
+  ShaderGroup groupBeforeReparams;
 
   /// Render mode (--scene FILE.xml -o OUT): testrender's flags.
   std::string scenePath;

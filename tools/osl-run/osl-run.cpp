@@ -319,12 +319,24 @@ int main(int argc, char **argv) {
   options.grid.progress = true;
   ThreadPool pool(options.grid.threads);
   ShadeResult result;
+  PrintLog printed; // every pass's, in order, as testshade prints each
   double shading = 0;
   for (int i = 0; i < options.iters; ++i) {
+    // With --reparam, testshade's first pass shades the values as given,
+    // the later ones the changed values.
+    const CompiledShader *pass = shader.get();
+    std::unique_ptr<CompiledShader> beforeReparams;
+    if (i == 0 && options.iters > 1 && !options.reparams.empty()) {
+      beforeReparams = compiler.compileGroup(options.groupBeforeReparams);
+      if (!beforeReparams)
+        return 1;
+      pass = beforeReparams.get();
+    }
     // One set of images, allocated and paged in by the first pass.
-    shadeGridInto(result, shader->kernel, shader->width, shader->outputs,
-                  options.grid, pool);
+    shadeGridInto(result, pass->kernel, pass->width, pass->outputs, options.grid, pool);
     shading += result.seconds;
+    for (PrintedText &t : result.printed.texts)
+      printed.texts.push_back(std::move(t));
   }
   stats.add("shading", shading);
 
@@ -335,7 +347,7 @@ int main(int argc, char **argv) {
     // line when it writes none.
     bool imagesFirst = !options.outputs.empty();
     if (!imagesFirst)
-      emitPrints(result.printed, shader->name);
+      emitPrints(printed, shader->name);
     llvm::outs() << "\n";
     for (size_t i = 0; i < files.size(); ++i) {
       auto &[index, file] = files[i];
@@ -355,7 +367,7 @@ int main(int argc, char **argv) {
     }
     if (imagesFirst) {
       llvm::outs().flush();
-      emitPrints(result.printed, shader->name);
+      emitPrints(printed, shader->name);
     }
   }
   if (options.compile.countLanes) {
