@@ -58,8 +58,10 @@ void takeBatchPrints(PrintLog &log);
 /// Emits `log` in order as testshade does: printf's text to standard
 /// output, fprintf's to its files, and each warning or error to standard
 /// error as "ERROR: Shader error [NAME]: text" - a text already reported
-/// in this process is not repeated. Returns the number of errors reported.
-int emitPrints(const PrintLog &log, const std::string &shaderName);
+/// in this process is not repeated, unless `repeatReports` (testshade's
+/// `--options error_repeats=1`). Returns the number of errors reported.
+int emitPrints(const PrintLog &log, const std::string &shaderName,
+               bool repeatReports = false);
 
 /// Keeps one lane's text for the batch (osl_rt_print's work once a lane
 /// is formatted); `file` is fprintf's file name.

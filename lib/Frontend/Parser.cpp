@@ -977,8 +977,10 @@ private:
         return nullptr;
       }
       e->intValue = (long long)(int32_t)(uint32_t)v;
-      if (v > 0x7fffffffull && !llvm::StringRef(t.text).starts_with_insensitive("0x")) {
-        error(loc, "integer literal '" + t.text + "' is too large for an int");
+      // oslc takes 2147483648 (it wraps, so that -2147483648 can be written)
+      // and rejects larger decimal literals; hex literals are bit patterns.
+      if (v > 0x80000000ull && !llvm::StringRef(t.text).starts_with_insensitive("0x")) {
+        error(loc, "integer overflow, value must be between -2147483648 and 2147483647");
         return nullptr;
       }
       advance();

@@ -46,7 +46,8 @@ void osl::takeBatchPrints(PrintLog &log) {
   texts.clear();
 }
 
-int osl::emitPrints(const PrintLog &log, const std::string &shaderName) {
+int osl::emitPrints(const PrintLog &log, const std::string &shaderName,
+                    bool repeatReports) {
   int errors = 0;
   for (const PrintedText &t : log.texts) {
     if (t.stream == kPrintf) {
@@ -64,7 +65,7 @@ int osl::emitPrints(const PrintLog &log, const std::string &shaderName) {
     std::string text = t.stream == kFprintf
                            ? "fprintf cannot open \"" + t.file + "\" for writing"
                            : t.text;
-    {
+    if (!repeatReports) {
       std::lock_guard<std::mutex> lock(reportedMutex);
       if (!reported.insert({error, text}).second)
         continue;

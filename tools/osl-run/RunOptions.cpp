@@ -94,6 +94,8 @@ const char *const osl::kUsage =
     "                         testshade's varying derivatives\n"
     "  -t N                   threads (default: all cores)\n"
     "  --iters N              shade the grid N times, write once\n"
+    "  --options LIST         ShadingSystem options as testshade takes them;\n"
+    "                         error_repeats=1 reports repeated errors too\n"
     "  --texture-cache-mb N   size of the shared texture cache\n"
     "  --cache-dir DIR        keep compiled kernels in DIR, so a second run\n"
     "                         with the same source and options compiles\n"
@@ -220,11 +222,21 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       // testshade's verbosity: osl-run reports what it does with --stats.
     } else if (a == "--llvm_opt" || a == "--options") {
       // testshade's LLVM optimization level and ShadingSystem options:
-      // osl-mlir optimizes its own way (-O0/-O1/-O2), so they are taken
-      // and ignored, and commands written for testshade run unchanged.
+      // osl-mlir optimizes its own way (-O0/-O1/-O2), so they are taken,
+      // and of the options only error_repeats changes what is printed;
+      // commands written for testshade run unchanged.
       if (!need(i, 1, a.c_str()))
         return false;
       ++i;
+      if (a == "--options") {
+        llvm::SmallVector<llvm::StringRef> settings;
+        llvm::StringRef(argv[i]).split(settings, ',');
+        for (llvm::StringRef setting : settings) {
+          auto [name, value] = setting.split('=');
+          if (name.trim() == "error_repeats")
+            o.errorRepeats = value.trim() != "0";
+        }
+      }
     } else if (a == "-g" || a == "--g" || a == "--res") {
       if (!need(i, 2, "-g"))
         return false;

@@ -31,6 +31,9 @@ struct RunOptions {
   /// format's own choice.
   std::string dataType;
   int iters = 1;
+  /// --options error_repeats=1: every warning and error reported, repeats
+  /// too (by default each distinct text once, as testshade does).
+  bool errorRepeats = false;
   /// The shared texture cache's size in MB (0: OpenImageIO's default).
   int textureCacheMB = 0;
   std::string emit; // "", "mlir", "lowered", "llvm", "asm"

@@ -203,7 +203,7 @@ int shadeInBands(RunOptions &options, const CompiledShader &shader,
       shadeGridInto(band, shader.kernel, shader.width, shader.outputs, options.grid, pool);
       shading += band.seconds;
     }
-    emitPrints(band.printed, shader.name);
+    emitPrints(band.printed, shader.name, options.errorRepeats);
     for (auto &[index, stream] : streams)
       if (!stream.writeRows(options.grid.rowBegin, options.grid.rowEnd,
                             band.images[index].data(), error))
@@ -347,7 +347,7 @@ int main(int argc, char **argv) {
     // line when it writes none.
     bool imagesFirst = !options.outputs.empty();
     if (!imagesFirst)
-      emitPrints(printed, shader->name);
+      emitPrints(printed, shader->name, options.errorRepeats);
     llvm::outs() << "\n";
     for (size_t i = 0; i < files.size(); ++i) {
       auto &[index, file] = files[i];
@@ -367,7 +367,7 @@ int main(int argc, char **argv) {
     }
     if (imagesFirst) {
       llvm::outs().flush();
-      emitPrints(printed, shader->name);
+      emitPrints(printed, shader->name, options.errorRepeats);
     }
   }
   if (options.compile.countLanes) {
