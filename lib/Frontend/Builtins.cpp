@@ -722,15 +722,8 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
     }
     kindName = (*args)[0];
     first = 1;
-    auto known = g.compileTimeStrings(kindName, call.args[0]->loc, "the noise type");
-    if (!known)
+    if (!g.compileTimeStrings(kindName, call.args[0]->loc, "the noise type"))
       return std::nullopt;
-    std::vector<std::string> names = *known;
-    for (const std::string &k : names)
-      if (!isKnownNoiseName(k)) {
-        g.error(call.args[0]->loc, "unknown noise type '" + k + "'");
-        return std::nullopt;
-      }
   }
   // Trailing (string, value) pairs are noise options (Gabor's parameters).
   size_t optionsAt = first;
@@ -775,6 +768,16 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
   bool varying = llvm::any_of(coords, [](Value v) { return isVarying(v.getType()); });
   Type t = withUniformity(irType(g.builder(), resultType), varying);
   return g.forEachStringChoice(kindName, call.loc, [&](const std::string &k) {
+    if (!isKnownNoiseName(k)) {
+      // OSL's renderer reports an unknown name where the point runs, and
+      // the noise is 0.
+      g.reportAtRunTime(std::string(periodic ? "periodic " : "") + "noise type \"" + k +
+                            "\" is unknown, called from (" +
+                            g.diagnostics().fileName(call.loc.file).str() + ":" +
+                            std::to_string(call.loc.line) + ")",
+                        call.loc);
+      return std::optional<RValue>(g.zeroValue(resultType, call.loc));
+    }
     if (k != "gabor") { // other noises ignore the options, as in OSL
       Value v = g.builder().create<NoiseOp>(g.loc(call.loc), t, k, coords, periodic);
       return std::optional<RValue>(RValue::num(resultType, v));
