@@ -44,6 +44,8 @@ struct CompileOptions {
   std::vector<std::string> defines;
   /// The ray type raytype() answers 1 for (testshade's --raytype).
   std::string rayType = "camera";
+  /// testshade's --groupname (getattribute "shader:groupname").
+  std::string groupName;
   /// oslc's -Werror (warnings are errors) and osl-run's -w (no warnings).
   bool warningsAsErrors = false;
   bool showWarnings = true;
@@ -168,7 +170,8 @@ private:
   /// warnings are also kept in `warnings` for the kernel cache to replay.
   mlir::OwningOpRef<mlir::ModuleOp> parseSource(llvm::StringRef source,
                                                 llvm::StringRef filename,
-                                                llvm::ArrayRef<ParamOverride> params);
+                                                llvm::ArrayRef<ParamOverride> params,
+                                                llvm::StringRef layerName = "");
   std::unique_ptr<CompiledShader> loadObject(std::string object, std::string name,
                                              std::vector<OutputSpec> outputs);
   bool defineRuntimeSymbols(Jit &target);

@@ -20,6 +20,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace osl {
 
@@ -31,27 +32,38 @@ struct ParamOverride {
   std::string value;
 };
 
+/// What the front end takes besides the source: where #include looks, the
+/// renderer it compiles for, and how warnings are reported.
+struct FrontendOptions {
+  /// Searched by #include after the including file's directory.
+  std::vector<std::string> includePaths;
+  /// The image size that fixes the "screen", "NDC" and "raster" spaces.
+  mlir::osl::CameraImage camera;
+  /// The working RGB space of the color functions (OSL's "colorspace").
+  std::string colorSpace = "Rec709";
+  /// oslc's -D and -U, in order (see preprocess()).
+  std::vector<std::string> defines;
+  /// The ray being shaded: raytype() is 1 for it.
+  std::string rayType = "camera";
+  /// The names getattribute("shader:layername") and "shader:groupname"
+  /// answer (testshade's --layer and --groupname).
+  std::string layerName;
+  std::string groupName;
+  /// Warnings as oslc prints them (`filename:line: warning: message`),
+  /// hidden, or errors (oslc's -Werror).
+  bool warningsAsErrors = false;
+  bool showWarnings = true;
+};
+
 /// Parses `source` (named `filename` in diagnostics) and returns a module
 /// with the shader, or null after printing diagnostics to `errs` as
-/// `filename:line:col: error: message`. #include searches the directory of
-/// `filename`, then `includePaths`. Loads the osl, func and arith dialects
-/// into `context` if they are not loaded yet. `camera` gives the image size
-/// that fixes the "screen", "NDC" and "raster" spaces; `colorSpace` is the
-/// working RGB space of the color functions (OSL's "colorspace" option);
-/// `defines`, oslc's -D and -U (see preprocess()); `rayType`, the ray
-/// being shaded (raytype() is 1 for it). Warnings are printed as oslc's
-/// (`filename:line: warning: message`) unless `showWarnings` is false, or
-/// are errors with `warningsAsErrors` (oslc's -Werror).
+/// `filename:line:col: error: message`. Loads the osl, func and arith
+/// dialects into `context` if they are not loaded yet.
 mlir::OwningOpRef<mlir::ModuleOp>
 parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                mlir::MLIRContext &context,
                llvm::ArrayRef<ParamOverride> overrides, llvm::raw_ostream &errs,
-               llvm::ArrayRef<std::string> includePaths = {},
-               const mlir::osl::CameraImage &camera = {},
-               llvm::StringRef colorSpace = "Rec709",
-               llvm::ArrayRef<std::string> defines = {},
-               llvm::StringRef rayType = "camera", bool warningsAsErrors = false,
-               bool showWarnings = true);
+               const FrontendOptions &options = {});
 
 /// Everything the front end reads of a shader as one string: its tokens
 /// after preprocessing (#includes expanded, macros applied), each with its

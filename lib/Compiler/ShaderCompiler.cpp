@@ -74,15 +74,21 @@ ShaderCompiler::~ShaderCompiler() = default;
 
 mlir::OwningOpRef<mlir::ModuleOp>
 ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
-                            llvm::ArrayRef<ParamOverride> params) {
+                            llvm::ArrayRef<ParamOverride> params, llvm::StringRef layerName) {
   std::string text;
   llvm::raw_string_ostream os(text);
   // Warnings are always collected, so the cache keeps them for runs that
   // show them, and dropped here when hidden.
-  auto module = parseOslShader(source, filename, context, params, os, options.includePaths,
-                               options.camera, options.colorSpace, options.defines,
-                               options.rayType, options.warningsAsErrors,
-                               /*showWarnings=*/true);
+  FrontendOptions frontend;
+  frontend.includePaths = options.includePaths;
+  frontend.camera = options.camera;
+  frontend.colorSpace = options.colorSpace;
+  frontend.defines = options.defines;
+  frontend.rayType = options.rayType;
+  frontend.layerName = layerName.str();
+  frontend.groupName = options.groupName;
+  frontend.warningsAsErrors = options.warningsAsErrors;
+  auto module = parseOslShader(source, filename, context, params, os, frontend);
   llvm::SmallVector<llvm::StringRef> lines;
   llvm::StringRef(text).split(lines, '\n', -1, /*KeepEmpty=*/false);
   for (llvm::StringRef line : lines) {
@@ -280,6 +286,7 @@ std::string ShaderCompiler::optionsKey() const {
      << "\nmath " << mlir::osl::mathLevelName(options.math) << "\nllvm pipeline "
      << int(options.llvmPipeline)
      << "\ncolorspace " << options.colorSpace << "\nraytype " << options.rayType
+     << "\ngroup name " << options.groupName
      // -Werror decides whether a shader with warnings compiles at all.
      << "\nwerror " << options.warningsAsErrors
      << "\ncamera " << options.camera.xres << " "
@@ -370,7 +377,7 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
            << "': " << buffer.getError().message() << "\n";
       return false;
     }
-    auto parsed = parseSource((*buffer)->getBuffer(), layer.shaderPath, layer.params);
+    auto parsed = parseSource((*buffer)->getBuffer(), layer.shaderPath, layer.params, layer.name);
     if (!parsed) {
       errs << "note: in layer '" << layer.name << "'\n";
       return false;

@@ -1116,9 +1116,25 @@ struct RendererAttribute {
   std::string text;
 };
 
-std::optional<RendererAttribute> testshadeAttribute(const IRGen &g, llvm::StringRef name) {
+std::optional<RendererAttribute> testshadeAttribute(const IRGen &g, llvm::StringRef name,
+                                                   bool nameIsConstant) {
   RendererAttribute a;
-  if (name == "camera:resolution") {
+  if (name.starts_with("shader:")) {
+    // OSL answers these while it optimizes the group, so only for a name
+    // known then (its testsuite checks that a name picked per point finds
+    // nothing).
+    if (!nameIsConstant)
+      return std::nullopt;
+    // Unnamed, testshade's layer is SHADER_0 and its group unnamed_group_1.
+    if (name == "shader:shadername")
+      a.text = g.shaderName().str();
+    else if (name == "shader:layername")
+      a.text = g.layerName().empty() ? g.shaderName().str() + "_0" : g.layerName().str();
+    else if (name == "shader:groupname")
+      a.text = g.groupName().empty() ? "unnamed_group_1" : g.groupName().str();
+    else
+      return std::nullopt;
+  } else if (name == "camera:resolution") {
     a.numbers = {double(g.cameraImage().xres), double(g.cameraImage().yres)};
     a.isInt = true;
   } else if (name == "camera:projection") {
@@ -1152,8 +1168,8 @@ std::optional<RendererAttribute> testshadeAttribute(const IRGen &g, llvm::String
 /// looked up then; dest is written only when the attribute exists and has
 /// dest's type, and the result says whether it was.
 std::pair<RValue, RValue> attributeValue(IRGen &g, const Expr &call, const std::string &object,
-                                         const std::string &attribute, bool indexed,
-                                         const LValue &dest);
+                                         const std::string &attribute, bool nameIsConstant,
+                                         bool indexed, const LValue &dest);
 
 std::optional<RValue> emitGetAttribute(IRGen &g, const Expr &call) {
   size_t n = call.args.size();
@@ -1185,7 +1201,8 @@ std::optional<RValue> emitGetAttribute(IRGen &g, const Expr &call) {
     if (!stringArg(g, attrName, *call.args[nameCount - 1], "getattribute",
                    "the attribute name", attribute))
       return std::nullopt;
-    auto [value, found] = attributeValue(g, call, object, attribute, indexed, *dest);
+    auto [value, found] =
+        attributeValue(g, call, object, attribute, /*nameIsConstant=*/true, indexed, *dest);
     g.storeLValue(*dest, value, call.loc);
     return found;
   }
@@ -1193,7 +1210,8 @@ std::optional<RValue> emitGetAttribute(IRGen &g, const Expr &call) {
   // lane takes its own.
   std::vector<RValue> values, founds;
   for (const std::string &attribute : attrName.choices) {
-    auto [value, found] = attributeValue(g, call, object, attribute, indexed, *dest);
+    auto [value, found] =
+        attributeValue(g, call, object, attribute, /*nameIsConstant=*/false, indexed, *dest);
     values.push_back(value);
     founds.push_back(found);
   }
@@ -1218,11 +1236,11 @@ std::optional<RValue> emitGetAttribute(IRGen &g, const Expr &call) {
 /// What getattribute(object, attribute, dest) leaves in dest (its current
 /// value where testshade has no such attribute) and returns (1 or 0).
 std::pair<RValue, RValue> attributeValue(IRGen &g, const Expr &call, const std::string &object,
-                                         const std::string &attribute, bool indexed,
-                                         const LValue &destRef) {
+                                         const std::string &attribute, bool nameIsConstant,
+                                         bool indexed, const LValue &destRef) {
   const LValue *dest = &destRef;
   std::optional<RendererAttribute> found =
-      object.empty() ? testshadeAttribute(g, attribute) : std::nullopt;
+      object.empty() ? testshadeAttribute(g, attribute, nameIsConstant) : std::nullopt;
   OslType t = dest->type;
   OslType element = t.isArray() ? t.element() : t;
   bool fits = found && !indexed;

@@ -16,30 +16,27 @@ using namespace osl::frontend;
 mlir::OwningOpRef<mlir::ModuleOp>
 osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                     mlir::MLIRContext &context, llvm::ArrayRef<ParamOverride> overrides,
-                    llvm::raw_ostream &errs, llvm::ArrayRef<std::string> includePaths,
-                    const mlir::osl::CameraImage &camera, llvm::StringRef colorSpace,
-                    llvm::ArrayRef<std::string> defines, llvm::StringRef rayType,
-                    bool warningsAsErrors, bool showWarnings) {
+                    llvm::raw_ostream &errs, const FrontendOptions &options) {
   context.loadDialect<mlir::osl::OslDialect, mlir::func::FuncDialect,
                       mlir::arith::ArithDialect>();
   Diagnostics diags(filename, errs);
-  diags.setWarningMode(warningsAsErrors ? WarningMode::AsErrors
-                       : showWarnings   ? WarningMode::Show
-                                        : WarningMode::Hide);
-  if (!mlir::osl::ColorSystem::get(colorSpace)) {
-    diags.error("unknown color space '" + colorSpace.str() +
+  diags.setWarningMode(options.warningsAsErrors ? WarningMode::AsErrors
+                       : options.showWarnings   ? WarningMode::Show
+                                                : WarningMode::Hide);
+  if (!mlir::osl::ColorSystem::get(options.colorSpace)) {
+    diags.error("unknown color space '" + options.colorSpace +
                 "' (known: Rec709, sRGB, NTSC, EBU, PAL, SECAM, SMPTE, HDTV, CIE, AdobeRGB, "
                 "XYZ, ACES2065-1, ACEScg)");
     return nullptr;
   }
   std::vector<Token> raw, tokens;
-  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths, defines))
+  if (!lex(source, diags, raw) ||
+      !preprocess(raw, diags, tokens, options.includePaths, options.defines))
     return nullptr;
   Program program;
   if (!parseProgram(tokens, diags, program))
     return nullptr;
-  IRGen gen(context, diags, overrides, camera, colorSpace);
-  gen.setRayType(rayType);
+  IRGen gen(context, diags, overrides, options);
   mlir::OwningOpRef<mlir::ModuleOp> module = gen.emitProgram(program);
   if (!module || diags.hadError())
     return nullptr;

@@ -65,10 +65,8 @@ void collectNames(const Stmt &s, llvm::StringSet<> &names) {
 
 
 IRGen::IRGen(MLIRContext &ctx, Diagnostics &diags,
-             llvm::ArrayRef<ParamOverride> overrides, const CameraImage &camera,
-             llvm::StringRef colorSpace)
-    : ctx(ctx), diags(diags), overrides(overrides), camera(camera),
-      colorSpace(colorSpace.str()), b(&ctx) {
+             llvm::ArrayRef<ParamOverride> overrides, const FrontendOptions &options)
+    : ctx(ctx), diags(diags), overrides(overrides), options(options), b(&ctx) {
   b.setListener(&opCounter);
 }
 
@@ -549,6 +547,7 @@ void IRGen::collectFunctions(const Stmt &s) {
 
 OwningOpRef<ModuleOp> IRGen::emitProgram(const Program &program) {
   const ShaderDecl &shader = *program.shader;
+  this->shader = shader.name;
   OwningOpRef<ModuleOp> module = ModuleOp::create(loc(shader.loc));
   root = newScope(nullptr);
   current = root;

@@ -133,20 +133,23 @@ struct LValue {
 class IRGen {
 public:
   IRGen(mlir::MLIRContext &ctx, Diagnostics &diags,
-        llvm::ArrayRef<ParamOverride> overrides,
-        const mlir::osl::CameraImage &camera, llvm::StringRef colorSpace);
+        llvm::ArrayRef<ParamOverride> overrides, const FrontendOptions &options);
 
   mlir::OwningOpRef<mlir::ModuleOp> emitProgram(const Program &program);
 
   // --- building blocks shared with Builtins.cpp -------------------------------
   /// The image testshade's camera sees (the grid's size).
-  const mlir::osl::CameraImage &cameraImage() const { return camera; }
+  const mlir::osl::CameraImage &cameraImage() const { return options.camera; }
   mlir::OpBuilder &builder() { return b; }
   /// The working RGB space of the color functions (a compile option).
-  llvm::StringRef workingColorSpace() const { return colorSpace; }
+  llvm::StringRef workingColorSpace() const { return options.colorSpace; }
   /// The ray being shaded: raytype() is 1 for it.
-  llvm::StringRef rayType() const { return ray; }
-  void setRayType(llvm::StringRef r) { ray = r.str(); }
+  llvm::StringRef rayType() const { return options.rayType; }
+  /// testshade's layer and group names (getattribute "shader:layername").
+  llvm::StringRef layerName() const { return options.layerName; }
+  llvm::StringRef groupName() const { return options.groupName; }
+  /// The name of the shader being emitted.
+  llvm::StringRef shaderName() const { return shader; }
   Diagnostics &diagnostics() { return diags; }
   mlir::Location loc(SrcLoc l);
   bool error(SrcLoc l, const llvm::Twine &msg) {
@@ -440,10 +443,8 @@ private:
   mlir::MLIRContext &ctx;
   Diagnostics &diags;
   llvm::ArrayRef<ParamOverride> overrides;
-  mlir::osl::CameraImage camera;
-  /// The working RGB space of the color functions.
-  std::string colorSpace;
-  std::string ray = "camera";
+  const FrontendOptions &options;
+  std::string shader;
   /// The Index expression whose base is being emitted: a matrix may be
   /// indexed there (its row, then the outer Index picks the column).
   const Expr *rowAccessOK = nullptr;

@@ -154,15 +154,15 @@ RValue IRGen::namedMatrix(StringRef from, StringRef to, SrcLoc l, bool &known) {
   // OSL multiplies from->common by common->to; a lookup that fails gives
   // the identity for its half (and the call reports failure).
   const Matrix44 identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-  if (auto direct = namedSpaceTransform(from, to, camera)) {
+  if (auto direct = namedSpaceTransform(from, to, options.camera)) {
     known = true;
     return constMatrix(*direct, l);
   }
-  auto fromCommon = namedSpaceTransform(from, "common", camera);
-  auto toSpace = namedSpaceTransform("common", to, camera);
+  auto fromCommon = namedSpaceTransform(from, "common", options.camera);
+  auto toSpace = namedSpaceTransform("common", to, options.camera);
   known = false;
   for (StringRef name : {from, to})
-    if (!namedSpaceTransform(name, "common", camera))
+    if (!namedSpaceTransform(name, "common", options.camera))
       reportAtRunTime("Unknown transformation \"" + name.str() + "\"", l);
   RValue a = constMatrix(fromCommon ? *fromCommon : identity, l);
   RValue c = constMatrix(toSpace ? *toSpace : identity, l);

@@ -252,9 +252,12 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         return false;
       o.outputs.push_back({argv[i + 1], argv[i + 2]});
       i += 2;
-    } else if (a == "--groupname" || a == "--jbufferMB") {
-      // testshade's group name and message-journal size: nothing here
-      // depends on them.
+    } else if (a == "--groupname") {
+      if (!need(i, 1, a.c_str()))
+        return false;
+      o.compile.groupName = argv[++i];
+    } else if (a == "--jbufferMB") {
+      // testshade's message-journal size: nothing here depends on it.
       if (!need(i, 1, a.c_str()))
         return false;
       ++i;
