@@ -438,7 +438,7 @@ const std::vector<Builtin> &builtinTable() {
 const char *const kUnsupported[] = {
     "smooth_linearstep", "raytype",
     "setmessage", "getmessage", "trace", "transformu",
-    "splineinverse", "fresnel",
+    "splineinverse",
     "pointcloud_search", "pointcloud_get", "pointcloud_write", "dict_find",
     "dict_next", "dict_value", "isconnected", "isconstant", "random", "exit", "arraylength", "spline", "noise",
     "snoise", "cellnoise", "hashnoise", "transform", "ptransform", "vtransform",
@@ -1075,6 +1075,72 @@ std::optional<RValue> emitConstructor(IRGen &g, const Expr &call) {
 }
 
 /// sincos(x, output s, output c).
+/// fresnel(I, N, eta, out Kr, out Kt, out R, out T): the unpolarized
+/// Fresnel reflectance of a dielectric, computed as stdosl.h writes it
+/// (operation for operation, so the results are OSL's): Kr, Kt = (1 - Kr)
+/// eta^2, the reflected and the refracted directions; total internal
+/// reflection gives Kr = 1, Kt = 0, T = 0.
+std::optional<RValue> emitFresnel(IRGen &g, const Expr &call) {
+  auto wrong = [&]() -> std::optional<RValue> {
+    g.error(call.loc, "wrong arguments to 'fresnel'; candidates: void fresnel(vector I, "
+                      "normal N, float eta, output float Kr, output float Kt, output "
+                      "vector R, output vector T)");
+    return std::nullopt;
+  };
+  if (call.args.size() != 7)
+    return wrong();
+  std::vector<RValue> in;
+  for (int k = 0; k < 3; ++k) {
+    auto v = g.emitExpr(*call.args[k]);
+    if (!v)
+      return std::nullopt;
+    if (k < 2 ? !v->type.isTriple() : !v->type.isScalar())
+      return wrong();
+    in.push_back(*v);
+  }
+  SrcLoc l = call.loc;
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  Value I = in[0].value, N = in[1].value;
+  Value eta = g.convert(in[2].value, b.getF32Type(), call.args[2]->loc);
+  Value one = g.constFloat(1, l);
+  auto sqr = [&](Value x) { return b.create<MulOp>(ml, x, x).getResult(); };
+  Value c = dotOf(g, l, I, N);
+  c = b.create<SelectOp>(ml, b.create<CmpOp>(ml, "lt", c, g.constFloat(0, l)),
+                         b.create<NegOp>(ml, c), c);
+  Value R = emitReflect(g, l, {I, N}, OslType(BaseType::Vector));
+  Value gg = b.create<AddOp>(ml, b.create<SubOp>(ml, b.create<DivOp>(ml, one, sqr(eta)), one),
+                             b.create<MulOp>(ml, c, c));
+  Value refracts = b.create<CmpOp>(ml, "ge", gg, g.constFloat(0, l));
+  Value gs = b.create<SqrtOp>(ml, gg);
+  Value beta = b.create<SubOp>(ml, gs, c);
+  Value gPlusC = b.create<AddOp>(ml, gs, c);
+  Value F = b.create<DivOp>(ml, b.create<SubOp>(ml, b.create<MulOp>(ml, c, gPlusC), one),
+                            b.create<AddOp>(ml, b.create<MulOp>(ml, c, beta), one));
+  F = b.create<MulOp>(ml, g.constFloat(0.5, l), b.create<AddOp>(ml, one, sqr(F)));
+  F = b.create<MulOp>(ml, F, sqr(b.create<DivOp>(ml, beta, gPlusC)));
+  Value Kt = b.create<MulOp>(ml, b.create<MulOp>(ml, b.create<SubOp>(ml, one, F), eta), eta);
+  Value T = emitRefract(g, l, {I, N, eta}, OslType(BaseType::Vector));
+  Value results[4] = {
+      b.create<SelectOp>(ml, refracts, F, one),
+      b.create<SelectOp>(ml, refracts, Kt, g.constFloat(0, l)),
+      R,
+      b.create<SelectOp>(ml, refracts, T, g.constTriple(0, 0, 0, l)),
+  };
+  for (int k = 0; k < 4; ++k) {
+    auto lv = g.emitLValue(*call.args[3 + k]);
+    if (!lv)
+      return std::nullopt;
+    OslType t = k < 2 ? OslType(BaseType::Float) : OslType(BaseType::Vector);
+    auto v = g.coerce(RValue::num(t, results[k]), lv->type, call.args[3 + k]->loc,
+                      "in output argument " + llvm::Twine(4 + k) + " of 'fresnel'");
+    if (!v)
+      return std::nullopt;
+    g.storeLValue(*lv, *v, l);
+  }
+  return RValue::voidValue();
+}
+
 std::optional<RValue> emitSincos(IRGen &g, const Expr &call) {
   if (call.args.size() != 3) {
     g.error(call.loc, "wrong arguments to 'sincos'; candidates: void sincos(float, output "
@@ -1372,6 +1438,8 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
   }
   if (name == "sincos")
     return emitSincos(g, call);
+  if (name == "fresnel")
+    return emitFresnel(g, call);
   if (name == "arraylength") {
     auto args = emitArgs(g, call);
     if (!args)
