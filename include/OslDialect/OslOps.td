@@ -470,6 +470,18 @@ def Osl_FirstLaneOp : Osl_Op<"first_lane", [Pure]> {
   let hasVerifier = 1;
 }
 
+def Osl_IsConstantOp : Osl_Op<"is_constant", [Pure]> {
+  let summary = "isconstant(): 1 if the value is known before the shader runs";
+  let description = [{
+    OSL answers isconstant() after its runtime optimizer has bound the
+    parameters and folded constants; this op is answered as late, when it
+    is lowered: 1 if `value` is a constant by then, else 0.
+  }];
+  let arguments = (ins Osl_Value:$value);
+  let results = (outs I32:$result);
+  let assemblyFormat = "$value attr-dict `:` type($value)";
+}
+
 //===----------------------------------------------------------------------===//
 // Strings computed at run time
 //===----------------------------------------------------------------------===//

@@ -440,7 +440,7 @@ const char *const kUnsupported[] = {
     "setmessage", "getmessage", "trace", "transformu",
     "splineinverse",
     "pointcloud_search", "pointcloud_get", "pointcloud_write", "dict_find",
-    "dict_next", "dict_value", "isconnected", "isconstant", "random", "exit", "arraylength", "spline", "noise",
+    "dict_next", "dict_value", "isconnected", "random", "exit", "arraylength", "spline", "noise",
     "snoise", "cellnoise", "hashnoise", "transform", "ptransform", "vtransform",
     "ntransform", "displace", "bump", "fmin", "fmax", "nsnoise",
     "gabor", "pgabor", "sincos",
@@ -1440,6 +1440,27 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
     return emitSincos(g, call);
   if (name == "fresnel")
     return emitFresnel(g, call);
+  if (name == "isconstant") {
+    auto args = emitArgs(g, call);
+    if (!args)
+      return std::nullopt;
+    if (args->size() != 1) {
+      g.error(call.loc, "wrong arguments to 'isconstant'; candidates: int isconstant(T)");
+      return std::nullopt;
+    }
+    const RValue &a = (*args)[0];
+    // Strings, arrays and structs: constant when every part is; a string
+    // is known unless chosen or computed per point.
+    if (a.type.isString())
+      return RValue::num(OslType(BaseType::Int), g.constInt(a.isKnownString(), call.loc));
+    if (!a.value) {
+      g.error(call.args[0]->loc, "'isconstant' takes a number, triple, matrix or string, got '" +
+                                     a.type.str() + "'");
+      return std::nullopt;
+    }
+    return RValue::num(OslType(BaseType::Int),
+                       g.builder().create<IsConstantOp>(g.loc(call.loc), g.builder().getI32Type(), a.value));
+  }
   if (name == "arraylength") {
     auto args = emitArgs(g, call);
     if (!args)

@@ -763,6 +763,18 @@ struct FirstLaneLowering : public OslPattern<FirstLaneOp> {
   }
 };
 
+/// osl.is_constant: answered now that parameters are bound and constants
+/// folded, as OSL answers isconstant() after its runtime optimizer.
+struct IsConstantLowering : public OslPattern<IsConstantOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(IsConstantOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    bool constant = matchPattern(op.getValue(), m_Constant());
+    rewriter.replaceOpWithNewOp<arith::ConstantIntOp>(op, constant ? 1 : 0, 32);
+    return success();
+  }
+};
+
 /// osl.texture: the per-point values go to a block of rows on the stack
 /// (OslRuntime/TextureCall.h), osl_rt_texture looks the lanes up, and the
 /// results are read back. The options OpenImageIO takes once per call are
@@ -1089,7 +1101,7 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
                SplineFamilyLowering<SplineOp>,
                SplineFamilyLowering<SplineInverseOp>, ColorLowering<TransformcOp>,
                ColorLowering<BlackbodyOp>, ColorLowering<WavelengthColorOp>,
-               ColorLowering<LuminanceOp>, FirstLaneLowering, TextureLowering,
+               ColorLowering<LuminanceOp>, FirstLaneLowering, IsConstantLowering, TextureLowering,
                GetTextureInfoLowering, StringConstantLowering, StringCallLowering, PrintLowering>(converter,
                                                                                    ctx);
 }

@@ -32,11 +32,12 @@ bool makeVarying(Value v) {
 
 bool isVaryingValue(Value v) { return isVarying(v.getType()); }
 
-/// Ops whose results depend only on their operands.
+/// Ops whose results depend only on their operands (is_constant answers
+/// one uniform 0 or 1 however its operand varies).
 bool isDataOp(Operation *op) {
   return op->getDialect() && isa<OslDialect>(op->getDialect()) &&
          op->getNumRegions() == 0 && op->getNumResults() > 0 &&
-         !isa<GlobalOp, BatchMaskOp, AnyOp>(op);
+         !isa<GlobalOp, BatchMaskOp, AnyOp, IsConstantOp>(op);
 }
 
 bool propagateIf(IfOp op) {

@@ -531,3 +531,21 @@ func.func @unordered_comparisons() {
   osl.output "r" = %f : !osl.varying<f32>
   return
 }
+
+// -----
+
+// isconstant() is answered at lowering, after parameters are bound and
+// constants folded: 1 for a constant, 0 for anything computed.
+// CHECK-LABEL: osl.shader_name = "is_constant"
+// CHECK-DAG: %[[ONE:.+]] = arith.constant 1 : i32
+// CHECK-DAG: %[[ZERO:.+]] = arith.constant 0 : i32
+// CHECK: arith.addi %[[ONE]], %[[ZERO]] : i32
+func.func @is_constant() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %two = arith.constant 2.0 : f32
+  %a = osl.is_constant %two : f32
+  %b = osl.is_constant %u : !osl.varying<f32>
+  %sum = osl.add %a, %b : i32, i32 -> i32
+  osl.output "x" = %sum : i32
+  return
+}

@@ -121,3 +121,18 @@ func.func @uniform_loop_with_varying_body() {
   osl.output "x" = %r#1 : f32
   return
 }
+
+// -----
+
+// Whether a value is constant is one answer for the whole batch: the
+// result of is_constant stays uniform even for a varying operand.
+// CHECK-LABEL: func.func @is_constant_stays_uniform
+// CHECK: osl.is_constant %{{.+}} : !osl.varying<f32>
+// CHECK: osl.add %{{.+}}, %{{.+}} : i32, i32 -> i32
+func.func @is_constant_stays_uniform() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %c = osl.is_constant %u : !osl.varying<f32>
+  %s = osl.add %c, %c : i32, i32 -> i32
+  osl.output "x" = %s : i32
+  return
+}

@@ -493,7 +493,9 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       if (!o.group.shader(shaderFile(a), layer, error))
         return false;
       ++positional;
-      if (!pendingLayer.empty() || positional > 1)
+      // Per-geometry (lockgeom=0) parameters are loaded as the group runs,
+      // which the group's linking arranges.
+      if (!pendingLayer.empty() || positional > 1 || !o.group.layers.back().userdata.empty())
         o.isGroup = true;
       pendingLayer.clear();
       if (o.shaderPath.empty())
