@@ -539,6 +539,50 @@ def Osl_PrintOp : Osl_Op<"print", [AttrSizedOperandSegments,
 }
 
 //===----------------------------------------------------------------------===//
+// Messages between layers
+//===----------------------------------------------------------------------===//
+
+def Osl_SetMessageOp : Osl_Op<"set_message", [AttrSizedOperandSegments,
+                                               MemoryEffects<[MemRead, MemWrite]>]> {
+  let summary = "setmessage(): a named value for the later layers of each point";
+  let description = [{
+    Stores `values` (one operand per number, string handle, triple or
+    closure of the value, in order; `kinds` has one letter per operand as
+    osl.print's) as message `name` of OSL type `typeName` for each active
+    point. Messages live for one batch. Setting a message twice, or after a
+    getmessage of it found nothing, is reported as OSL reports it and keeps
+    what was there. `mask`, set by osl-insert-mask-stack, names the points.
+  }];
+  let arguments = (ins StrAttr:$name, StrAttr:$typeName, StrAttr:$kinds,
+                       Variadic<Osl_Value>:$values, Optional<Osl_Bool>:$mask);
+  let assemblyFormat = [{
+    $name $typeName $kinds `(` $values `)` (`mask` $mask^ `:` type($mask))? attr-dict
+    `:` type($values)
+  }];
+  let hasVerifier = 1;
+}
+
+def Osl_GetMessageOp : Osl_Op<"get_message", [AttrSizedOperandSegments,
+                                               MemoryEffects<[MemRead, MemWrite]>]> {
+  let summary = "getmessage(): a message set earlier for the same point";
+  let description = [{
+    `found` is 1 on the points where message `name` was set with a type
+    equivalent to `typeName` (triples match triples); there `values` are
+    the message's, elsewhere `current` (the destination's values). A
+    type mismatch is reported; a message not found is remembered, so that
+    setting it later is reported. Results are varying.
+  }];
+  let arguments = (ins StrAttr:$name, StrAttr:$typeName, StrAttr:$kinds,
+                       Variadic<Osl_Value>:$current, Optional<Osl_Bool>:$mask);
+  let results = (outs Osl_Value:$found, Variadic<Osl_Value>:$values);
+  let assemblyFormat = [{
+    $name $typeName $kinds `(` $current `)` (`mask` $mask^ `:` type($mask))? attr-dict
+    `:` functional-type($current, results)
+  }];
+  let hasVerifier = 1;
+}
+
+//===----------------------------------------------------------------------===//
 // Closures
 //===----------------------------------------------------------------------===//
 

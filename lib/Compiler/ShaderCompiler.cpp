@@ -6,6 +6,7 @@
 
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/LaneStats.h"
+#include "OslRuntime/MessageCall.h"
 #include "OslRuntime/PrintCall.h"
 #include "OslRuntime/StringCall.h"
 #include "OslRuntime/TextureCall.h"
@@ -193,6 +194,9 @@ bool ShaderCompiler::defineRuntimeSymbols(Jit &target) {
            {"osl_rt_string_call", reinterpret_cast<void *>(&osl_rt_string_call)},
            {"osl_rt_print", reinterpret_cast<void *>(&osl_rt_print)},
            {"osl_rt_count_lanes", reinterpret_cast<void *>(&osl_rt_count_lanes)},
+           {"osl_rt_message_reset", reinterpret_cast<void *>(&osl_rt_message_reset)},
+           {"osl_rt_setmessage", reinterpret_cast<void *>(&osl_rt_setmessage)},
+           {"osl_rt_getmessage", reinterpret_cast<void *>(&osl_rt_getmessage)},
            {"osl_rt_closure_component", reinterpret_cast<void *>(&osl_rt_closure_component)},
            {"osl_rt_closure_mul", reinterpret_cast<void *>(&osl_rt_closure_mul)},
            {"osl_rt_closure_add", reinterpret_cast<void *>(&osl_rt_closure_add)}})) {

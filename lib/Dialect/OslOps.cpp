@@ -608,6 +608,42 @@ LogicalResult PrintOp::verify() {
   return success();
 }
 
+/// A message's operands: one per kind letter (s, i, f, t, k), each of
+/// that kind's type.
+static LogicalResult verifyMessageOperands(Operation *op, StringRef kinds,
+                                           ValueRange values) {
+  if (kinds.size() != values.size())
+    return op->emitOpError("needs one kind letter per value, got '")
+           << kinds << "' for " << values.size();
+  Builder b(op->getContext());
+  for (auto [i, v] : llvm::enumerate(values)) {
+    if (!StringRef("siftk").contains(kinds[i]))
+      return op->emitOpError("unknown value kind '") << kinds[i] << "'";
+    if (getUniformType(v.getType()) != stringKindType(b, kinds[i]))
+      return op->emitOpError("value ") << i << " of kind '" << kinds[i] << "' must be "
+                                       << stringKindType(b, kinds[i]);
+  }
+  return success();
+}
+
+LogicalResult SetMessageOp::verify() {
+  return verifyMessageOperands(*this, getKinds(), getValues());
+}
+
+LogicalResult GetMessageOp::verify() {
+  if (failed(verifyMessageOperands(*this, getKinds(), getCurrent())))
+    return failure();
+  if (getValues().size() != getCurrent().size())
+    return emitOpError("needs one result per value");
+  if (!isVarying(getFound().getType()) || getUniformType(getFound().getType()) !=
+                                              IntegerType::get(getContext(), 32))
+    return emitOpError("'found' must be a varying i32");
+  for (auto [c, v] : llvm::zip(getCurrent(), getValues()))
+    if (!isVarying(v.getType()) || getUniformType(v.getType()) != getUniformType(c.getType()))
+      return emitOpError("results must be the values' types, varying");
+  return success();
+}
+
 LogicalResult FirstLaneOp::verify() {
   if (isVarying(getResult().getType()))
     return emitOpError("result must be uniform");

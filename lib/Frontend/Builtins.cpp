@@ -1396,6 +1396,10 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
   auto string = emitStringBuiltin(g, call, stringBuiltin);
   if (stringBuiltin)
     return string;
+  bool messageBuiltin = true;
+  auto message = emitMessageBuiltin(g, call, messageBuiltin);
+  if (messageBuiltin)
+    return message;
   llvm::StringRef name = call.name;
   if (name == "noise" || name == "snoise" || name == "cellnoise" || name == "hashnoise" ||
       name == "pnoise" || name == "psnoise")

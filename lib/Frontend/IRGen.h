@@ -535,6 +535,10 @@ RValue emptyClosure(IRGen &gen, SrcLoc l);
 std::optional<RValue> emitTextureBuiltin(IRGen &gen, const Expr &call,
                                          const OslType *expected, bool &known);
 
+/// setmessage(), getmessage() and trace() (MessageBuiltins.cpp); `known`
+/// is false when `call` is none of them.
+std::optional<RValue> emitMessageBuiltin(IRGen &gen, const Expr &call, bool &known);
+
 /// The name of the hidden variable holding a function's return value.
 inline constexpr const char *kReturnVarName = "$return";
 /// The hidden jump flags (see the file comment).

@@ -743,6 +743,86 @@ struct PrintLowering : public OslPattern<PrintOp> {
   }
 };
 
+/// "file:line" of a call, as OSL names the places of messages.
+std::string callSiteLine(Location loc) {
+  auto fileLoc = dyn_cast<FileLineColLoc>(loc);
+  if (!fileLoc)
+    return "<unknown>";
+  return (fileLoc.getFilename().getValue() + ":" + llvm::Twine(fileLoc.getLine())).str();
+}
+
+/// The active points of a side-effecting op: the batch's, and its mask's.
+Value sideEffectLanes(OpBuilder &b, Location loc, Operation *op, Value inner,
+                      int64_t width) {
+  Value mask = activeLanes(b, loc, op, width);
+  if (!inner)
+    return mask;
+  if (!isa<VectorType>(inner.getType()))
+    inner = lane::broadcast(b, loc, inner, width);
+  return b.create<arith::AndIOp>(loc, mask, inner);
+}
+
+/// osl.set_message and osl.get_message: the value's rows go to
+/// osl_rt_setmessage / osl_rt_getmessage (OslRuntime/MessageCall.h), which
+/// keep the batch's messages; getmessage reads the rows back.
+template <typename OpTy>
+struct MessageLowering : public OslPattern<OpTy> {
+  using OslPattern<OpTy>::OslPattern;
+  LogicalResult matchAndRewrite(OpTy op, typename OpTy::Adaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    constexpr bool isGet = std::is_same_v<OpTy, GetMessageOp>;
+    Location loc = op.getLoc();
+    int64_t width = this->width;
+    ValueRange original, converted;
+    if constexpr (isGet)
+      original = op.getCurrent(), converted = adaptor.getCurrent();
+    else
+      original = op.getValues(), converted = adaptor.getValues();
+    auto [block, foundRow] = operandRows(rewriter, loc, op, original, converted, op.getKinds(),
+                                         width, /*varying=*/true, /*extraRows=*/isGet ? 1 : 0);
+    Value mask = sideEffectLanes(rewriter, loc, op, adaptor.getMask(), width);
+    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
+    Type i32 = rewriter.getI32Type();
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(
+        rewriter, op, isGet ? "osl_rt_getmessage" : "osl_rt_setmessage",
+        LLVM::LLVMVoidType::get(rewriter.getContext()), {ptr, ptr, ptr, ptr, ptr, i32, i32});
+    SmallVector<Value> args = {constantStringAddress(rewriter, loc, callSiteLine(loc)),
+                               constantStringAddress(rewriter, loc, op.getName()),
+                               constantStringAddress(rewriter, loc, op.getTypeName()),
+                               constantStringAddress(rewriter, loc, op.getKinds()),
+                               block,
+                               i32Constant(rewriter, loc, width),
+                               maskBits(rewriter, loc, mask)};
+    rewriter.create<LLVM::CallOp>(loc, callee, args);
+    if constexpr (!isGet) {
+      rewriter.eraseOp(op);
+      return success();
+    } else {
+      auto loadRow = [&](int64_t row, Type element) {
+        auto load = rewriter.create<LLVM::LoadOp>(
+            loc, VectorType::get({width}, element),
+            rowAddress(rewriter, loc, block, row, width), 4);
+        load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+        return load.getResult();
+      };
+      SmallVector<Value> results = {loadRow(foundRow, i32)};
+      Lanes packer{rewriter, loc, width};
+      int64_t row = 0;
+      for (auto [k, value] : llvm::enumerate(op.getValues())) {
+        Type resultType = this->convert(value.getType());
+        char kind = op.getKinds()[k];
+        Type element = kind == 'f' || kind == 't' ? Type(rewriter.getF32Type()) : i32;
+        SmallVector<Value> rows;
+        for (int32_t r = 0; r < ::osl::stringOperandRows(kind); ++r)
+          rows.push_back(loadRow(row++, element));
+        results.push_back(packer.pack(rows, resultType));
+      }
+      rewriter.replaceOp(op, results);
+      return success();
+    }
+  }
+};
+
 /// osl.first_lane: the lowest set lane of the mask selects the value.
 struct FirstLaneLowering : public OslPattern<FirstLaneOp> {
   using OslPattern::OslPattern;
@@ -1101,7 +1181,8 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
                SplineFamilyLowering<SplineOp>,
                SplineFamilyLowering<SplineInverseOp>, ColorLowering<TransformcOp>,
                ColorLowering<BlackbodyOp>, ColorLowering<WavelengthColorOp>,
-               ColorLowering<LuminanceOp>, FirstLaneLowering, IsConstantLowering, TextureLowering,
+               ColorLowering<LuminanceOp>, FirstLaneLowering, IsConstantLowering,
+               MessageLowering<SetMessageOp>, MessageLowering<GetMessageOp>, TextureLowering,
                GetTextureInfoLowering, StringConstantLowering, StringCallLowering, PrintLowering>(converter,
                                                                                    ctx);
 }
@@ -1163,7 +1244,20 @@ struct ConvertToVectorPass
     patterns.add<DerivLowering>(converter, ctx, referenceMode);
     scf::populateSCFStructuralTypeConversionsAndLegality(converter, patterns, target);
     if (failed(applyPartialConversion(getOperation(), target, std::move(patterns))))
-      signalPassFailure();
+      return signalPassFailure();
+    resetMessagesOnEntry(shaders[0]);
+  }
+
+  /// A kernel that passes messages starts each batch without any.
+  void resetMessagesOnEntry(func::FuncOp kernel) {
+    ModuleOp module = getOperation();
+    if (!module.lookupSymbol("osl_rt_setmessage") && !module.lookupSymbol("osl_rt_getmessage"))
+      return;
+    OpBuilder b(&getContext());
+    b.setInsertionPointToStart(&kernel.getBody().front());
+    LLVM::LLVMFuncOp reset = runtimeDeclaration(b, kernel, "osl_rt_message_reset",
+                                                LLVM::LLVMVoidType::get(&getContext()), {});
+    b.create<LLVM::CallOp>(kernel.getLoc(), reset, ValueRange{});
   }
 };
 

@@ -17,6 +17,7 @@
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/Builders.h"
+#include "llvm/ADT/TypeSwitch.h"
 #include "mlir/IR/IRMapping.h"
 
 namespace mlir::osl {
@@ -50,9 +51,11 @@ private:
         result = isVarying(loopCondition(loop).getCondition().getType())
                      ? maskVaryingLoop(loop, mask)
                      : convertUniformLoop(loop, mask);
-      else if (auto print = dyn_cast<PrintOp>(op); print && mask)
-        // Text is a side effect: only the points that reach it print.
-        print.getMaskMutable().assign(mask);
+      else if (mask)
+        // Side effects (text, messages): only the points that reach them.
+        llvm::TypeSwitch<Operation *>(&op)
+            .Case<PrintOp, SetMessageOp, GetMessageOp>(
+                [&](auto sideEffect) { sideEffect.getMaskMutable().assign(mask); });
       if (failed(result))
         return failure();
     }

@@ -363,3 +363,27 @@ func.func @closure_ordered_compare(%c: !osl.closure) {
   %0 = osl.cmp "lt", %c, %c : !osl.closure, !osl.closure -> i1
   return
 }
+
+// -----
+
+func.func @message_kinds(%f: f32) {
+  // expected-error @+1 {{needs one kind letter per value}}
+  osl.set_message "m" "float" "ff"(%f) : f32
+  return
+}
+
+// -----
+
+func.func @message_kind_type(%f: f32) {
+  // expected-error @+1 {{value 0 of kind 'i' must be 'i32'}}
+  osl.set_message "m" "int" "i"(%f) : f32
+  return
+}
+
+// -----
+
+func.func @message_results_varying(%f: f32) {
+  // expected-error @+1 {{results must be the values' types, varying}}
+  %found, %v = osl.get_message "m" "float" "f"(%f) : (f32) -> (!osl.varying<i32>, f32)
+  return
+}

@@ -130,3 +130,14 @@ func.func @closure_compare(%c: !osl.varying<!osl.closure>) {
   %0 = osl.cmp "ne", %c, %empty : !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<i1>
   return
 }
+
+// CHECK-LABEL: func.func @messages
+func.func @messages(%s: i32, %c: !osl.varying<vector<3xf32>>, %k: !osl.closure, %m: !osl.varying<i1>) {
+  // CHECK: osl.set_message "a" "color" "t"(%{{.+}}) mask %{{.+}} : !osl.varying<i1> : !osl.varying<vector<3xf32>>
+  osl.set_message "a" "color" "t"(%c) mask %m : !osl.varying<i1> : !osl.varying<vector<3xf32>>
+  // CHECK: osl.get_message "b" "string" "s"(%{{.+}}) : (i32) -> (!osl.varying<i32>, !osl.varying<i32>)
+  %f, %v = osl.get_message "b" "string" "s"(%s) : (i32) -> (!osl.varying<i32>, !osl.varying<i32>)
+  // CHECK: osl.set_message "c" "closure color" "k"(%{{.+}}) : !osl.closure
+  osl.set_message "c" "closure color" "k"(%k) : !osl.closure
+  return
+}

@@ -549,3 +549,24 @@ func.func @is_constant() {
   osl.output "x" = %sum : i32
   return
 }
+
+// -----
+
+// Messages: the value's rows go to the runtime, getmessage reads them back
+// with a found row after them, and the kernel forgets the last batch's
+// messages on entry.
+// CHECK-LABEL: osl.shader_name = "messages"
+// CHECK: llvm.call @osl_rt_message_reset() : () -> ()
+// CHECK: llvm.call @osl_rt_setmessage
+// CHECK: llvm.call @osl_rt_getmessage
+// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> vector<8xi32>
+// CHECK-COUNT-3: llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> vector<8xf32>
+func.func @messages() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %c = osl.global "P" : !osl.varying<vector<3xf32>>
+  osl.set_message "m" "color" "t"(%c) : !osl.varying<vector<3xf32>>
+  %zero = arith.constant dense<0.0> : vector<3xf32>
+  %found, %v = osl.get_message "m" "color" "t"(%zero) : (vector<3xf32>) -> (!osl.varying<i32>, !osl.varying<vector<3xf32>>)
+  osl.output "o" = %v : !osl.varying<vector<3xf32>>
+  return
+}

@@ -530,3 +530,24 @@ func.func @guarded_arm_without_values(%c: !osl.varying<i1>, %a: !osl.varying<f32
   }
   return
 }
+
+// -----
+
+// Messages are side effects too: set and get inside a varying if take the
+// arm's mask, so only the arm's points set or ask.
+// CHECK-LABEL: func.func @messages_take_the_arm_mask
+// CHECK: %[[THEN:.+]] = osl.and %{{.+}}, %{{.+}}
+// CHECK: osl.set_message "m" "float" "f"(%{{.+}}) mask %[[THEN]]
+// CHECK: osl.get_message "m" "float" "f"(%{{.+}}) mask %[[THEN]]
+// CHECK: osl.get_message "m" "float" "f"(%{{.+}}) :
+func.func @messages_take_the_arm_mask(%c: !osl.varying<i1>, %a: !osl.varying<f32>) {
+  osl.if %c : !osl.varying<i1> {
+    osl.set_message "m" "float" "f"(%a) : !osl.varying<f32>
+    %f, %v = osl.get_message "m" "float" "f"(%a) : (!osl.varying<f32>) -> (!osl.varying<i32>, !osl.varying<f32>)
+    osl.yield
+  } else {
+    osl.yield
+  }
+  %f2, %v2 = osl.get_message "m" "float" "f"(%a) : (!osl.varying<f32>) -> (!osl.varying<i32>, !osl.varying<f32>)
+  return
+}

@@ -1,0 +1,209 @@
+//===- MessageBuiltins.cpp - setmessage, getmessage and trace ------------===//
+//
+// A message is a named value one layer leaves for the later layers of the
+// same point. The value travels as a list of operands, one per number,
+// string handle, triple or closure (a matrix's 16 floats, an array's
+// elements), as osl.print's operands do; osl.get_message gives back the
+// same list, which is put together again as the destination's type.
+//
+// testshade's renderer has no geometry: trace() hits nothing and
+// getmessage("trace", ...) finds nothing, which is what OSL's testshade
+// answers.
+//
+//===----------------------------------------------------------------------===//
+#include "IRGen.h"
+
+using namespace mlir;
+using namespace mlir::osl;
+
+namespace osl::frontend {
+namespace {
+
+/// A value as message operands.
+struct MessageOperands {
+  std::vector<Value> values;
+  std::string kinds;
+};
+
+char kindOf(const OslType &t) {
+  return t.isTriple() ? 't' : t.isFloat() ? 'f' : t.isString() ? 's' : t.isClosure() ? 'k' : 'i';
+}
+
+/// The operands of `v`, or nullopt after reporting a type messages cannot
+/// carry.
+std::optional<MessageOperands> operandsOf(IRGen &g, const RValue &v, SrcLoc l,
+                                          llvm::StringRef function) {
+  MessageOperands ops;
+  const OslType &t = v.type;
+  if (t.isStructLike() || t.base == BaseType::Bool ||
+      (t.isArray() && t.base == BaseType::Closure)) {
+    g.error(l, "'" + function + "' cannot pass a value of type '" + t.str() + "' yet");
+    return std::nullopt;
+  }
+  if (t.isArray() && t.base == BaseType::String) {
+    for (const RValue &s : v.fields)
+      ops.values.push_back(g.stringHandle(s, l)), ops.kinds += 's';
+    return ops;
+  }
+  if (t.hasElems()) {
+    OslType element = t.isMatrix() ? OslType(BaseType::Float) : t.element();
+    for (Value e : v.elems)
+      ops.values.push_back(e), ops.kinds += kindOf(element);
+    return ops;
+  }
+  ops.values.push_back(t.isString() ? g.stringHandle(v, l) : v.value);
+  ops.kinds += kindOf(t);
+  return ops;
+}
+
+/// `like` with its operands replaced by `values` (operandsOf's order).
+RValue fromOperands(const RValue &like, ValueRange values) {
+  RValue r = like;
+  const OslType &t = like.type;
+  if (t.isArray() && t.base == BaseType::String) {
+    for (size_t k = 0; k < r.fields.size(); ++k)
+      r.fields[k] = RValue::runtimeString(values[k]);
+    return r;
+  }
+  if (t.hasElems()) {
+    for (size_t k = 0; k < r.elems.size(); ++k)
+      r.elems[k] = values[k];
+    return r;
+  }
+  if (t.isString())
+    return RValue::runtimeString(values[0]);
+  return RValue::num(t, values[0]);
+}
+
+/// The message name: known when the shader is compiled (or chosen among
+/// such names per point).
+std::optional<RValue> messageName(IRGen &g, const Expr &arg, llvm::StringRef function) {
+  auto name = g.emitExpr(arg);
+  if (!name)
+    return std::nullopt;
+  if (!name->type.isString()) {
+    g.error(arg.loc, "'" + function + "' needs a string message name, got '" +
+                         name->type.str() + "'");
+    return std::nullopt;
+  }
+  if (!g.compileTimeStrings(*name, arg.loc, "the message name"))
+    return std::nullopt;
+  return name;
+}
+
+std::optional<RValue> emitSetMessage(IRGen &g, const Expr &call) {
+  if (call.args.size() != 2) {
+    g.error(call.loc, "wrong arguments to 'setmessage'; candidates: void setmessage(string "
+                      "name, T value)");
+    return std::nullopt;
+  }
+  auto name = messageName(g, *call.args[0], "setmessage");
+  if (!name)
+    return std::nullopt;
+  auto value = g.emitExpr(*call.args[1]);
+  if (!value)
+    return std::nullopt;
+  auto ops = operandsOf(g, *value, call.args[1]->loc, "setmessage");
+  if (!ops)
+    return std::nullopt;
+  auto done = g.forEachStringChoice(*name, call.loc, [&](const std::string &n) {
+    g.builder().create<SetMessageOp>(g.loc(call.loc), n, value->type.str(), ops->kinds,
+                                     ops->values, Value());
+    return std::optional<RValue>(RValue::voidValue());
+  });
+  if (!done)
+    return std::nullopt;
+  return RValue::voidValue();
+}
+
+std::optional<RValue> emitGetMessage(IRGen &g, const Expr &call) {
+  size_t n = call.args.size();
+  if (n != 2 && n != 3) {
+    g.error(call.loc, "wrong arguments to 'getmessage'; candidates: int getmessage(string "
+                      "name, output T value); int getmessage(string source, string name, "
+                      "output T value)");
+    return std::nullopt;
+  }
+  std::string source;
+  if (n == 3) {
+    auto s = g.emitExpr(*call.args[0]);
+    if (!s)
+      return std::nullopt;
+    if (!s->isKnownString()) {
+      g.error(call.args[0]->loc, "'getmessage' needs its message source known when the "
+                                 "shader is compiled");
+      return std::nullopt;
+    }
+    source = s->str;
+  }
+  auto name = messageName(g, *call.args[n - 2], "getmessage");
+  if (!name)
+    return std::nullopt;
+  auto dest = g.emitLValue(*call.args[n - 1]);
+  if (!dest)
+    return std::nullopt;
+  RValue current = g.loadLValue(*dest, call.loc);
+  auto ops = operandsOf(g, current, call.args[n - 1]->loc, "getmessage");
+  if (!ops)
+    return std::nullopt;
+  if (!source.empty()) // a trace's messages: testshade traces nothing
+    return RValue::num(OslType(BaseType::Int), g.constInt(0, call.loc));
+  OpBuilder &b = g.builder();
+  SmallVector<Type> types;
+  for (Value v : ops->values)
+    types.push_back(VaryingType::get(getUniformType(v.getType())));
+  Type foundType = VaryingType::get(b.getI32Type());
+  std::vector<RValue> results;
+  auto found = g.forEachStringChoice(*name, call.loc, [&](const std::string &nm) {
+    auto get = b.create<GetMessageOp>(g.loc(call.loc), foundType, types, nm,
+                                      current.type.str(), ops->kinds, ops->values, Value());
+    results.push_back(fromOperands(current, get.getValues()));
+    return std::optional<RValue>(RValue::num(OslType(BaseType::Int), get.getFound()));
+  });
+  if (!found)
+    return std::nullopt;
+  if (results.size() != 1) {
+    g.error(call.args[n - 2]->loc, "'getmessage' needs one message name for every point");
+    return std::nullopt;
+  }
+  g.storeLValue(*dest, results[0], call.loc);
+  return found;
+}
+
+/// trace(pos, dir, options...): testshade's renderer has no geometry, so
+/// no ray hits anything.
+std::optional<RValue> emitTrace(IRGen &g, const Expr &call) {
+  std::vector<RValue> args;
+  for (const auto &a : call.args) {
+    auto v = g.emitExpr(*a);
+    if (!v)
+      return std::nullopt;
+    args.push_back(*v);
+  }
+  bool ok = args.size() >= 2 && args.size() % 2 == 0 && args[0].type.isTriple() &&
+            args[1].type.isTriple();
+  for (size_t k = 2; ok && k < args.size(); k += 2)
+    ok = args[k].isKnownString();
+  if (!ok) {
+    g.error(call.loc, "wrong arguments to 'trace'; candidates: int trace(point pos, vector "
+                      "dir, ...) with (\"name\", value) options");
+    return std::nullopt;
+  }
+  return RValue::num(OslType(BaseType::Int), g.constInt(0, call.loc));
+}
+
+} // namespace
+
+std::optional<RValue> emitMessageBuiltin(IRGen &g, const Expr &call, bool &known) {
+  known = true;
+  if (call.name == "setmessage")
+    return emitSetMessage(g, call);
+  if (call.name == "getmessage")
+    return emitGetMessage(g, call);
+  if (call.name == "trace")
+    return emitTrace(g, call);
+  known = false;
+  return std::nullopt;
+}
+
+} // namespace osl::frontend
