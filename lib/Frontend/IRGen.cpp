@@ -100,6 +100,13 @@ Value IRGen::constTriple(float x, float y, float z, SrcLoc l) {
   return b.create<arith::ConstantOp>(loc(l), attr);
 }
 
+void IRGen::appendElement(RValue &array, const RValue &element) {
+  if (element.type.isMatrix())
+    array.elems.insert(array.elems.end(), element.elems.begin(), element.elems.end());
+  else
+    array.elems.push_back(element.value);
+}
+
 RValue IRGen::zeroValue(OslType t, SrcLoc l) {
   if (t.base == BaseType::Closure && !t.isArray())
     return emptyClosure(*this, l);
@@ -122,7 +129,7 @@ RValue IRGen::zeroValue(OslType t, SrcLoc l) {
     RValue r;
     r.type = t;
     for (int i = 0; i < t.arrayLen; ++i)
-      r.elems.push_back(zeroValue(t.element(), l).value);
+      appendElement(r, zeroValue(t.element(), l));
     return r;
   }
   if (t.isMatrix())
@@ -968,9 +975,9 @@ std::optional<RValue> IRGen::emitInitializer(const Expr &init, OslType &type,
         auto c = coerce(*v, elem, e.begin, "in initializer of '" + name + "'");
         if (!c)
           return std::nullopt;
-        r.elems.push_back(c->value);
+        appendElement(r, *c);
       } else {
-        r.elems.push_back(zeroValue(elem, l).value);
+        appendElement(r, zeroValue(elem, l));
       }
     }
     return r;

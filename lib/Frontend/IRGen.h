@@ -163,6 +163,9 @@ public:
   mlir::Value constTriple(float x, float y, float z, SrcLoc l);
   /// Zero of a non-array numeric type, a zeroed array, or "" for strings.
   RValue zeroValue(OslType t, SrcLoc l);
+  /// Appends `element` to array `array`'s elems: its value, or a matrix's
+  /// 16 (an array of matrices holds them one matrix after another).
+  static void appendElement(RValue &array, const RValue &element);
   static std::optional<int64_t> getConstInt(mlir::Value v);
   static std::optional<bool> getConstBool(mlir::Value v);
   /// An int, float or bool constant as a double.

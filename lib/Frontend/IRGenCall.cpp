@@ -277,10 +277,6 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
     OslType t = p.type;
     if (t.arrayLen == 0)
       t.arrayLen = args[k].type.arrayLen;
-    if (t.base == BaseType::Matrix && t.isArray()) {
-      error(p.loc, "arrays of matrices are not supported yet");
-      return std::nullopt;
-    }
     auto v = coerce(args[k], t, call.args[k]->begin,
                     "in argument " + llvm::Twine(k + 1) + " of '" + fn.name + "'");
     if (!v)

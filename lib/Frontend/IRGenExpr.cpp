@@ -537,6 +537,12 @@ Value IRGen::selectsElement(Value index, int k, int n, SrcLoc l) {
 
 /// Element j of an array or component j of a triple.
 RValue IRGen::elementAt(const RValue &cur, const Access &a, int j, SrcLoc l) {
+  if (!a.component && cur.type.base == BaseType::Matrix) { // 16 values per matrix
+    RValue m;
+    m.type = cur.type.element();
+    m.elems.assign(cur.elems.begin() + 16 * j, cur.elems.begin() + 16 * j + 16);
+    return m;
+  }
   if (!a.component)
     return RValue::num(cur.type.element(), cur.elems[j]);
   Value v = cur.value;
@@ -590,7 +596,11 @@ RValue IRGen::readAccess(const RValue &cur, const Access &a, SrcLoc l) {
   for (int k = a.length - 2; k >= 0; --k) {
     RValue ek = elementAt(cur, a, k, l);
     Value c = b.create<CmpOp>(loc(l), "le", a.index, constInt(k, l));
-    acc.value = b.create<SelectOp>(loc(l), c, ek.value, acc.value);
+    if (acc.type.isMatrix())
+      for (size_t j = 0; j < acc.elems.size(); ++j)
+        acc.elems[j] = b.create<SelectOp>(loc(l), c, ek.elems[j], acc.elems[j]);
+    else
+      acc.value = b.create<SelectOp>(loc(l), c, ek.value, acc.value);
   }
   return acc;
 }
@@ -647,6 +657,21 @@ RValue IRGen::updatePath(const RValue &cur, const std::vector<Access> &path, siz
     return b.create<InsertOp>(ml, t, f, vec, b.getI64IntegerAttr(j));
   };
   RValue res = cur;
+  if (cur.type.base == BaseType::Matrix && !a.component) {
+    // An element of an array of matrices: its 16 values, each selected
+    // where the index is not a constant.
+    for (int j = 0; j < a.length; ++j) {
+      if (a.constIndex >= 0 && a.constIndex != j)
+        continue;
+      RValue old = elementAt(cur, a, j, l);
+      RValue updated = updatePath(old, path, k + 1, newValue, l);
+      Value sel = a.constIndex >= 0 ? Value() : selectsElement(a.index, j, a.length, l);
+      for (int e = 0; e < 16; ++e)
+        res.elems[16 * j + e] =
+            sel ? select(sel, updated.elems[e], old.elems[e], l) : updated.elems[e];
+    }
+    return res;
+  }
   if (a.constIndex >= 0) {
     int j = int(a.constIndex);
     RValue updated = updatePath(elementAt(cur, a, j, l), path, k + 1, newValue, l);

@@ -254,8 +254,6 @@ bool IRGen::emitDecl(const Stmt &s) {
     t.arrayLen = d.arrayLen;
     if (t.base == BaseType::Closure && t.isArray())
       return error(d.loc, "arrays of closures are not supported yet");
-    if (t.base == BaseType::Matrix && t.isArray())
-      return error(d.loc, "arrays of matrices are not supported yet");
     if (!checkStructType(t, d.loc))
       return false;
     RValue init;

@@ -46,7 +46,7 @@ std::optional<MessageOperands> operandsOf(IRGen &g, const RValue &v, SrcLoc l,
     return ops;
   }
   if (t.hasElems()) {
-    OslType element = t.isMatrix() ? OslType(BaseType::Float) : t.element();
+    OslType element = t.base == BaseType::Matrix ? OslType(BaseType::Float) : t.element();
     for (Value e : v.elems)
       ops.values.push_back(e), ops.kinds += kindOf(element);
     return ops;

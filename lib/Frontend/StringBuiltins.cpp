@@ -225,7 +225,7 @@ bool StringCall::addFormatted(size_t k) {
     return addFormatValue(k);
   }
   SrcLoc l = call.args[k]->begin;
-  OslType elem = v.type.isMatrix() ? OslType(BaseType::Float) : v.type.element();
+  OslType elem = v.type.base == BaseType::Matrix ? OslType(BaseType::Float) : v.type.element();
   if (elem.isString()) {
     for (const RValue &f : v.fields)
       operands.push_back(f), operandLocs.push_back(l), kinds += 's';
