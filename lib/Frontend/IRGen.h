@@ -26,6 +26,7 @@
 #include "mlir/Dialect/Func/IR/FuncOps.h"
 #include "mlir/IR/Builders.h"
 #include "llvm/ADT/DenseMap.h"
+#include "llvm/ADT/DenseSet.h"
 #include "llvm/ADT/StringMap.h"
 #include "llvm/ADT/StringSet.h"
 
@@ -347,9 +348,13 @@ private:
   std::vector<mlir::Value> flatten(const std::vector<Var *> &vars, SrcLoc l);
   void unflatten(const std::vector<Var *> &vars, mlir::ValueRange values);
   std::vector<std::pair<Var *, RValue>> stringSnapshot(const llvm::StringSet<> &names);
-  /// Reports a string array among `names` (assigned inside `what`): only
-  /// single strings are carried through control flow so far.
-  bool checkNoStringArrays(const llvm::StringSet<> &names, SrcLoc l, llvm::StringRef what);
+  /// The string variables among `names` that a loop (`scalarsToo`) or an
+  /// if (string arrays only) assigns are carried from now on as run-time
+  /// handles (i32 leaves), like numbers; an if keeps single strings known
+  /// when it can (choices, see mergeStringArms).
+  void carryStringsAsHandles(const llvm::StringSet<> &names, bool scalarsToo);
+  /// Makes `v`'s string (or each string of its array) a run-time handle.
+  void materializeStrings(Var *v, SrcLoc l);
   bool checkStrings(const std::vector<std::pair<Var *, RValue>> &snap, SrcLoc l,
                     llvm::StringRef what);
   /// The string fields of the carried struct variables, which control
@@ -448,6 +453,9 @@ private:
   llvm::ArrayRef<ParamOverride> overrides;
   const FrontendOptions &options;
   std::string shader;
+  /// String variables carried through control flow as handles (see
+  /// carryStringsAsHandles).
+  llvm::DenseSet<const Var *> stringsAsHandles;
   /// The Index expression whose base is being emitted: a matrix may be
   /// indexed there (its row, then the outer Index picks the column).
   const Expr *rowAccessOK = nullptr;

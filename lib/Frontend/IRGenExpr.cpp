@@ -738,9 +738,20 @@ RValue IRGen::loadLValue(const LValue &lv, SrcLoc l) {
 
 bool IRGen::storeLValue(const LValue &lv, RValue v, SrcLoc l) {
   if (lv.var->type.isArray() && lv.var->type.base == BaseType::String && !lv.path.empty() &&
-      lv.path[0].constIndex < 0)
-    return error(l, "assigning to a string array element chosen at run time is not "
-                    "supported yet");
+      lv.path[0].constIndex < 0) {
+    // An element chosen per point: every element becomes a handle, and
+    // each takes the new one where the index picks it.
+    const Access &a = lv.path[0];
+    readVar(lv.var, l);
+    materializeStrings(lv.var, l);
+    Value handle = stringHandle(v, l);
+    for (int j = 0; j < a.length; ++j) {
+      RValue &f = lv.var->val.fields[j];
+      f = RValue::runtimeString(
+          select(selectsElement(a.index, j, a.length, l), handle, f.value, l));
+    }
+    return true;
+  }
   if (lv.path.empty()) {
     v.type = lv.var->type;
     lv.var->val = std::move(v);

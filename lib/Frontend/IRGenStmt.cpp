@@ -302,7 +302,7 @@ std::vector<Var *> IRGen::carriedVars(const llvm::StringSet<> &names) {
   std::vector<Var *> result;
   for (const auto &entry : names) {
     Var *v = lookupVar(entry.getKey());
-    if (v && !v->type.isString())
+    if (v && (!v->type.isString() || stringsAsHandles.count(v)))
       result.push_back(v);
   }
   llvm::sort(result, [](Var *a, Var *b) { return a->id < b->id; });
@@ -343,15 +343,52 @@ void replaceLeaves(RValue &r, ValueRange values, size_t &k) {
 
 std::vector<Value> IRGen::flatten(const std::vector<Var *> &vs, SrcLoc l) {
   std::vector<Value> out;
-  for (Var *v : vs)
-    collectLeaves(readVar(v, l), out);
+  for (Var *v : vs) {
+    if (!stringsAsHandles.count(v)) {
+      collectLeaves(readVar(v, l), out);
+      continue;
+    }
+    materializeStrings(v, l);
+    if (v->type.isArray())
+      for (const RValue &f : v->val.fields)
+        out.push_back(f.value);
+    else
+      out.push_back(v->val.value);
+  }
   return out;
 }
 
 void IRGen::unflatten(const std::vector<Var *> &vs, ValueRange values) {
   size_t k = 0;
-  for (Var *v : vs)
-    replaceLeaves(v->val, values, k);
+  for (Var *v : vs) {
+    if (!stringsAsHandles.count(v)) {
+      replaceLeaves(v->val, values, k);
+      continue;
+    }
+    if (v->type.isArray())
+      for (RValue &f : v->val.fields)
+        f = RValue::runtimeString(values[k++]);
+    else
+      v->val = RValue::runtimeString(values[k++]);
+  }
+}
+
+void IRGen::carryStringsAsHandles(const llvm::StringSet<> &names, bool scalarsToo) {
+  for (const auto &entry : names)
+    if (Var *v = lookupVar(entry.getKey()))
+      if (v->type.base == BaseType::String && !v->type.isStructLike() &&
+          (v->type.isArray() || scalarsToo))
+        stringsAsHandles.insert(v);
+}
+
+void IRGen::materializeStrings(Var *v, SrcLoc l) {
+  if (v->type.isArray()) {
+    for (RValue &f : v->val.fields)
+      if (!f.isRuntimeString())
+        f = RValue::runtimeString(stringHandle(f, l));
+  } else if (!v->val.isRuntimeString()) {
+    v->val = RValue::runtimeString(stringHandle(v->val, l));
+  }
 }
 
 /// String variables the region may assign, with their values before it.
@@ -359,19 +396,9 @@ std::vector<std::pair<Var *, RValue>> IRGen::stringSnapshot(const llvm::StringSe
   std::vector<std::pair<Var *, RValue>> snap;
   for (const auto &entry : names)
     if (Var *v = lookupVar(entry.getKey()))
-      if (v->type.isString())
+      if (v->type.isString() && !stringsAsHandles.count(v))
         snap.push_back({v, v->val});
   return snap;
-}
-
-bool IRGen::checkNoStringArrays(const llvm::StringSet<> &names, SrcLoc l,
-                                llvm::StringRef what) {
-  for (const auto &entry : names)
-    if (Var *v = lookupVar(entry.getKey()))
-      if (v->type.base == BaseType::String && v->type.isArray())
-        return error(l, "string array '" + v->name + "' is changed inside " + what +
-                            "; string arrays cannot depend on control flow yet");
-  return true;
 }
 
 bool IRGen::checkStrings(const std::vector<std::pair<Var *, RValue>> &snap, SrcLoc l,
@@ -405,6 +432,8 @@ std::vector<std::pair<Var *, std::vector<RValue>>>
 IRGen::structStringSnapshot(const std::vector<Var *> &carried) {
   std::vector<std::pair<Var *, std::vector<RValue>>> snap;
   for (Var *v : carried) {
+    if (!v->type.isStructLike())
+      continue; // strings carried as handles are leaves like numbers
     std::vector<RValue> fields;
     collectStringFields(v->val, fields);
     if (!fields.empty())
@@ -497,8 +526,7 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
       return std::nullopt;
     return wantValue ? v : RValue::voidValue();
   }
-  if (!checkNoStringArrays(assigned, l, "a conditional"))
-    return std::nullopt;
+  carryStringsAsHandles(assigned, /*scalarsToo=*/false);
   std::vector<Var *> carried = carriedVars(assigned);
   std::vector<Value> init = flatten(carried, l);
   auto strings = stringSnapshot(assigned);
@@ -636,8 +664,7 @@ bool IRGen::emitLoop(const Stmt &s) {
 
 bool IRGen::emitWhile(const Expr *condExpr, const Stmt &body, const Expr *step,
                       const llvm::StringSet<> &names, SrcLoc l) {
-  if (!checkNoStringArrays(names, l, "a loop"))
-    return false;
+  carryStringsAsHandles(names, /*scalarsToo=*/true);
   std::vector<Var *> carried = carriedVars(names);
   std::vector<Value> init = flatten(carried, l);
   auto strings = stringSnapshot(names);
