@@ -46,6 +46,9 @@ struct ShaderGroup {
   /// "layer.name" for another layer's. Empty: every output of the entries.
   std::vector<std::string> outputs;
   GroupOptimization optimization = GroupOptimization::O2;
+  /// OSL's lazyglobals option: false runs layers that assign Ci in order,
+  /// and the later layers see that Ci.
+  bool lazyGlobals = true;
 
   /// Parameter values waiting for the next `shader` statement.
   std::vector<ParamOverride> pendingParams;

@@ -422,22 +422,25 @@ def Osl_TextureOp : Osl_Op<"texture", [AttrSizedOperandSegments]> {
 
     `mask` (optional) limits the lookup to some lanes; the other lanes'
     results are undefined. Results are varying: a lookup reads per point.
-    The lookup may report an error (a missing file) once per file.
+    The lookup may report an error (a missing file) once per file, unless
+    `wantsErrorMessage` (the "errormessage" option): then `errorMessage` is
+    the handle of the error's text where a lookup failed ("unknown" when
+    the texture system gave none) and of "" elsewhere.
   }];
   let arguments = (ins StrAttr:$kind, I32Attr:$nchannels,
                        UnitAttr:$hasMissingColor, UnitAttr:$hasMissingAlpha,
-                       ArrayAttr:$candidates,
+                       UnitAttr:$wantsErrorMessage, ArrayAttr:$candidates,
                        Variadic<Osl_Float>:$coords, Variadic<Osl_Float>:$derivs,
                        Variadic<Osl_Float>:$floatOptions,
                        Osl_Value:$firstchannel, Osl_Value:$subimage,
                        Variadic<Osl_Value>:$choices, Optional<Osl_Bool>:$mask);
-  let results = (outs Osl_Value:$result, Osl_Float:$alpha);
+  let results = (outs Osl_Value:$result, Osl_Float:$alpha, Osl_Value:$errorMessage);
   let assemblyFormat = [{
     $kind `(` $coords `)` `derivs` `(` $derivs `)` `options` `(` $floatOptions `)`
     `channel` $firstchannel `subimage` $subimage `choices` `(` $choices `)`
     (`mask` $mask^ `:` type($mask))? attr-dict `:` `(` type($coords) `)` `(` type($derivs) `)`
     `(` type($floatOptions) `)` type($firstchannel) `,` type($subimage) `(` type($choices) `)`
-    `->` type($result) `,` type($alpha)
+    `->` type($result) `,` type($alpha) `,` type($errorMessage)
   }];
   let hasVerifier = 1;
 }

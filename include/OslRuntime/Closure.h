@@ -58,7 +58,7 @@ public:
   }
   /// A primitive of closure `id` with weight 1; `params` holds its words.
   int32_t component(int32_t id, const uint32_t *params, int32_t count);
-  /// `closure` scaled by `weight` (0 stays 0).
+  /// `closure` scaled by `weight`; the empty closure (0) when either is.
   int32_t mul(int32_t closure, const float weight[3]);
   /// The sum of two closures (an empty side gives the other).
   int32_t add(int32_t a, int32_t b);

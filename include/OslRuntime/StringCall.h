@@ -42,6 +42,10 @@ inline constexpr StringFunction kStringFunctions[] = {
     // shader can call them: how many pieces fill results (at most N), and
     // piece k.
     {"split:count", "ssii", 'i'}, {"split:piece", "ssii", 's'},
+    // regex_search / regex_match(subject, results[N], regex) fill results
+    // with entry k of each: (subject, regex, full match?, k, the entry's
+    // old value) -> its new value.
+    {"regex:result", "ssiii", 'i'},
 };
 
 /// The index of a string function in kStringFunctions, or -1.

@@ -25,7 +25,8 @@ enum TextureRow : int32_t {
                           ///< rwidth, fill, missingalpha, missingcolor r, g, b
   kTextureResultRow = 23, ///< 3 rows: the channels asked for
   kTextureAlphaRow = 26,  ///< the channel after them (alpha)
-  kTextureRows = 27,
+  kTextureErrorRow = 27,  ///< with kTextureWantsErrorMessage: a string handle
+  kTextureRows = 28,
 };
 
 enum TextureKind : int32_t { kTexture2D = 0, kTexture3D = 1, kTextureEnvironment = 2 };
@@ -33,6 +34,9 @@ enum TextureKind : int32_t { kTexture2D = 0, kTexture3D = 1, kTextureEnvironment
 enum TextureFlags : int32_t {
   kTextureHasMissingColor = 1, ///< missingcolor given: a missing file is no error
   kTextureHasMissingAlpha = 2,
+  /// "errormessage" given: a failed lookup's error goes to the error row (no
+  /// report), and "" where a lookup succeeds.
+  kTextureWantsErrorMessage = 4,
 };
 
 /// OpenImageIO's wrap modes by name (its Tex::Wrap values); unknown names
@@ -65,8 +69,8 @@ int textureFileErrors();
 /// One lookup for the lanes set in `laneMask` (bit i = lane i) of a batch
 /// of `width` lanes; reads and writes `rows` (kTextureRows x width floats).
 /// A file that cannot be read is reported once, at `where` (the call's
-/// file:line:col), unless missingcolor is given; its lanes get
-/// missingcolor, or zeros.
+/// file:line:col), unless missingcolor or errormessage is given; its lanes
+/// get missingcolor, or zeros.
 extern "C" void osl_rt_texture(const char *where, const char *file,
                                const char *subimageName,
                                int32_t subimage, int32_t kind,

@@ -41,12 +41,18 @@ def LinkShaderGroup : Pass<"osl-link-group", "::mlir::ModuleOp"> {
     external global, so nothing is specialised on it; parameters marked
     `osl.userdata` (lockgeom=0) are always loaded that way.
 
+    With `lazy-globals=false` (OSL's lazyglobals=0 option) a layer that
+    assigns Ci is not lazy either: it runs at the top level in group order,
+    and the layers after it read the Ci it left.
+
     Errors: an unknown layer or output, a connection to the same or an
     earlier layer (a cycle), and a type mismatch between output and input.
   }];
   let options = [Option<"lazy", "lazy", "bool", "true",
                         "inline upstream layers where their outputs are read "
                         "and drop unread layers">,
+                 Option<"lazyGlobals", "lazy-globals", "bool", "true",
+                        "let layers that assign Ci run lazily too">,
                  Option<"opaqueParams", "opaque-params", "bool", "false",
                         "load every unconnected constant parameter from memory">];
   let dependentDialects = ["::mlir::LLVM::LLVMDialect", "::mlir::func::FuncDialect"];

@@ -415,6 +415,7 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
   mlir::osl::LinkShaderGroupOptions link;
   link.lazy = group.optimization == GroupOptimization::O2;
   link.opaqueParams = group.optimization == GroupOptimization::O0;
+  link.lazyGlobals = group.lazyGlobals;
   pm.addPass(mlir::osl::createLinkShaderGroup(link));
   auto handler = printErrors(context, errs);
   if (mlir::failed(pm.run(*mlirModule)))
@@ -459,7 +460,7 @@ std::string ShaderCompiler::groupCacheKey(const ShaderGroup &group) const {
   std::string key = optionsKey();
   llvm::raw_string_ostream os(key);
   auto field = [&](const std::string &s) { os << " " << s.size() << ":" << s; };
-  os << "group O" << int(group.optimization) << "\n";
+  os << "group O" << int(group.optimization) << " lazyglobals " << group.lazyGlobals << "\n";
   for (const GroupLayer &layer : group.layers) {
     auto buffer = llvm::MemoryBuffer::getFile(layer.shaderPath, /*IsText=*/true);
     if (!buffer)

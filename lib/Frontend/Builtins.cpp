@@ -1339,6 +1339,34 @@ std::pair<RValue, RValue> attributeValue(IRGen &g, const Expr &call, const std::
 
 namespace osl::frontend {
 
+std::optional<std::pair<Value, RValue>> testshadeUserdata(IRGen &g, llvm::StringRef name,
+                                                          const OslType &type, SrcLoc l) {
+  // testshade's renderer has float user data "s" = u and "t" = v on every
+  // point, "red" = u where u > 0.5, "green" = v where u < 0.5, and "blue" =
+  // 1 - u on the rows where int(v * 12) is even (as testshade answers).
+  if (!type.isFloat() || !llvm::is_contained({"s", "t", "red", "green", "blue"}, name))
+    return std::nullopt;
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  Type f32 = b.getF32Type();
+  Value u = g.getGlobal("u", f32, l), v = g.getGlobal("v", f32, l);
+  Value half = g.constFloat(0.5f, l);
+  Value value = name == "t" || name == "green" ? v : u;
+  Value found = g.constBool(true, l);
+  if (name == "red")
+    found = b.create<CmpOp>(ml, "gt", u, half);
+  else if (name == "green")
+    found = b.create<CmpOp>(ml, "lt", u, half);
+  if (name == "blue") {
+    value = b.create<SubOp>(ml, g.constFloat(1, l), u);
+    Value row = g.convert(b.create<MulOp>(ml, v, g.constFloat(12, l)), b.getI32Type(), l);
+    Value odd = b.create<ModOp>(ml, row, g.constInt(2, l));
+    found = b.create<CmpOp>(ml, "eq", odd, g.constInt(0, l));
+  }
+  return std::make_pair(found, RValue::num(type, value));
+}
+
+
 std::optional<RValue> emitTypeConstructor(IRGen &g, OslType type,
                                           const std::vector<ExprPtr> &args, SrcLoc loc) {
   return emitConstructor(g, type, args, loc);

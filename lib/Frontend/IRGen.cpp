@@ -597,6 +597,9 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   Var *ci = declareVar(root, "Ci", OslType(BaseType::Closure), shader.loc,
                        emptyClosure(*this, shader.loc));
   Value emptyCi = ci->val.value;
+  // Ci as the shader starts: in a group, what earlier layers left
+  // (osl-link-group, with lazy-globals=false).
+  emptyCi.getDefiningOp()->setAttr("osl.initial_ci", b.getUnitAttr());
   Scope *paramScope = newScope(root);
   current = paramScope;
   // Before the parameters: a default value may call exit().
@@ -750,6 +753,14 @@ std::optional<RValue> IRGen::overrideValue(const Param &p, const std::string &te
   return r;
 }
 
+/// Does the parameter's metadata say [[int lockgeom = 0]]?
+static bool isLockgeomZero(const Param &p) {
+  for (const Metadatum &m : p.metadata)
+    if (m.name == "lockgeom" && m.value && m.value->kind == ExprKind::IntLit)
+      return m.value->intValue == 0;
+  return false;
+}
+
 bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   OslType t = p.type;
   if ((t.base == BaseType::Matrix && t.isArray()) || (t.isStructLike() && t.isArray()) ||
@@ -881,6 +892,10 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
     // (A closure parameter takes no instance value, but may be connected.)
     Value d = val.value;
     val.value = b.create<ParamOp>(loc(p.loc), d.getType(), p.name, d).getResult();
+    // Per-geometry data (lockgeom=0) the renderer has takes precedence.
+    if (isLockgeomZero(p))
+      if (auto data = testshadeUserdata(*this, p.name, t, p.loc))
+        val.value = select(data->first, data->second.value, val.value, p.loc);
   }
   Var *v = declareVar(scope, p.name, t, p.loc, val);
   if (!v)

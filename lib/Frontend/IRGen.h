@@ -550,6 +550,12 @@ std::optional<RValue> emitTextureBuiltin(IRGen &gen, const Expr &call,
 /// is false when `call` is none of them.
 std::optional<RValue> emitMessageBuiltin(IRGen &gen, const Expr &call, bool &known);
 
+/// testshade's user data for a lockgeom=0 parameter `name` of type `type`:
+/// (where it exists per point, its value), or nullopt when testshade has
+/// none by that name (Builtins.cpp).
+std::optional<std::pair<mlir::Value, RValue>> testshadeUserdata(IRGen &gen, llvm::StringRef name,
+                                                                const OslType &type, SrcLoc l);
+
 /// The name of the hidden variable holding a function's return value.
 inline constexpr const char *kReturnVarName = "$return";
 /// The hidden jump flags (see the file comment).

@@ -418,6 +418,53 @@ std::optional<RValue> emitSplit(IRGen &g, const Expr &call) {
   return RValue::num(OslType(BaseType::Int), count);
 }
 
+/// regex_search / regex_match(subject, results[N], regex): the match's
+/// result, and results[k] from the runtime's entry k (the groups' begin and
+/// end positions; see "regex:result").
+std::optional<RValue> emitRegexWithResults(IRGen &g, const Expr &call) {
+  bool full = call.name == "regex_match";
+  auto subject = g.emitExpr(*call.args[0]);
+  if (!subject)
+    return std::nullopt;
+  auto dest = g.emitLValue(*call.args[1]);
+  if (!dest)
+    return std::nullopt;
+  auto regex = g.emitExpr(*call.args[2]);
+  if (!regex)
+    return std::nullopt;
+  if (!subject->type.isString() || !regex->type.isString() ||
+      dest->type.base != BaseType::Int || dest->type.arrayLen <= 0) {
+    g.error(call.loc, "wrong arguments to '" + call.name + "'; candidates: int " + call.name +
+                          "(string subject, string regex); int " + call.name +
+                          "(string subject, output int results[], string regex)");
+    return std::nullopt;
+  }
+  if (regex->isKnownString()) {
+    std::string why = ::osl::regexError(regex->str);
+    if (!why.empty()) {
+      g.error(call.args[2]->begin, why);
+      return std::nullopt;
+    }
+  }
+  OpBuilder &b = g.builder();
+  Location l = g.loc(call.loc);
+  Value subjectHandle = g.stringHandle(*subject, call.loc);
+  Value regexHandle = g.stringHandle(*regex, call.loc);
+  Value found = b.create<StringCallOp>(l, b.getI32Type(), call.name, "ss",
+                                       ValueRange{subjectHandle, regexHandle})
+                    .getResult();
+  RValue results = g.loadLValue(*dest, call.loc);
+  for (size_t k = 0; k < results.elems.size(); ++k)
+    results.elems[k] =
+        b.create<StringCallOp>(l, b.getI32Type(), "regex:result", "ssiii",
+                               ValueRange{subjectHandle, regexHandle,
+                                          g.constInt(full ? 1 : 0, call.loc),
+                                          g.constInt(int(k), call.loc), results.elems[k]})
+            .getResult();
+  g.storeLValue(*dest, results, call.loc);
+  return RValue::num(OslType(BaseType::Int), found);
+}
+
 } // namespace
 
 namespace osl::frontend {
@@ -426,6 +473,10 @@ std::optional<RValue> emitStringBuiltin(IRGen &g, const Expr &call, bool &known)
   if (call.name == "split") {
     known = true;
     return emitSplit(g, call);
+  }
+  if ((call.name == "regex_search" || call.name == "regex_match") && call.args.size() == 3) {
+    known = true;
+    return emitRegexWithResults(g, call);
   }
   known = ::osl::stringFunctionCode(call.name) >= 0;
   if (known)

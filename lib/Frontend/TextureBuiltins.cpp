@@ -85,6 +85,7 @@ private:
   Value firstChannel, subimage;
   bool hasMissingColor = false, hasMissingAlpha = false;
   std::optional<LValue> alphaOut;
+  std::optional<LValue> errorOut; // "errormessage"
 };
 
 std::optional<Value> TextureCall::floatArg(size_t k, const char *what) {
@@ -248,8 +249,15 @@ bool TextureCall::option(size_t nameArg) {
                                     alphaOut->type.str() + "'");
     return true;
   }
-  if (name == "errormessage")
-    return g.error(nameExpr.loc, "texture option 'errormessage' is not supported yet");
+  if (name == "errormessage") {
+    errorOut = g.emitLValue(*call.args[k]);
+    if (!errorOut)
+      return false;
+    if (!errorOut->type.isString())
+      return g.error(argLoc(k), "texture option 'errormessage' needs a string variable, got '" +
+                                    errorOut->type.str() + "'");
+    return true;
+  }
   return g.error(nameExpr.loc, "unknown texture option '" + name + "'");
 }
 
@@ -344,13 +352,16 @@ std::optional<RValue> TextureCall::emit(const OslType *expected) {
     lists.push_back(b.getArrayAttr(names));
     choices.push_back(choice[c]);
   }
-  auto op = b.create<TextureOp>(g.loc(call.loc), result, alpha, form.kind,
+  Type errorType = withUniformity(b.getI32Type(), true);
+  auto op = b.create<TextureOp>(g.loc(call.loc), result, alpha, errorType, form.kind,
                                 uint32_t(color ? 3 : 1), hasMissingColor, hasMissingAlpha,
-                                b.getArrayAttr(lists), coords, derivs,
+                                errorOut.has_value(), b.getArrayAttr(lists), coords, derivs,
                                 ArrayRef<Value>(floats), firstChannel, subimage, choices,
                                 /*mask=*/Value());
   if (alphaOut)
     g.storeLValue(*alphaOut, RValue::num(OslType(BaseType::Float), op.getAlpha()), call.loc);
+  if (errorOut)
+    g.storeLValue(*errorOut, RValue::runtimeString(op.getErrorMessage()), call.loc);
   return RValue::num(resultType, op.getResult());
 }
 

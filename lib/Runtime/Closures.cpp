@@ -50,7 +50,8 @@ int32_t ClosureArena::component(int32_t id, const uint32_t *params, int32_t coun
 }
 
 int32_t ClosureArena::mul(int32_t closure, const float weight[3]) {
-  if (closure == 0)
+  // A zero weight (either sign) leaves nothing, as OSL's closure product.
+  if (closure == 0 || (weight[0] == 0 && weight[1] == 0 && weight[2] == 0))
     return 0;
   nodes.push_back({kMul, closure, 0, {weight[0], weight[1], weight[2]}});
   return int32_t(nodes.size());

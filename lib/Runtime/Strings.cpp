@@ -346,7 +346,7 @@ void readLane(const char *kinds, const int32_t *rows, int32_t width, int32_t lan
 
 enum : int32_t {
   kConcat, kFormat, kStrlen, kHash, kStartswith, kEndswith, kGetchar, kSubstr,
-  kStoi, kStof, kRegexSearch, kRegexMatch, kSplitCount, kSplitPiece,
+  kStoi, kStof, kRegexSearch, kRegexMatch, kSplitCount, kSplitPiece, kRegexResult,
 };
 
 int32_t intern(std::string_view s) { return internTable().intern(s); }
@@ -440,6 +440,24 @@ int32_t callLane(int32_t function, const std::vector<Operand> &a, std::string &e
     const char *begin = a[0].s.data(), *end = begin + a[0].s.size();
     return function == kRegexSearch ? std::regex_search(begin, end, *re)
                                     : std::regex_match(begin, end, *re);
+  }
+  case kRegexResult: { // (subject, regex, full match?, k, old value)
+    // Entries 2i and 2i+1 are where group i begins and ends (an unmatched
+    // group at the subject's end, as std::regex leaves it, which OSL uses
+    // too); entries past the groups, and every entry when nothing matches,
+    // keep their values.
+    const std::regex *re = compiledRegex(a[1].i, a[1].s, error);
+    if (!re)
+      return a[4].i;
+    const char *begin = a[0].s.data(), *end = begin + a[0].s.size();
+    std::cmatch m;
+    bool found = a[2].i ? std::regex_match(begin, end, m, *re)
+                        : std::regex_search(begin, end, m, *re);
+    size_t group = size_t(a[3].i) / 2;
+    if (!found || a[3].i < 0 || group >= m.size())
+      return a[4].i;
+    const char *at = a[3].i % 2 == 0 ? m[group].first : m[group].second;
+    return int32_t((m[group].matched ? at : end) - begin);
   }
   case kSplitCount: // (str, sep, maxsplit, result length)
     return std::min(int32_t(splitPieces(a[0].s, a[1].s, a[2].i).size()), a[3].i);

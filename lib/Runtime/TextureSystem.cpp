@@ -8,12 +8,14 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslRuntime/TextureCall.h"
+#include "OslRuntime/StringCall.h"
 
 #include <Imath/ImathVec.h>
 #include <OpenImageIO/texture.h>
 #include <OpenImageIO/ustring.h>
 
 #include <cstdio>
+#include <cstring>
 #include <mutex>
 #include <set>
 #include <string>
@@ -30,6 +32,13 @@ static_assert(int(Tex::InterpMode::Closest) == osl::textureInterpCode("closest")
               "interp codes must be OpenImageIO's");
 
 namespace {
+
+/// A 32-bit handle stored in a float row, bit for bit.
+float bitCastToFloat(int32_t handle) {
+  float f;
+  std::memcpy(&f, &handle, sizeof f);
+  return f;
+}
 
 TextureSystem &sharedTextureSystem() {
   static TextureSystem *ts = [] {
@@ -120,8 +129,16 @@ extern "C" void osl_rt_texture(const char *where, const char *file,
         ok = ts.environment(handle, thread, opt, p, dx, dy, channels, result);
       }
     }
-    if (!ok && !missingGiven)
+    if (flags & kTextureWantsErrorMessage) {
+      // OSL's errormessage: the texture system's error where the lookup
+      // failed ("unknown" if it has none: a file already known broken).
+      std::string error = ok ? "" : ts.geterror();
+      if (!ok && error.empty())
+        error = "unknown";
+      row(kTextureErrorRow)[lane] = bitCastToFloat(osl_rt_string_intern(error.c_str()));
+    } else if (!ok && !missingGiven) {
       reportMissing(where, file, ts.geterror());
+    }
     for (int c = 0; c < channels; ++c)
       row(kTextureResultRow + c)[lane] = result[c];
     if (nchannels == 1)

@@ -916,7 +916,8 @@ struct TextureLowering : public OslPattern<TextureOp> {
                    : op.getKind() == "3d" ? ::osl::kTexture3D
                                           : ::osl::kTextureEnvironment;
     int32_t flags = (op.getHasMissingColor() ? ::osl::kTextureHasMissingColor : 0) |
-                    (op.getHasMissingAlpha() ? ::osl::kTextureHasMissingAlpha : 0);
+                    (op.getHasMissingAlpha() ? ::osl::kTextureHasMissingAlpha : 0) |
+                    (op.getWantsErrorMessage() ? ::osl::kTextureWantsErrorMessage : 0);
     auto i32Const = [&](int64_t v) {
       return rewriter.create<arith::ConstantIntOp>(loc, v, 32).getResult();
     };
@@ -944,8 +945,8 @@ struct TextureLowering : public OslPattern<TextureOp> {
                                maskBits(rewriter, loc, mask)};
     rewriter.create<LLVM::CallOp>(loc, callee, args);
 
-    Type laneType = varying ? Type(VectorType::get({lanes}, f32)) : f32;
-    auto loadRow = [&](int64_t row) {
+    auto loadRow = [&](int64_t row, Type element) {
+      Type laneType = varying ? Type(VectorType::get({lanes}, element)) : element;
       auto load = rewriter.create<LLVM::LoadOp>(
           loc, laneType, rowAddress(rewriter, loc, block, row, lanes), 4);
       load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
@@ -953,9 +954,16 @@ struct TextureLowering : public OslPattern<TextureOp> {
     };
     SmallVector<Value> channels;
     for (uint32_t c = 0; c < op.getNchannels(); ++c)
-      channels.push_back(loadRow(::osl::kTextureResultRow + c));
+      channels.push_back(loadRow(::osl::kTextureResultRow + c, f32));
     Value result = unpacker.pack(channels, convert(op.getResult().getType()));
-    rewriter.replaceOp(op, {result, loadRow(::osl::kTextureAlphaRow)});
+    // Without "errormessage" the row is not written: the message is "".
+    Value error = op.getWantsErrorMessage()
+                      ? loadRow(::osl::kTextureErrorRow, i32)
+                      : rewriter.create<arith::ConstantOp>(
+                                    loc, rewriter.getZeroAttr(
+                                             convert(op.getErrorMessage().getType())))
+                            .getResult();
+    rewriter.replaceOp(op, {result, loadRow(::osl::kTextureAlphaRow, f32), error});
     return success();
   }
 };

@@ -37,17 +37,22 @@ void splitIntoLaneGroups(TextureOp op) {
   Location loc = op.getLoc();
   Type maskType = VaryingType::get(b.getI1Type());
   Value pending = op.getMask() ? op.getMask() : b.create<BatchMaskOp>(loc, maskType);
-  SmallVector<Type> carried = {maskType, op.getResult().getType(), op.getAlpha().getType()};
-  SmallVector<Value> init = {pending, buildZero(b, loc, carried[1]),
-                             buildZero(b, loc, carried[2])};
+  // The loop carries the lanes left and every result of the lookup.
+  SmallVector<Type> carried = {maskType};
+  SmallVector<Value> init = {pending};
+  for (Value r : op->getResults()) {
+    carried.push_back(r.getType());
+    init.push_back(buildZero(b, loc, r.getType()));
+  }
+  SmallVector<Location> locs(carried.size(), loc);
   auto loop = b.create<scf::WhileOp>(loc, carried, init);
 
-  Block *before = b.createBlock(&loop.getBefore(), {}, carried, {loc, loc, loc});
+  Block *before = b.createBlock(&loop.getBefore(), {}, carried, locs);
   b.setInsertionPointToEnd(before);
   Value any = b.create<AnyOp>(loc, b.getI1Type(), before->getArgument(0));
   b.create<scf::ConditionOp>(loc, any, before->getArguments());
 
-  Block *after = b.createBlock(&loop.getAfter(), {}, carried, {loc, loc, loc});
+  Block *after = b.createBlock(&loop.getAfter(), {}, carried, locs);
   b.setInsertionPointToEnd(after);
   Value lanesLeft = after->getArgument(0);
   // The lead's choices, and the lanes that made the same ones.
@@ -66,13 +71,13 @@ void splitIntoLaneGroups(TextureOp op) {
   for (OpOperand &choice : groupCall.getChoicesMutable())
     choice.set(leadChoices.lookupOrDefault(choice.get()));
   groupCall.getMaskMutable().assign(group);
-  Value result = b.create<SelectOp>(loc, group, groupCall.getResult(), after->getArgument(1));
-  Value alpha = b.create<SelectOp>(loc, group, groupCall.getAlpha(), after->getArgument(2));
-  Value stillLeft = b.create<AndOp>(loc, lanesLeft, b.create<NotOp>(loc, same));
-  b.create<scf::YieldOp>(loc, ValueRange{stillLeft, result, alpha});
+  SmallVector<Value> yielded = {b.create<AndOp>(loc, lanesLeft, b.create<NotOp>(loc, same))};
+  for (auto [i, r] : llvm::enumerate(groupCall->getResults()))
+    yielded.push_back(b.create<SelectOp>(loc, group, r, after->getArgument(i + 1)));
+  b.create<scf::YieldOp>(loc, yielded);
 
-  op.getResult().replaceAllUsesWith(loop.getResult(1));
-  op.getAlpha().replaceAllUsesWith(loop.getResult(2));
+  for (auto [i, r] : llvm::enumerate(op->getResults()))
+    r.replaceAllUsesWith(loop.getResult(i + 1));
   op.erase();
 }
 

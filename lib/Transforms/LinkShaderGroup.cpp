@@ -34,6 +34,7 @@ constexpr const char *kConnectAttr = "osl.connect";
 constexpr const char *kUserdataAttr = "osl.userdata";
 constexpr const char *kFromLayerAttr = "osl.from_layer";
 constexpr const char *kGroupOutputsAttr = "osl.group_outputs";
+constexpr const char *kInitialCiAttr = "osl.initial_ci";
 
 /// OSL's name for a base type, for messages.
 std::string typeName(Type t) {
@@ -62,6 +63,9 @@ struct Layer {
   func::FuncOp func;
   StringRef name;
   bool entry = false;
+  /// Assigns Ci: with lazy-globals=false such a layer is not lazy (it runs
+  /// in group order, as entries do) and the later layers see its Ci.
+  bool writesCi = false;
 };
 
 struct LinkShaderGroupPass
@@ -83,8 +87,11 @@ struct LinkShaderGroupPass
         requestedOutputs.insert(cast<StringAttr>(a).getValue());
     }
     bool anyEntry = false;
-    for (Layer &l : layers)
+    for (Layer &l : layers) {
       anyEntry |= l.entry = l.func->hasAttr(kEntryAttr);
+      if (!lazyGlobals)
+        l.func.walk([&](OutputOp out) { l.writesCi |= out.getName() == "Ci"; });
+    }
     if (!anyEntry)
       layers.back().entry = true;
     // Asking for "layer.name" makes that layer run for it.
@@ -106,16 +113,18 @@ struct LinkShaderGroupPass
     b.setInsertionPointToStart(group.addEntryBlock());
     Operation *ret = b.create<func::ReturnOp>(root.getLoc());
 
-    // Entries (every layer when not lazy) run unconditionally, in order.
+    // Entries and, without lazy globals, layers that assign Ci (every layer
+    // when not lazy) run unconditionally, in order.
+    auto eager = [&](const Layer &l) { return l.entry || l.writesCi || !lazy; };
     for (Layer &l : layers)
-      if (l.entry || !lazy) {
+      if (eager(l)) {
         b.setInsertionPoint(ret);
         placed[l.name] = inlineLayer(l, b);
       }
     // The others, last first: by then every layer that reads one is placed.
     if (lazy)
       for (Layer &l : llvm::reverse(layers))
-        if (!l.entry)
+        if (!eager(l))
           placeLazily(l);
 
     if (failed(checkRequestedOutputs()))
@@ -298,6 +307,12 @@ struct LinkShaderGroupPass
     SmallVector<ParamOp> reads;
     StringAttr tag = b.getStringAttr(l.name);
     for (Operation &op : l.func.front().without_terminator()) {
+      // Ci as the layers placed before left it (the front end marks the
+      // value a shader's Ci starts with).
+      if (op.hasAttr(kInitialCiAttr) && currentCi && !lazyGlobals) {
+        map.map(op.getResult(0), currentCi);
+        continue;
+      }
       Operation *copy = b.clone(op, map);
       copy->walk([&](Operation *inner) { inner->setAttr(kFromLayerAttr, tag); });
       if (auto param = dyn_cast<ParamOp>(copy); param && connection(param))
@@ -306,6 +321,8 @@ struct LinkShaderGroupPass
       if (!out)
         continue;
       outputs[outputKey(out.getName(), elementIndex(out))] = out.getValue();
+      if (out.getName() == "Ci")
+        currentCi = out.getValue();
       std::string groupName = &l == &layers.back()
                                   ? out.getName().str()
                                   : (l.name + "." + out.getName()).str();
@@ -407,6 +424,8 @@ struct LinkShaderGroupPass
   SmallVector<Layer> layers;
   llvm::StringMap<size_t> layerIndex;
   llvm::StringMap<llvm::StringMap<Value>> placed;
+  /// Ci as the last layer placed that assigns it left it.
+  Value currentCi;
   llvm::StringSet<> requestedOutputs;
   llvm::StringSet<> reportedArrays;
   /// Outputs of the layers that run unconditionally, as the group names them.

@@ -287,7 +287,7 @@ func.func @texture_lookup() {
   %zero = arith.constant 0.0 : f32
   %c0 = arith.constant 0 : i32
   %c1 = arith.constant 1 : i32
-  %r, %a = osl.texture "2d"(%u, %v) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c1, %c1, %c1, %c0, %c0) {candidates = [["ramp.tx"], ["clamp", "black"], ["clamp", "black"], ["clamp", "black"], ["smartcubic"], [""]], nchannels = 3 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<vector<3xf32>>, !osl.varying<f32>
+  %r, %a, %err = osl.texture "2d"(%u, %v) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c1, %c1, %c1, %c0, %c0) {candidates = [["ramp.tx"], ["clamp", "black"], ["clamp", "black"], ["clamp", "black"], ["smartcubic"], [""]], nchannels = 3 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<vector<3xf32>>, !osl.varying<f32>, !osl.varying<i32>
   osl.output "C" = %r : !osl.varying<vector<3xf32>>
   return
 }

@@ -95,7 +95,9 @@ const char *const osl::kUsage =
     "  -t N                   threads (default: all cores)\n"
     "  --iters N              shade the grid N times, write once\n"
     "  --options LIST         ShadingSystem options as testshade takes them;\n"
-    "                         error_repeats=1 reports repeated errors too\n"
+    "                         error_repeats=1 reports repeated errors too,\n"
+    "                         lazyglobals=0 runs layers that assign Ci in\n"
+    "                         order, the later ones seeing that Ci\n"
     "  --texture-cache-mb N   size of the shared texture cache\n"
     "  --cache-dir DIR        keep compiled kernels in DIR, so a second run\n"
     "                         with the same source and options compiles\n"
@@ -223,7 +225,7 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
     } else if (a == "--llvm_opt" || a == "--options") {
       // testshade's LLVM optimization level and ShadingSystem options:
       // osl-mlir optimizes its own way (-O0/-O1/-O2), so they are taken,
-      // and of the options only error_repeats changes what is printed;
+      // and of the options error_repeats and lazyglobals change what runs;
       // commands written for testshade run unchanged.
       if (!need(i, 1, a.c_str()))
         return false;
@@ -235,6 +237,8 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
           auto [name, value] = setting.split('=');
           if (name.trim() == "error_repeats")
             o.errorRepeats = value.trim() != "0";
+          else if (name.trim() == "lazyglobals")
+            o.group.lazyGlobals = value.trim() != "0";
         }
       }
     } else if (a == "-g" || a == "--g" || a == "--res") {
