@@ -62,7 +62,7 @@ void lookUp(float s, float t, float dsdx, float dtdy, float blur, int wrap, floa
   rows[kTextureDerivRow + 3] = dtdy; // dt/dy
   rows[kTextureOptionRow + 0] = rows[kTextureOptionRow + 1] = blur;
   rows[kTextureOptionRow + 3] = rows[kTextureOptionRow + 4] = rows[kTextureOptionRow + 5] = 1;
-  osl_rt_texture("bench", kTexture, "", 0, kTexture2D, 3, 0, wrap, wrap, wrap,
+  osl_rt_texture("bench", kTexture, "", 0, kTexture2D, 3, wrap, wrap, wrap,
                  textureInterpCode("smartcubic"), 0, rows, 1, 1u);
   for (int c = 0; c < 3; ++c)
     rgb[c] = rows[kTextureResultRow + c];

@@ -412,7 +412,8 @@ def Osl_TextureOp : Osl_Op<"texture", [AttrSizedOperandSegments]> {
 
     `floatOptions` are the per-point options, in the order sblur, tblur,
     rblur, swidth, twidth, rwidth, fill, missingalpha, then missingcolor's
-    three components; `firstchannel` and `subimage` are ints.
+    three components; `firstchannel` (per point) and `subimage` (uniform)
+    are ints.
 
     Options that OpenImageIO takes once per call are chosen among
     compile-time strings: `choices` holds, for file, swrap, twrap, rwrap,

@@ -26,7 +26,8 @@ enum TextureRow : int32_t {
   kTextureResultRow = 23, ///< 3 rows: the channels asked for
   kTextureAlphaRow = 26,  ///< the channel after them (alpha)
   kTextureErrorRow = 27,  ///< with kTextureWantsErrorMessage: a string handle
-  kTextureRows = 28,
+  kTextureFirstChannelRow = 28, ///< the first channel, an int per point
+  kTextureRows = 29,
 };
 
 enum TextureKind : int32_t { kTexture2D = 0, kTexture3D = 1, kTextureEnvironment = 2 };
@@ -74,7 +75,7 @@ int textureFileErrors();
 extern "C" void osl_rt_texture(const char *where, const char *file,
                                const char *subimageName,
                                int32_t subimage, int32_t kind,
-                               int32_t nchannels, int32_t firstchannel,
+                               int32_t nchannels,
                                int32_t swrap, int32_t twrap, int32_t rwrap,
                                int32_t interp, int32_t flags, float *rows,
                                int32_t width, uint32_t laneMask);

@@ -209,8 +209,17 @@ bool TextureCall::option(size_t nameArg) {
     return setChoices({RWrap});
   if (name == "interp")
     return setChoices({Interp});
-  if (name == "firstchannel")
-    return uniformInt(firstChannel);
+  if (name == "firstchannel") { // per point: each lane is looked up alone
+    OslType i(BaseType::Int);
+    auto v = g.emitExpr(*call.args[k], &i);
+    if (!v)
+      return false;
+    auto c = g.coerce(*v, i, argLoc(k), "for 'firstchannel'");
+    if (!c)
+      return false;
+    firstChannel = c->value;
+    return true;
+  }
   if (name == "missingcolor") {
     OslType c(BaseType::Color);
     auto v = g.emitExpr(*call.args[k], &c);

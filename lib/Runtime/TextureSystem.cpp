@@ -14,6 +14,7 @@
 #include <OpenImageIO/texture.h>
 #include <OpenImageIO/ustring.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
@@ -75,7 +76,7 @@ void osl::setTextureCacheMegabytes(float megabytes) {
 extern "C" void osl_rt_texture(const char *where, const char *file,
                                const char *subimageName,
                                int32_t subimage, int32_t kind, int32_t nchannels,
-                               int32_t firstchannel, int32_t swrap, int32_t twrap,
+                               int32_t swrap, int32_t twrap,
                                int32_t rwrap, int32_t interp, int32_t flags, float *rows,
                                int32_t width, uint32_t laneMask) {
   using namespace osl;
@@ -84,7 +85,6 @@ extern "C" void osl_rt_texture(const char *where, const char *file,
   TextureSystem::TextureHandle *handle = ts.get_texture_handle(ustring(file), thread);
   auto row = [&](int r) { return rows + size_t(r) * size_t(width); };
   TextureOpt opt;
-  opt.firstchannel = firstchannel;
   opt.subimage = subimage;
   if (subimageName && *subimageName)
     opt.subimagename = ustring(subimageName);
@@ -106,6 +106,8 @@ extern "C" void osl_rt_texture(const char *where, const char *file,
     opt.twidth = at(o + 4);
     opt.rwidth = at(o + 5);
     opt.fill = at(o + 6);
+    // OpenImageIO's per-point calls take the first channel per point too.
+    std::memcpy(&opt.firstchannel, &row(kTextureFirstChannelRow)[lane], sizeof(int32_t));
     // missingcolor's channels line up with the result's: the color, then
     // alpha.
     float missing[4] = {0, 0, 0, 0};
@@ -124,7 +126,16 @@ extern "C" void osl_rt_texture(const char *where, const char *file,
       Imath::V3f dx(at(d), at(d + 1), at(d + 2)), dy(at(d + 3), at(d + 4), at(d + 5));
       if (kind == kTexture3D) {
         Imath::V3f dz(at(d + 6), at(d + 7), at(d + 8));
-        ok = ts.texture3d(handle, thread, opt, p, dx, dy, dz, channels, result);
+        // OpenImageIO's 3D lookup asserts (aborts) when asked for channels
+        // past the volume's: ask for those it has, and the rest are fill.
+        int fileChannels = 0;
+        int asked = channels;
+        if (ts.get_texture_info(handle, thread, 0, ustring("channels"), TypeDesc::INT,
+                                &fileChannels))
+          asked = std::max(0, std::min(channels, fileChannels - opt.firstchannel));
+        for (int c = asked; c < channels; ++c)
+          result[c] = opt.fill;
+        ok = asked == 0 || ts.texture3d(handle, thread, opt, p, dx, dy, dz, asked, result);
       } else {
         ok = ts.environment(handle, thread, opt, p, dx, dy, channels, result);
       }

@@ -873,7 +873,7 @@ struct TextureLowering : public OslPattern<TextureOp> {
     MLIRContext *ctx = rewriter.getContext();
     auto ptr = LLVM::LLVMPointerType::get(ctx);
     Type f32 = rewriter.getF32Type(), i32 = rewriter.getI32Type();
-    SmallVector<Type> params = {ptr, ptr, ptr, i32, i32, i32, i32, i32, i32,
+    SmallVector<Type> params = {ptr, ptr, ptr, i32, i32, i32, i32, i32,
                                 i32, i32, i32, ptr, i32, i32};
     LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_texture",
                                                  LLVM::LLVMVoidType::get(ctx), params);
@@ -889,6 +889,7 @@ struct TextureLowering : public OslPattern<TextureOp> {
       storeRow(::osl::kTextureDerivRow + i, v, adaptor.getDerivs()[i]);
     for (auto [i, v] : llvm::enumerate(op.getFloatOptions()))
       storeRow(::osl::kTextureOptionRow + i, v, adaptor.getFloatOptions()[i]);
+    storeRow(::osl::kTextureFirstChannelRow, op.getFirstchannel(), adaptor.getFirstchannel());
 
     // The uniform options: a string's address, or OpenImageIO's code for it.
     auto candidates = [&](int which) { return cast<ArrayAttr>(op.getCandidates()[which]); };
@@ -934,7 +935,6 @@ struct TextureLowering : public OslPattern<TextureOp> {
                                adaptor.getSubimage(),
                                i32Const(kind),
                                i32Const(op.getNchannels()),
-                               adaptor.getFirstchannel(),
                                pick(1, wrapCode),
                                pick(2, wrapCode),
                                pick(3, wrapCode),
