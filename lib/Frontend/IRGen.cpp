@@ -875,6 +875,11 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
     if (t.arrayLen == 0 && p.init->kind == ExprKind::InitList)
       t.arrayLen = int(p.init->args.size());
     init = zeroValue(t, p.loc);
+  } else if (p.init->kind == ExprKind::InitList && p.init->args.empty()) {
+    // `{ }`: zeros; an unsized array of one element, as OSL makes it.
+    if (t.arrayLen == 0)
+      t.arrayLen = 1;
+    init = zeroValue(t, p.loc);
   } else {
     init = emitInitializer(*p.init, t, p.name, p.loc);
   }

@@ -380,7 +380,7 @@ private:
           return nullptr;
         }
         advance();
-        p.init = parseInitializer();
+        p.init = parseInitializer(/*emptyAllowed=*/true);
         if (!p.init)
           return nullptr;
         if (!parseMetadata(&p.metadata))
@@ -670,14 +670,20 @@ private:
     }
   }
 
-  /// An expression or `{ a, b, ... }`.
-  ExprPtr parseInitializer() {
+  /// An expression or `{ a, b, ... }`; `{ }` only where `emptyAllowed`
+  /// (a shader parameter's default, as oslc allows it).
+  ExprPtr parseInitializer(bool emptyAllowed = false) {
     if (!cur().isPunct("{"))
       return parseAssignment();
     auto list = std::make_unique<Expr>(ExprKind::InitList, cur().loc);
     advance();
-    if (acceptPunct("}"))
+    if (acceptPunct("}")) {
+      if (!emptyAllowed) {
+        error(list->loc, "Empty compound initializers '{ }' only allowed for shader parameters.");
+        return nullptr;
+      }
       return list;
+    }
     while (true) {
       ExprPtr e = parseAssignment();
       if (!e)
