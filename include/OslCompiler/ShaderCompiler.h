@@ -171,7 +171,8 @@ private:
   mlir::OwningOpRef<mlir::ModuleOp> parseSource(llvm::StringRef source,
                                                 llvm::StringRef filename,
                                                 llvm::ArrayRef<ParamOverride> params,
-                                                llvm::StringRef layerName = "");
+                                                llvm::StringRef layerName = "",
+                                                int layerIndex = 0);
   std::unique_ptr<CompiledShader> loadObject(std::string object, std::string name,
                                              std::vector<OutputSpec> outputs);
   bool defineRuntimeSymbols(Jit &target);

@@ -49,6 +49,8 @@ struct FrontendOptions {
   /// answer (testshade's --layer and --groupname).
   std::string layerName;
   std::string groupName;
+  /// The layer's position in its group (in OSL's index-range reports).
+  int layerIndex = 0;
   /// Warnings as oslc prints them (`filename:line: warning: message`),
   /// hidden, or errors (oslc's -Werror).
   bool warningsAsErrors = false;

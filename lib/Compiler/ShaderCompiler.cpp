@@ -75,7 +75,8 @@ ShaderCompiler::~ShaderCompiler() = default;
 
 mlir::OwningOpRef<mlir::ModuleOp>
 ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
-                            llvm::ArrayRef<ParamOverride> params, llvm::StringRef layerName) {
+                            llvm::ArrayRef<ParamOverride> params, llvm::StringRef layerName,
+                            int layerIndex) {
   std::string text;
   llvm::raw_string_ostream os(text);
   // Warnings are always collected, so the cache keeps them for runs that
@@ -87,6 +88,7 @@ ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
   frontend.defines = options.defines;
   frontend.rayType = options.rayType;
   frontend.layerName = layerName.str();
+  frontend.layerIndex = layerIndex;
   frontend.groupName = options.groupName;
   frontend.warningsAsErrors = options.warningsAsErrors;
   auto module = parseOslShader(source, filename, context, params, os, frontend);
@@ -374,14 +376,15 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
   mlir::OpBuilder b(&context);
   groupCounts = GroupStats();
   groupCounts.layersBefore = int(group.layers.size());
-  for (const GroupLayer &layer : group.layers) {
+  for (const auto &[layerIndex, layer] : llvm::enumerate(group.layers)) {
     auto buffer = llvm::MemoryBuffer::getFile(layer.shaderPath, /*IsText=*/true);
     if (!buffer) {
       errs << "error: layer '" << layer.name << "': cannot read '" << layer.shaderPath
            << "': " << buffer.getError().message() << "\n";
       return false;
     }
-    auto parsed = parseSource((*buffer)->getBuffer(), layer.shaderPath, layer.params, layer.name);
+    auto parsed = parseSource((*buffer)->getBuffer(), layer.shaderPath, layer.params, layer.name,
+                              int(layerIndex));
     if (!parsed) {
       errs << "note: in layer '" << layer.name << "'\n";
       return false;

@@ -433,6 +433,9 @@ private:
   RValue updatePath(const RValue &cur, const std::vector<Access> &path, size_t k,
                     const RValue &newValue, SrcLoc l);
   RValue elementAt(const RValue &cur, const Access &a, int j, SrcLoc l);
+  /// OSL's report of an index out of range for `e` (an Index expression):
+  /// `index` is the number, or "%d" for a format.
+  std::string indexRangeMessage(const Expr &e, const std::string &index, int length);
   /// Reads element `a` of an array (elems) or triple, index clamped, or a
   /// struct's field.
   RValue readAccess(const RValue &cur, const Access &a, SrcLoc l);

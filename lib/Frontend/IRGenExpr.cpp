@@ -5,6 +5,8 @@
 #include "llvm/ADT/STLExtras.h"
 #include "llvm/ADT/StringSwitch.h"
 
+#include <algorithm>
+
 using namespace osl::frontend;
 using namespace mlir;
 using namespace mlir::osl;
@@ -515,13 +517,46 @@ std::optional<Access> IRGen::makeAccess(OslType baseType, const Expr &e,
   a.index = idx->value;
   if (auto k = getConstInt(idx->value)) {
     if (*k < 0 || *k >= a.length) {
-      error(e.args[1]->begin, "index " + llvm::Twine(*k) + " is out of range for '" +
-                                baseType.str() + "'");
-      return std::nullopt;
+      // OSL reports an index out of range where the point runs and clamps it.
+      reportAtRunTime(indexRangeMessage(e, std::to_string(*k), a.length), e.loc);
+      a.constIndex = std::clamp<int64_t>(*k, 0, a.length - 1);
+      a.index = constInt(int(a.constIndex), e.loc);
+    } else {
+      a.constIndex = *k;
     }
-    a.constIndex = *k;
+  } else if (!baseType.isMatrix()) {
+    // Checked per point, as OSL's range checking does; the access clamps.
+    Value below = b.create<CmpOp>(loc(e.loc), "lt", a.index, constInt(0, e.loc));
+    Value above = b.create<CmpOp>(loc(e.loc), "ge", a.index, constInt(a.length, e.loc));
+    Value outside = b.create<OrOp>(loc(e.loc), below, above);
+    Value index = a.index;
+    auto reported = emitIfRegion(
+        outside, e.loc, {},
+        [&]() -> std::optional<RValue> {
+          b.create<PrintOp>(loc(e.loc), "renderer_error", "si",
+                            ValueRange{stringHandle(RValue::string(
+                                                        indexRangeMessage(e, "%d", a.length)),
+                                                    e.loc),
+                                       index},
+                            Value());
+          return RValue::voidValue();
+        },
+        []() -> std::optional<RValue> { return RValue::voidValue(); }, /*wantValue=*/false);
+    if (!reported)
+      return std::nullopt;
   }
   return a;
+}
+
+std::string IRGen::indexRangeMessage(const Expr &e, const std::string &index, int length) {
+  // OSL's words, with testshade's names for the group and the layer.
+  std::string name = rootName(*e.args[0]).str();
+  return "Index [" + index + "] out of range " + name + "[0.." + std::to_string(length - 1) +
+         "]: " + diags.fileName(e.loc.file).str() + ":" + std::to_string(e.loc.line) +
+         " (group " + (groupName().empty() ? "unnamed_group_1" : groupName().str()) +
+         ", layer " + std::to_string(options.layerIndex) + " " +
+         (layerName().empty() ? shaderName().str() + "_0" : layerName().str()) + ", shader " +
+         shaderName().str() + ")";
 }
 
 Value IRGen::selectsElement(Value index, int k, int n, SrcLoc l) {

@@ -176,14 +176,14 @@ private:
 
   /// Loops, the library calls that expand to hundreds of operations
   /// (noise, splineinverse) and calls into the runtime (texture, string
-  /// functions) always pay for the test.
+  /// functions, prints, messages) always pay for the test.
   bool worthSkipping(Block &arm) {
     int64_t count = 0;
     bool expensive = false;
     arm.walk([&](Operation *nested) {
       ++count;
       expensive |= isa<scf::WhileOp, WhileOp, NoiseOp, SplineInverseOp, TextureOp,
-                      StringCallOp>(nested);
+                      StringCallOp, PrintOp, SetMessageOp, GetMessageOp>(nested);
     });
     return expensive || count > skipThreshold;
   }
