@@ -126,11 +126,13 @@ extern "C" void osl_rt_texture(const char *where, const char *file,
       Imath::V3f dx(at(d), at(d + 1), at(d + 2)), dy(at(d + 3), at(d + 4), at(d + 5));
       if (kind == kTexture3D) {
         Imath::V3f dz(at(d + 6), at(d + 7), at(d + 8));
-        // OpenImageIO's 3D lookup asserts (aborts) when asked for channels
-        // past the volume's: ask for those it has, and the rest are fill.
+        // OpenImageIO's 3D lookup asserts (aborts) when a first channel
+        // past 0 reaches beyond the volume's channels: ask for those it
+        // has, and the rest are fill. (From channel 0 it fills them itself.)
         int fileChannels = 0;
         int asked = channels;
-        if (ts.get_texture_info(handle, thread, 0, ustring("channels"), TypeDesc::INT,
+        if (opt.firstchannel > 0 &&
+            ts.get_texture_info(handle, thread, 0, ustring("channels"), TypeDesc::INT,
                                 &fileChannels))
           asked = std::max(0, std::min(channels, fileChannels - opt.firstchannel));
         for (int c = asked; c < channels; ++c)
