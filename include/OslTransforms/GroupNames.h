@@ -24,6 +24,10 @@ inline std::pair<llvm::StringRef, int> splitComponentName(llvm::StringRef name) 
   return {name, -1};
 }
 
+/// Marks the value a shader's Ci starts with (the front end sets it), which
+/// osl-link-group replaces by an earlier layer's Ci with lazy-globals=false.
+inline constexpr const char *kInitialCiAttr = "osl.initial_ci";
+
 } // namespace mlir::osl
 
 #endif // OSLTRANSFORMS_GROUPNAMES_H

@@ -772,9 +772,7 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
       // OSL's renderer reports an unknown name where the point runs, and
       // the noise is 0.
       g.reportAtRunTime(std::string(periodic ? "periodic " : "") + "noise type \"" + k +
-                            "\" is unknown, called from (" +
-                            g.diagnostics().fileName(call.loc.file).str() + ":" +
-                            std::to_string(call.loc.line) + ")",
+                            "\" is unknown, called from (" + g.fileLine(call.loc) + ")",
                         call.loc);
       return std::optional<RValue>(g.zeroValue(resultType, call.loc));
     }
@@ -1074,7 +1072,6 @@ std::optional<RValue> emitConstructor(IRGen &g, const Expr &call) {
   return emitConstructor(g, call.castType, call.args, call.loc);
 }
 
-/// sincos(x, output s, output c).
 /// fresnel(I, N, eta, out Kr, out Kt, out R, out T): the unpolarized
 /// Fresnel reflectance of a dielectric, computed as stdosl.h writes it
 /// (operation for operation, so the results are OSL's): Kr, Kt = (1 - Kr)
@@ -1141,6 +1138,7 @@ std::optional<RValue> emitFresnel(IRGen &g, const Expr &call) {
   return RValue::voidValue();
 }
 
+/// sincos(x, output s, output c).
 std::optional<RValue> emitSincos(IRGen &g, const Expr &call) {
   if (call.args.size() != 3) {
     g.error(call.loc, "wrong arguments to 'sincos'; candidates: void sincos(float, output "
@@ -1191,13 +1189,12 @@ std::optional<RendererAttribute> testshadeAttribute(const IRGen &g, llvm::String
     // nothing).
     if (!nameIsConstant)
       return std::nullopt;
-    // Unnamed, testshade's layer is SHADER_0 and its group unnamed_group_1.
     if (name == "shader:shadername")
       a.text = g.shaderName().str();
     else if (name == "shader:layername")
-      a.text = g.layerName().empty() ? g.shaderName().str() + "_0" : g.layerName().str();
+      a.text = g.layerName();
     else if (name == "shader:groupname")
-      a.text = g.groupName().empty() ? "unnamed_group_1" : g.groupName().str();
+      a.text = g.groupName();
     else
       return std::nullopt;
   } else if (name == "camera:resolution") {
@@ -1339,8 +1336,8 @@ std::pair<RValue, RValue> attributeValue(IRGen &g, const Expr &call, const std::
 
 namespace osl::frontend {
 
-std::optional<std::pair<Value, RValue>> testshadeUserdata(IRGen &g, llvm::StringRef name,
-                                                          const OslType &type, SrcLoc l) {
+std::optional<std::pair<Value, Value>> testshadeUserdata(IRGen &g, llvm::StringRef name,
+                                                         const OslType &type, SrcLoc l) {
   // testshade's renderer has float user data "s" = u and "t" = v on every
   // point, "red" = u where u > 0.5, "green" = v where u < 0.5, and "blue" =
   // 1 - u on the rows where int(v * 12) is even (as testshade answers).
@@ -1363,9 +1360,8 @@ std::optional<std::pair<Value, RValue>> testshadeUserdata(IRGen &g, llvm::String
     Value odd = b.create<ModOp>(ml, row, g.constInt(2, l));
     found = b.create<CmpOp>(ml, "eq", odd, g.constInt(0, l));
   }
-  return std::make_pair(found, RValue::num(type, value));
+  return std::make_pair(found, value);
 }
-
 
 std::optional<RValue> emitTypeConstructor(IRGen &g, OslType type,
                                           const std::vector<ExprPtr> &args, SrcLoc loc) {
@@ -1481,12 +1477,11 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
       return std::nullopt;
     }
     const RValue &a = (*args)[0];
-    // Strings, arrays and structs: constant when every part is; a string
-    // is known unless chosen or computed per point.
+    // A string is constant unless chosen or computed per point.
     if (a.type.isString())
       return RValue::num(OslType(BaseType::Int), g.constInt(a.isKnownString(), call.loc));
     if (!a.value) {
-      g.error(call.args[0]->loc, "'isconstant' takes a number, triple, matrix or string, got '" +
+      g.error(call.args[0]->loc, "'isconstant' takes a number, triple or string, got '" +
                                      a.type.str() + "'");
       return std::nullopt;
     }

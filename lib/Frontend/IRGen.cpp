@@ -9,6 +9,7 @@
 #include <functional>
 
 #include "OslRuntime/GlobalsLayout.h"
+#include "OslTransforms/GroupNames.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/BuiltinAttributes.h"
@@ -599,7 +600,7 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   Value emptyCi = ci->val.value;
   // Ci as the shader starts: in a group, what earlier layers left
   // (osl-link-group, with lazy-globals=false).
-  emptyCi.getDefiningOp()->setAttr("osl.initial_ci", b.getUnitAttr());
+  emptyCi.getDefiningOp()->setAttr(kInitialCiAttr, b.getUnitAttr());
   Scope *paramScope = newScope(root);
   current = paramScope;
   // Before the parameters: a default value may call exit().
@@ -900,7 +901,7 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
     // Per-geometry data (lockgeom=0) the renderer has takes precedence.
     if (isLockgeomZero(p))
       if (auto data = testshadeUserdata(*this, p.name, t, p.loc))
-        val.value = select(data->first, data->second.value, val.value, p.loc);
+        val.value = select(data->first, data->second, val.value, p.loc);
   }
   Var *v = declareVar(scope, p.name, t, p.loc, val);
   if (!v)

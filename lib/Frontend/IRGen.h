@@ -146,11 +146,20 @@ public:
   llvm::StringRef workingColorSpace() const { return options.colorSpace; }
   /// The ray being shaded: raytype() is 1 for it.
   llvm::StringRef rayType() const { return options.rayType; }
-  /// testshade's layer and group names (getattribute "shader:layername").
-  llvm::StringRef layerName() const { return options.layerName; }
-  llvm::StringRef groupName() const { return options.groupName; }
   /// The name of the shader being emitted.
   llvm::StringRef shaderName() const { return shader; }
+  /// Its layer's and group's names as testshade gives them (--layer,
+  /// --groupname; unnamed, SHADER_0 and unnamed_group_1).
+  std::string layerName() const {
+    return options.layerName.empty() ? shader + "_0" : options.layerName;
+  }
+  std::string groupName() const {
+    return options.groupName.empty() ? "unnamed_group_1" : options.groupName;
+  }
+  /// "file:line" of `l`, as OSL's run-time reports name places.
+  std::string fileLine(SrcLoc l) const {
+    return diags.fileName(l.file).str() + ":" + std::to_string(l.line);
+  }
   Diagnostics &diagnostics() { return diags; }
   mlir::Location loc(SrcLoc l);
   bool error(SrcLoc l, const llvm::Twine &msg) {
@@ -556,8 +565,8 @@ std::optional<RValue> emitMessageBuiltin(IRGen &gen, const Expr &call, bool &kno
 /// testshade's user data for a lockgeom=0 parameter `name` of type `type`:
 /// (where it exists per point, its value), or nullopt when testshade has
 /// none by that name (Builtins.cpp).
-std::optional<std::pair<mlir::Value, RValue>> testshadeUserdata(IRGen &gen, llvm::StringRef name,
-                                                                const OslType &type, SrcLoc l);
+std::optional<std::pair<mlir::Value, mlir::Value>>
+testshadeUserdata(IRGen &gen, llvm::StringRef name, const OslType &type, SrcLoc l);
 
 /// The name of the hidden variable holding a function's return value.
 inline constexpr const char *kReturnVarName = "$return";

@@ -552,11 +552,8 @@ std::string IRGen::indexRangeMessage(const Expr &e, const std::string &index, in
   // OSL's words, with testshade's names for the group and the layer.
   std::string name = rootName(*e.args[0]).str();
   return "Index [" + index + "] out of range " + name + "[0.." + std::to_string(length - 1) +
-         "]: " + diags.fileName(e.loc.file).str() + ":" + std::to_string(e.loc.line) +
-         " (group " + (groupName().empty() ? "unnamed_group_1" : groupName().str()) +
-         ", layer " + std::to_string(options.layerIndex) + " " +
-         (layerName().empty() ? shaderName().str() + "_0" : layerName().str()) + ", shader " +
-         shaderName().str() + ")";
+         "]: " + fileLine(e.loc) + " (group " + groupName() + ", layer " +
+         std::to_string(options.layerIndex) + " " + layerName() + ", shader " + shader + ")";
 }
 
 Value IRGen::selectsElement(Value index, int k, int n, SrcLoc l) {

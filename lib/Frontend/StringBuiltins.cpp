@@ -193,6 +193,14 @@ SmallVector<Value> StringCall::materialize() {
   return values;
 }
 
+/// A regular expression known now is checked now (reported at `l`).
+bool checkKnownRegex(IRGen &g, const RValue &regex, SrcLoc l) {
+  if (!regex.isKnownString())
+    return true;
+  std::string why = ::osl::regexError(regex.str);
+  return why.empty() || g.error(l, why);
+}
+
 /// Format strings and regular expressions known now are checked now.
 bool StringCall::checkConstantOperands() {
   if (call.name == "format" && args[0].isKnownString()) {
@@ -200,11 +208,8 @@ bool StringCall::checkConstantOperands() {
     if (!why.empty())
       return g.error(call.args[0]->begin, why);
   }
-  if ((call.name == "regex_search" || call.name == "regex_match") && args[1].isKnownString()) {
-    std::string why = ::osl::regexError(args[1].str);
-    if (!why.empty())
-      return g.error(call.args[1]->begin, why);
-  }
+  if (call.name == "regex_search" || call.name == "regex_match")
+    return checkKnownRegex(g, args[1], call.args[1]->begin);
   return true;
 }
 
@@ -439,13 +444,8 @@ std::optional<RValue> emitRegexWithResults(IRGen &g, const Expr &call) {
                           "(string subject, output int results[], string regex)");
     return std::nullopt;
   }
-  if (regex->isKnownString()) {
-    std::string why = ::osl::regexError(regex->str);
-    if (!why.empty()) {
-      g.error(call.args[2]->begin, why);
-      return std::nullopt;
-    }
-  }
+  if (!checkKnownRegex(g, *regex, call.args[2]->begin))
+    return std::nullopt;
   OpBuilder &b = g.builder();
   Location l = g.loc(call.loc);
   Value subjectHandle = g.stringHandle(*subject, call.loc);

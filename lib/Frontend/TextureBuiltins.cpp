@@ -160,7 +160,7 @@ bool TextureCall::option(size_t nameArg) {
     }
     return true;
   };
-  auto uniformInt = [&](Value &out) {
+  auto intOption = [&](Value &out, bool perPoint) {
     OslType i(BaseType::Int);
     auto v = g.emitExpr(*call.args[k], &i);
     if (!v)
@@ -168,7 +168,7 @@ bool TextureCall::option(size_t nameArg) {
     if (!v->type.isInt())
       return g.error(argLoc(k), "texture option '" + name + "' needs an int, got '" +
                                     v->type.str() + "'");
-    if (isVarying(v->value.getType()))
+    if (!perPoint && isVarying(v->value.getType()))
       return g.error(argLoc(k), "texture option '" + name +
                                     "' must be the same for every point (OpenImageIO takes "
                                     "it once per lookup)");
@@ -209,17 +209,8 @@ bool TextureCall::option(size_t nameArg) {
     return setChoices({RWrap});
   if (name == "interp")
     return setChoices({Interp});
-  if (name == "firstchannel") { // per point: each lane is looked up alone
-    OslType i(BaseType::Int);
-    auto v = g.emitExpr(*call.args[k], &i);
-    if (!v)
-      return false;
-    auto c = g.coerce(*v, i, argLoc(k), "for 'firstchannel'");
-    if (!c)
-      return false;
-    firstChannel = c->value;
-    return true;
-  }
+  if (name == "firstchannel") // per point: each lane is looked up alone
+    return intOption(firstChannel, /*perPoint=*/true);
   if (name == "missingcolor") {
     OslType c(BaseType::Color);
     auto v = g.emitExpr(*call.args[k], &c);
@@ -247,7 +238,7 @@ bool TextureCall::option(size_t nameArg) {
         return true;
       }
     }
-    return uniformInt(subimage);
+    return intOption(subimage, /*perPoint=*/false);
   }
   if (name == "alpha") {
     alphaOut = g.emitLValue(*call.args[k]);

@@ -38,10 +38,17 @@ int32_t rowCount(const std::string &kinds) {
   return n;
 }
 
-Message &messageNamed(const char *name, int32_t width) {
+Message *findMessage(const char *name) {
   for (Message &m : threadMessages())
     if (m.name == name)
-      return m;
+      return &m;
+  return nullptr;
+}
+
+/// The message `name`, made (unset on every lane) if there is none.
+Message &messageNamed(const char *name, int32_t width) {
+  if (Message *found = findMessage(name))
+    return *found;
   Message m;
   m.name = name;
   m.width = width;
@@ -49,13 +56,6 @@ Message &messageNamed(const char *name, int32_t width) {
   m.queriedWhere.assign(width, "");
   threadMessages().push_back(std::move(m));
   return threadMessages().back();
-}
-
-Message *findMessage(const char *name) {
-  for (Message &m : threadMessages())
-    if (m.name == name)
-      return &m;
-  return nullptr;
 }
 
 void report(int32_t lane, const std::string &text) {

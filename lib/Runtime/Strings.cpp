@@ -446,18 +446,31 @@ int32_t callLane(int32_t function, const std::vector<Operand> &a, std::string &e
     // group at the subject's end, as std::regex leaves it, which OSL uses
     // too); entries past the groups, and every entry when nothing matches,
     // keep their values.
-    const std::regex *re = compiledRegex(a[1].i, a[1].s, error);
-    if (!re)
+    // The entries of one lane are asked for one after another: the match
+    // is kept per thread, so the regex runs once per lane, not per entry.
+    struct LastMatch {
+      int32_t subject = -1, regex = -1, full = -1;
+      bool found = false;
+      std::vector<int32_t> positions; // begin and end of each group
+    };
+    thread_local LastMatch last;
+    if (last.subject != a[0].i || last.regex != a[1].i || last.full != a[2].i) {
+      const std::regex *re = compiledRegex(a[1].i, a[1].s, error);
+      if (!re)
+        return a[4].i;
+      const char *begin = a[0].s.data(), *end = begin + a[0].s.size();
+      std::cmatch m;
+      last = {a[0].i, a[1].i, a[2].i,
+              a[2].i ? std::regex_match(begin, end, m, *re)
+                     : std::regex_search(begin, end, m, *re),
+              {}};
+      for (size_t g = 0; last.found && g < m.size(); ++g)
+        for (const char *at : {m[g].first, m[g].second})
+          last.positions.push_back(int32_t((m[g].matched ? at : end) - begin));
+    }
+    if (!last.found || a[3].i < 0 || size_t(a[3].i) >= last.positions.size())
       return a[4].i;
-    const char *begin = a[0].s.data(), *end = begin + a[0].s.size();
-    std::cmatch m;
-    bool found = a[2].i ? std::regex_match(begin, end, m, *re)
-                        : std::regex_search(begin, end, m, *re);
-    size_t group = size_t(a[3].i) / 2;
-    if (!found || a[3].i < 0 || group >= m.size())
-      return a[4].i;
-    const char *at = a[3].i % 2 == 0 ? m[group].first : m[group].second;
-    return int32_t((m[group].matched ? at : end) - begin);
+    return last.positions[size_t(a[3].i)];
   }
   case kSplitCount: // (str, sep, maxsplit, result length)
     return std::min(int32_t(splitPieces(a[0].s, a[1].s, a[2].i).size()), a[3].i);

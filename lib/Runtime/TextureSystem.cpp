@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <mutex>
 #include <set>
 #include <string>
@@ -94,6 +95,7 @@ extern "C" void osl_rt_texture(const char *where, const char *file,
   opt.interpmode = TextureOpt::InterpMode(interp);
   bool missingGiven = flags & (kTextureHasMissingColor | kTextureHasMissingAlpha);
   int channels = nchannels + 1; // and alpha
+  int fileChannels = -1;        // a volume's, asked once per call when needed
   for (int lane = 0; lane < width; ++lane) {
     if (!(laneMask >> lane & 1u))
       continue;
@@ -129,12 +131,14 @@ extern "C" void osl_rt_texture(const char *where, const char *file,
         // OpenImageIO's 3D lookup asserts (aborts) when a first channel
         // past 0 reaches beyond the volume's channels: ask for those it
         // has, and the rest are fill. (From channel 0 it fills them itself.)
-        int fileChannels = 0;
         int asked = channels;
-        if (opt.firstchannel > 0 &&
-            ts.get_texture_info(handle, thread, 0, ustring("channels"), TypeDesc::INT,
-                                &fileChannels))
+        if (opt.firstchannel > 0) {
+          if (fileChannels < 0 &&
+              !ts.get_texture_info(handle, thread, 0, ustring("channels"), TypeDesc::INT,
+                                   &fileChannels))
+            fileChannels = std::numeric_limits<int>::max(); // unknown: ask for all
           asked = std::max(0, std::min(channels, fileChannels - opt.firstchannel));
+        }
         for (int c = asked; c < channels; ++c)
           result[c] = opt.fill;
         ok = asked == 0 || ts.texture3d(handle, thread, opt, p, dx, dy, dz, asked, result);

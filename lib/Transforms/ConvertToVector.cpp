@@ -708,6 +708,17 @@ struct StringCallLowering : public OslPattern<StringCallOp> {
   }
 };
 
+/// The active points of a side-effecting op: the batch's, and its mask's.
+Value sideEffectLanes(OpBuilder &b, Location loc, Operation *op, Value inner,
+                      int64_t width) {
+  Value mask = activeLanes(b, loc, op, width);
+  if (!inner)
+    return mask;
+  if (!isa<VectorType>(inner.getType()))
+    inner = lane::broadcast(b, loc, inner, width);
+  return b.create<arith::AndIOp>(loc, mask, inner);
+}
+
 /// osl.print: every active point prints, so the operands always take W
 /// lanes; osl_rt_print formats each (OslRuntime/PrintCall.h).
 struct PrintLowering : public OslPattern<PrintOp> {
@@ -719,12 +730,7 @@ struct PrintLowering : public OslPattern<PrintOp> {
     Value block = operandRows(rewriter, loc, op, op.getArgs(), adaptor.getArgs(), kinds,
                               width, /*varying=*/true, /*extraRows=*/0)
                       .first;
-    Value mask = activeLanes(rewriter, loc, op, width);
-    if (Value inner = adaptor.getMask()) {
-      if (!isa<VectorType>(inner.getType()))
-        inner = lane::broadcast(rewriter, loc, inner, width);
-      mask = rewriter.create<arith::AndIOp>(loc, mask, inner);
-    }
+    Value mask = sideEffectLanes(rewriter, loc, op, adaptor.getMask(), width);
     auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
     Type i32 = rewriter.getI32Type();
     LLVM::LLVMFuncOp callee = runtimeDeclaration(
@@ -749,17 +755,6 @@ std::string callSiteLine(Location loc) {
   if (!fileLoc)
     return "<unknown>";
   return (fileLoc.getFilename().getValue() + ":" + llvm::Twine(fileLoc.getLine())).str();
-}
-
-/// The active points of a side-effecting op: the batch's, and its mask's.
-Value sideEffectLanes(OpBuilder &b, Location loc, Operation *op, Value inner,
-                      int64_t width) {
-  Value mask = activeLanes(b, loc, op, width);
-  if (!inner)
-    return mask;
-  if (!isa<VectorType>(inner.getType()))
-    inner = lane::broadcast(b, loc, inner, width);
-  return b.create<arith::AndIOp>(loc, mask, inner);
 }
 
 /// osl.set_message and osl.get_message: the value's rows go to

@@ -34,7 +34,6 @@ constexpr const char *kConnectAttr = "osl.connect";
 constexpr const char *kUserdataAttr = "osl.userdata";
 constexpr const char *kFromLayerAttr = "osl.from_layer";
 constexpr const char *kGroupOutputsAttr = "osl.group_outputs";
-constexpr const char *kInitialCiAttr = "osl.initial_ci";
 
 /// OSL's name for a base type, for messages.
 std::string typeName(Type t) {
