@@ -13,6 +13,7 @@ install(DIRECTORY ${PROJECT_BINARY_DIR}/include/
 # add_mlir_library installs its own targets; these are plain CMake ones.
 install(TARGETS OslRuntime OslImageIO OslClosures OslReference
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(TARGETS OslOiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 foreach(tool osl-opt osl-run)
   if(TARGET ${tool})
     install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

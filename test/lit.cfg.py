@@ -18,4 +18,4 @@ llvm_config.with_system_environment(["HOME", "INCLUDE", "LIB", "TMP", "TEMP"])
 llvm_config.with_environment("PATH", config.llvm_tools_dir, append_path=True)
 llvm_config.use_default_substitutions()
 tool_dirs = [config.osl_tools_dir, config.llvm_tools_dir]
-llvm_config.add_tool_substitutions(["osl-opt", "osl-run"], tool_dirs)
+llvm_config.add_tool_substitutions(["osl-opt", "osl-run", "osl-imgdiff"], tool_dirs)

@@ -1,8 +1,10 @@
-//===- ImageOutput.h - Write/read shaded images with OpenImageIO -*- C++ -*-===//
+//===- ImageOutput.h - Write/read shaded images -----------------*- C++ -*-===//
 //
-// The only interface to OpenImageIO from the grid driver. OIIO's headers need
-// C++ exceptions and Debian's LLVM is built without, so the implementation
-// lives in its own library (OslImageIO) and this header names no OIIO type.
+// The grid driver's images. TIFF and EXR are written with libtiff and
+// OpenEXR, other formats with OpenImageIO, loaded on first use. Their
+// headers need C++ exceptions and Debian's LLVM is built without, so the
+// implementation lives in its own library (OslImageIO) and this header
+// names no library's type.
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLRUNTIME_IMAGEOUTPUT_H
@@ -16,7 +18,7 @@ namespace osl {
 
 /// Writes xres x yres pixels of `channels` interleaved floats to `path`; the
 /// format follows the extension (exr, tif, png, ...) and OIIO converts the
-/// float data for 8/16-bit formats. Channels are named R,G,B,A then
+/// float data for 8/16-bit formats as OpenImageIO does. Channels are named R,G,B,A then
 /// channel4..., and a single channel is named Y, as OSL's testshade does.
 /// The path "null" discards the image (testshade's `-o NAME null`).
 /// `dataType` is the stored type as testshade's -od names it (uint8, half,
@@ -68,6 +70,10 @@ struct ImageData {
 /// Reads the first subimage of `path` as floats. For tests and comparisons
 /// against reference images.
 bool readImage(const std::string &path, ImageData &image, std::string &error);
+
+/// readImage for the files it reads without OpenImageIO: TIFF and EXR of
+/// one image in the common layouts. False with `error` empty for others.
+bool readImageNatively(const std::string &path, ImageData &image, std::string &error);
 
 } // namespace osl
 

@@ -15,7 +15,7 @@
 #include "OslRuntime/PrintCall.h"
 #include "OslRuntime/Closure.h"
 
-#include <OpenImageIO/ustring.h>
+#include <OpenImageIO/strutil.h>
 
 #include <algorithm>
 #include <atomic>
@@ -415,8 +415,8 @@ int32_t callLane(int32_t function, const std::vector<Operand> &a, std::string &e
     return intern(formatLane(a[0].s, std::vector<Operand>(a.begin() + 1, a.end()), error));
   case kStrlen:
     return int32_t(a[0].s.size());
-  case kHash: // OSL's hash(string) is the ustring hash, as an int
-    return int32_t(OIIO::ustring(a[0].s).hash());
+  case kHash: // OSL's hash(string) is the ustring hash (inline, as an int)
+    return int32_t(OIIO::Strutil::strhash(a[0].s));
   case kStartswith:
     return a[0].s.substr(0, a[1].s.size()) == a[1].s;
   case kEndswith:

@@ -1,14 +1,13 @@
 //===- TextureSystem.cpp - Texture lookups through OpenImageIO ------------===//
 //
-// One TextureSystem shared by every thread and shader (OpenImageIO's shared
+// Part of the OpenImageIO module (OiioModule.h). One TextureSystem shared by every thread and shader (OpenImageIO's shared
 // cache). Each lane is looked up with OpenImageIO's per-point API: the
 // options OSL lets vary per point (blur, width, fill, missingcolor,
 // missingalpha) vary here too, which OpenImageIO's batched options take once
 // per batch, and the results equal OSL's scalar lookups exactly.
 //
 //===----------------------------------------------------------------------===//
-#include "OslRuntime/TextureCall.h"
-#include "OslRuntime/StringCall.h"
+#include "OiioModuleParts.h"
 
 #include <Imath/ImathVec.h>
 #include <OpenImageIO/texture.h>
@@ -65,22 +64,20 @@ void reportMissing(const char *where, const char *file, const std::string &why) 
 
 } // namespace
 
-int osl::textureFileErrors() {
+namespace osl::oiio {
+
+int textureFileErrors() {
   std::lock_guard<std::mutex> lock(missingMutex);
   return int(missingFiles.size());
 }
 
-void osl::setTextureCacheMegabytes(float megabytes) {
+void setTextureCacheMegabytes(float megabytes) {
   sharedTextureSystem().attribute("max_memory_MB", megabytes);
 }
 
-extern "C" void osl_rt_texture(const char *where, const char *file,
-                               const char *subimageName,
-                               int32_t subimage, int32_t kind, int32_t nchannels,
-                               int32_t swrap, int32_t twrap,
-                               int32_t rwrap, int32_t interp, int32_t flags, float *rows,
-                               int32_t width, uint32_t laneMask) {
-  using namespace osl;
+void texture(const char *where, const char *file, const char *subimageName, int32_t subimage,
+             int32_t kind, int32_t nchannels, int32_t swrap, int32_t twrap, int32_t rwrap,
+             int32_t interp, int32_t flags, float *rows, int32_t width, uint32_t laneMask) {
   TextureSystem &ts = sharedTextureSystem();
   TextureSystem::Perthread *thread = ts.get_perthread_info();
   TextureSystem::TextureHandle *handle = ts.get_texture_handle(ustring(file), thread);
@@ -152,7 +149,7 @@ extern "C" void osl_rt_texture(const char *where, const char *file,
       std::string error = ok ? "" : ts.geterror();
       if (!ok && error.empty())
         error = "unknown";
-      row(kTextureErrorRow)[lane] = bitCastToFloat(osl_rt_string_intern(error.c_str()));
+      row(kTextureErrorRow)[lane] = bitCastToFloat(host().internString(error.c_str()));
     } else if (!ok && !missingGiven) {
       reportMissing(where, file, ts.geterror());
     }
@@ -163,8 +160,8 @@ extern "C" void osl_rt_texture(const char *where, const char *file,
   }
 }
 
-extern "C" int32_t osl_rt_gettextureinfo(const char *file, const char *name, int32_t isFloat,
-                                         int32_t count, void *data) {
+int32_t gettextureinfo(const char *file, const char *name, int32_t isFloat, int32_t count,
+                       void *data) {
   TypeDesc type(isFloat ? TypeDesc::FLOAT : TypeDesc::INT);
   if (count > 1)
     type.arraylen = count;
@@ -172,3 +169,5 @@ extern "C" int32_t osl_rt_gettextureinfo(const char *file, const char *name, int
              ? 1
              : 0;
 }
+
+} // namespace osl::oiio

@@ -773,8 +773,11 @@ struct MessageLowering : public OslPattern<OpTy> {
       original = op.getCurrent(), converted = adaptor.getCurrent();
     else
       original = op.getValues(), converted = adaptor.getValues();
-    auto [block, foundRow] = operandRows(rewriter, loc, op, original, converted, op.getKinds(),
-                                         width, /*varying=*/true, /*extraRows=*/isGet ? 1 : 0);
+    auto [rowBlock, foundRow] = operandRows(rewriter, loc, op, original, converted,
+                                            op.getKinds(), width, /*varying=*/true,
+                                            /*extraRows=*/isGet ? 1 : 0);
+    // A plain local: C++17 lambdas cannot capture structured bindings.
+    Value block = rowBlock;
     Value mask = sideEffectLanes(rewriter, loc, op, adaptor.getMask(), width);
     auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
     Type i32 = rewriter.getI32Type();

@@ -705,10 +705,10 @@ Value simplexN(Emitter &e, const SimplexCorners &sc, uint32_t seed) {
 Type checkOperands(ValueRange coords, ValueRange periods = {}) {
   assert(!coords.empty() && coords.size() <= 4 && "noise takes 1-4 coords");
   Type t = coords[0].getType();
-  for (Value v : coords)
-    assert(v.getType() == t && "noise coords must share one type");
-  for (Value v : periods)
-    assert(v.getType() == t && "noise periods must match the coords' type");
+  assert(llvm::all_of(coords, [&](Value v) { return v.getType() == t; }) &&
+         "noise coords must share one type");
+  assert(llvm::all_of(periods, [&](Value v) { return v.getType() == t; }) &&
+         "noise periods must match the coords' type");
   (void)periods;
   return t;
 }
