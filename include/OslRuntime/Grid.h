@@ -49,6 +49,11 @@ struct GridOptions {
   /// the whole grid, so bands written one after another (osl-run streams
   /// images larger than its memory budget this way) equal the whole image.
   int rowBegin = 0, rowEnd = -1;
+  /// The columns shaded: [colBegin, colEnd), colEnd < 0 meaning xres. With
+  /// rows, a crop window (osl-run --crop): images hold the window's pixels,
+  /// each shaded as in the whole grid, so windows assemble into the whole
+  /// image bit for bit.
+  int colBegin = 0, colEnd = -1;
 };
 
 /// One shader output as laid out in the kernel's output rows.

@@ -57,7 +57,10 @@ static_assert(kP >= 0 && kN >= 0 && kNg >= 0 && kdPdu >= 0 && kdPdv >= 0 &&
 /// and per-row tables, so setting up a batch costs a few stores per lane.
 class GlobalsWriter {
 public:
-  GlobalsWriter(const GridOptions &o, int width) : opt(o), width(width) {
+  /// Batches cover the window of `cols` columns from `colBegin` and the rows
+  /// from `rowBegin`, its pixels counted row-major from 0.
+  GlobalsWriter(const GridOptions &o, int width, int colBegin, int cols, int rowBegin)
+      : opt(o), width(width), colBegin(colBegin), cols(cols), rowBegin(rowBegin) {
     us.resize(std::max(o.xres, 0));
     vs.resize(std::max(o.yres, 0));
     for (int x = 0; x < o.xres; ++x)
@@ -90,12 +93,13 @@ public:
       setRow(g, kdvdy, dvdy);
   }
 
-  /// Pixel rows for pixels [first, first+nactive); lanes past nactive
-  /// repeat the last active pixel.
+  /// Pixel rows for the window's pixels [first, first+nactive); lanes past
+  /// nactive repeat the last active pixel.
   void writeBatch(float *g, long first, int nactive) const {
-    int x = static_cast<int>(first % opt.xres);
-    int y = static_cast<int>(first / opt.xres);
-    if (x + nactive <= opt.xres && !opt.varyUdxdy && !opt.varyVdxdy && !opt.varyPdxdy) {
+    int x = colBegin + static_cast<int>(first % cols);
+    int y = rowBegin + static_cast<int>(first / cols);
+    int xEnd = colBegin + cols;
+    if (x + nactive <= xEnd && !opt.varyUdxdy && !opt.varyVdxdy && !opt.varyPdxdy) {
       // The common case, a batch within one row: four plain row copies the
       // host compiler vectorizes (this runs once per batch, beside the
       // kernel).
@@ -130,8 +134,8 @@ public:
         at(g, kdPdy + 1, lane) = 1.0f - u;
         at(g, kdPdy + 2, lane) = static_cast<float>(v * 0.5);
       }
-      if (lane + 1 < nactive && ++x == opt.xres) {
-        x = 0;
+      if (lane + 1 < nactive && ++x == xEnd) {
+        x = colBegin;
         ++y;
       }
     }
@@ -151,7 +155,7 @@ private:
   }
 
   GridOptions opt;
-  int width;
+  int width, colBegin, cols, rowBegin;
   std::vector<float> us, vs;
   float dudx, dvdy, dPdxX, dPdyY;
 };
@@ -213,7 +217,7 @@ int chooseTileBatches(const GridOptions &opt, long nbatches, int width,
 
 void fillGlobals(float *globals, int width, long firstPixel, int nactive,
                  const GridOptions &options) {
-  GlobalsWriter writer(options, width);
+  GlobalsWriter writer(options, width, 0, std::max(options.xres, 1), 0);
   writer.writeConstantRows(globals);
   writer.writeBatch(globals, firstPixel, nactive);
 }
@@ -240,10 +244,11 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
   result.seconds = 0;
   int rowEnd = opt.rowEnd < 0 ? opt.yres : std::min(opt.rowEnd, opt.yres);
   int rowBegin = std::clamp(opt.rowBegin, 0, std::max(rowEnd, 0));
-  long npixels = static_cast<long>(std::max(opt.xres, 0)) *
-                 static_cast<long>(std::max(rowEnd - rowBegin, 0));
-  // Pixel indices below count from the band's first pixel.
-  long bandStart = static_cast<long>(rowBegin) * std::max(opt.xres, 0);
+  int colEnd = opt.colEnd < 0 ? opt.xres : std::min(opt.colEnd, opt.xres);
+  int colBegin = std::clamp(opt.colBegin, 0, std::max(colEnd, 0));
+  int cols = std::max(colEnd - colBegin, 0);
+  // Pixel indices below count row-major in the window.
+  long npixels = static_cast<long>(cols) * static_cast<long>(std::max(rowEnd - rowBegin, 0));
   int totalChannels = 0;
   std::vector<int> firstRow;
   result.images.resize(outputs.size());
@@ -260,7 +265,7 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
   if (npixels == 0 || !kernel || width <= 0)
     return;
 
-  GlobalsWriter writer(opt, width);
+  GlobalsWriter writer(opt, width, colBegin, cols, rowBegin);
   long nbatches = (npixels + width - 1) / width;
   int tileBatches = chooseTileBatches(opt, nbatches, width, pool.size());
   long ntiles = (nbatches + tileBatches - 1) / tileBatches;
@@ -312,11 +317,10 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
     };
     long firstBatch = static_cast<long>(tile) * tileBatches;
     long endBatch = std::min(nbatches, firstBatch + tileBatches);
-    writer.writeBatch(globalsOf(firstBatch), bandStart + firstBatch * width,
-                      activeIn(firstBatch));
+    writer.writeBatch(globalsOf(firstBatch), firstBatch * width, activeIn(firstBatch));
     for (long b = firstBatch; b < endBatch; ++b) {
       if (b + 1 < endBatch)
-        writer.writeBatch(globalsOf(b + 1), bandStart + (b + 1) * width, activeIn(b + 1));
+        writer.writeBatch(globalsOf(b + 1), (b + 1) * width, activeIn(b + 1));
       // A lane the kernel leaves unwritten must read 0, not whatever this
       // thread's previous batch left: that would depend on the schedule.
       float *out = outputsOf(b);

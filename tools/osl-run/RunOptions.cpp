@@ -78,6 +78,9 @@ const char *const osl::kUsage =
     "  --verify-each          verify the IR after every compiler pass (for\n"
     "                         debugging the compiler; slower)\n"
     "  --timeout SECONDS      stop with an error when the run takes longer\n"
+    "  --crop X0 Y0 X1 Y1     shade and write only the pixels [X0,X1) x [Y0,Y1)\n"
+    "                         of the grid, each as in the whole image (tiles\n"
+    "                         assemble into it bit for bit)\n"
     "  --image-memory MB      memory for output images (default 8); larger grids \n"
     "                         are shaded and written a band of rows at a time\n"
     "  --info                 print the shader's parameters, defaults and metadata\n"
@@ -251,6 +254,16 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       }
       o.gridGiven = true;
       i += 2;
+    } else if (a == "--crop") {
+      if (!need(i, 4, "--crop"))
+        return false;
+      for (int k = 0; k < 4; ++k)
+        if (!parseInt(argv[i + 1 + k], o.crop[k]) || o.crop[k] < 0) {
+          error = "--crop needs four integers X0 Y0 X1 Y1 of at least 0";
+          return false;
+        }
+      o.cropGiven = true;
+      i += 4;
     } else if (a == "-o") {
       if (!need(i, 2, "-o"))
         return false;
@@ -552,6 +565,25 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
   }
   if (!o.gridGiven)
     o.grid.xres = o.grid.yres = 512;
+  if (o.cropGiven) {
+    if (render) {
+      error = "--crop is for shading a grid; --scene does not take it yet";
+      return false;
+    }
+    const int *c = o.crop;
+    if (!(c[0] < c[2] && c[2] <= o.grid.xres && c[1] < c[3] && c[3] <= o.grid.yres)) {
+      error = "--crop " + std::to_string(c[0]) + " " + std::to_string(c[1]) + " " +
+              std::to_string(c[2]) + " " + std::to_string(c[3]) +
+              " is no window of the " + std::to_string(o.grid.xres) + "x" +
+              std::to_string(o.grid.yres) +
+              " grid: it needs 0 <= X0 < X1 <= width and 0 <= Y0 < Y1 <= height";
+      return false;
+    }
+    o.grid.colBegin = c[0];
+    o.grid.rowBegin = c[1];
+    o.grid.colEnd = c[2];
+    o.grid.rowEnd = c[3];
+  }
   if (o.noCache && o.cacheDirGiven) {
     error = "--cache-dir and --no-cache contradict each other";
     return false;

@@ -15,6 +15,10 @@ struct RunOptions {
   CompileOptions compile;
   GridOptions grid;
   bool gridGiven = false;
+  /// --crop X0 Y0 X1 Y1: shade and write only the pixels [X0, X1) x
+  /// [Y0, Y1) of the grid (grid.colBegin... hold the window once parsed).
+  bool cropGiven = false;
+  int crop[4] = {0, 0, 0, 0};
   /// (output name, file); "null" discards.
   std::vector<std::pair<std::string, std::string>> outputs;
   bool stats = false;
@@ -62,6 +66,14 @@ struct RunOptions {
   int aa = 1;                          // -aa: aa x aa paths per pixel
   int seed = 0;
 };
+
+/// The images a grid run writes: the grid, or its --crop window.
+inline int imageWidth(const GridOptions &g) {
+  return (g.colEnd < 0 ? g.xres : g.colEnd) - g.colBegin;
+}
+inline int imageHeight(const GridOptions &g) {
+  return (g.rowEnd < 0 ? g.yres : g.rowEnd) - g.rowBegin;
+}
 
 /// Renders options.scenePath (RenderScene.cpp); the process exit status.
 int renderScene(const RunOptions &options);

@@ -184,7 +184,7 @@ int shadeInBands(RunOptions &options, const CompiledShader &shader,
     if (file == "null")
       continue;
     ImageStream stream;
-    if (!stream.open(file, options.grid.xres, options.grid.yres,
+    if (!stream.open(file, imageWidth(options.grid), imageHeight(options.grid),
                      shader.outputs[index].channels, error, options.dataType,
                      shader.outputs[index].integer))
       return fail(error);
@@ -196,16 +196,18 @@ int shadeInBands(RunOptions &options, const CompiledShader &shader,
   setImagesBeingWritten(temporaries);
   ShadeResult band;
   double shading = 0;
-  for (int row = 0; row < options.grid.yres; row += bandRows) {
+  // The window's rows (all of the grid's without --crop), band by band.
+  int top = options.grid.rowBegin, bottom = top + imageHeight(options.grid);
+  for (int row = top; row < bottom; row += bandRows) {
     options.grid.rowBegin = row;
-    options.grid.rowEnd = std::min(options.grid.yres, row + bandRows);
+    options.grid.rowEnd = std::min(bottom, row + bandRows);
     for (int i = 0; i < options.iters; ++i) {
       shadeGridInto(band, shader.kernel, shader.width, shader.outputs, options.grid, pool);
       shading += band.seconds;
     }
     emitPrints(band.printed, shader.name, options.errorRepeats);
     for (auto &[index, stream] : streams)
-      if (!stream.writeRows(options.grid.rowBegin, options.grid.rowEnd,
+      if (!stream.writeRows(options.grid.rowBegin - top, options.grid.rowEnd - top,
                             band.images[index].data(), error))
         return fail(error);
   }
@@ -297,7 +299,7 @@ int main(int argc, char **argv) {
   for (auto &[index, file] : files)
     if (file != "null" && !options.grid.keepImages[index]) {
       options.grid.keepImages[index] = true;
-      rowBytes += 4.0 * options.grid.xres * shader->outputs[index].channels;
+      rowBytes += 4.0 * imageWidth(options.grid) * shader->outputs[index].channels;
     }
   double memoryBytes = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
   if (memoryBytes > 0 && rowBytes > memoryBytes)
@@ -310,9 +312,10 @@ int main(int argc, char **argv) {
   if (options.textureCacheMB > 0)
     setTextureCacheMegabytes(float(options.textureCacheMB));
   double budget = double(options.imageMemoryMB) * (1 << 20);
-  if (rowBytes * options.grid.yres > budget) {
+  if (rowBytes * imageHeight(options.grid) > budget) {
     ThreadPool pool(options.grid.threads);
-    int bandRows = int(std::clamp(budget / rowBytes, 1.0, double(options.grid.yres)));
+    int bandRows =
+        int(std::clamp(budget / rowBytes, 1.0, double(imageHeight(options.grid))));
     return shadeInBands(options, *shader, files, bandRows, pool, stats);
   }
 
@@ -354,7 +357,7 @@ int main(int argc, char **argv) {
       if (file == "null")
         continue;
       setImagesBeingWritten({file.c_str()});
-      bool written = writeImage(file, options.grid.xres, options.grid.yres,
+      bool written = writeImage(file, imageWidth(options.grid), imageHeight(options.grid),
                                 shader->outputs[index].channels,
                                 result.images[index].data(), error, options.dataType,
                                 shader->outputs[index].integer);
@@ -389,7 +392,7 @@ int main(int argc, char **argv) {
       llvm::errs() << "group: before specialisation " << g.layersBefore << " layers, "
                    << g.opsBefore << " ops; after " << g.layersAfter << " layers, "
                    << g.opsAfter << " ops\n";
-    double points = double(options.grid.xres) * options.grid.yres * options.iters;
+    double points = double(imageWidth(options.grid)) * imageHeight(options.grid) * options.iters;
     llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
   }
   return statusAfterShading();
