@@ -14,11 +14,14 @@ install(DIRECTORY ${PROJECT_BINARY_DIR}/include/
 install(TARGETS OslRuntime OslImageIO OslClosures OslReference
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS OslOiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
-foreach(tool osl-opt osl-run)
+foreach(tool osl-opt osl-run osl-assemble osl-imgdiff)
   if(TARGET ${tool})
     install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   endif()
 endforeach()
+
+install(PROGRAMS ${PROJECT_SOURCE_DIR}/tools/osl-farm/osl-farm
+  DESTINATION ${CMAKE_INSTALL_BINDIR})
 
 configure_package_config_file(
   ${PROJECT_SOURCE_DIR}/cmake/OslMlirConfig.cmake.in
