@@ -35,6 +35,18 @@ struct RenderOptions {
   /// Time the kernel calls (RenderStats::shadingSeconds); two clock reads
   /// per batch.
   bool timeShading = false;
+  /// The window rendered (osl-run --crop): [cropX0, cropX1) x [cropY0,
+  /// cropY1), -1 ending at the image's edge. The image holds the window's
+  /// pixels, each as in the whole image (its paths are seeded by pixel and
+  /// summed in sample order), so windows assemble into it bit for bit.
+  int cropX0 = 0, cropY0 = 0, cropX1 = -1, cropY1 = -1;
+  int windowWidth() const { return (cropX1 < 0 ? xres : cropX1) - cropX0; }
+  int windowHeight() const { return (cropY1 < 0 ? yres : cropY1) - cropY0; }
+  /// Where the image's pixel `pixel` (y * xres + x) is in the window.
+  size_t windowIndex(int pixel) const {
+    return size_t(pixel / xres - cropY0) * size_t(windowWidth()) +
+           size_t(pixel % xres - cropX0);
+  }
 };
 
 struct RenderStats {

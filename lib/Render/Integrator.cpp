@@ -312,9 +312,10 @@ void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
     Vec3 c = p.radiance;
     if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)))
       continue; // one bad sample must not turn a pixel into NaN
-    sum[3 * p.pixel] += c.x;
-    sum[3 * p.pixel + 1] += c.y;
-    sum[3 * p.pixel + 2] += c.z;
+    size_t at = 3 * opt.windowIndex(p.pixel);
+    sum[at] += c.x;
+    sum[at + 1] += c.y;
+    sum[at + 2] += c.z;
   }
 }
 
@@ -372,7 +373,9 @@ bool Renderer::compileShaders(const std::vector<std::string> &searchPaths,
 void Renderer::render(std::vector<float> &rgb, RenderStats &stats) {
   const RenderOptions &opt = options;
   int spp = opt.aa * opt.aa;
-  rgb.assign(size_t(opt.xres) * opt.yres * 3, 0.0f);
+  int x0 = opt.cropX0, y0 = opt.cropY0;
+  int x1 = x0 + opt.windowWidth(), y1 = y0 + opt.windowHeight();
+  rgb.assign(size_t(opt.windowWidth()) * opt.windowHeight() * 3, 0.0f);
   int tilesX = (opt.xres + kTileSize - 1) / kTileSize;
   int tilesY = (opt.yres + kTileSize - 1) / kTileSize;
   int tiles = tilesX * tilesY;
@@ -389,10 +392,11 @@ void Renderer::render(std::vector<float> &rgb, RenderStats &stats) {
   pool.parallelForWithWorker(tiles, [&](int tile, int worker) {
     int tx = tile % tilesX, ty = tile / tilesX;
     std::vector<int> pixels;
-    for (int y = ty * kTileSize; y < std::min(opt.yres, (ty + 1) * kTileSize); ++y)
-      for (int x = tx * kTileSize; x < std::min(opt.xres, (tx + 1) * kTileSize); ++x)
+    // The whole image's tiles, each cut to the window.
+    for (int y = std::max(y0, ty * kTileSize); y < std::min(y1, (ty + 1) * kTileSize); ++y)
+      for (int x = std::max(x0, tx * kTileSize); x < std::min(x1, (tx + 1) * kTileSize); ++x)
         pixels.push_back(y * opt.xres + x);
-    for (int s = 0; s < spp; s += samplesPerWave)
+    for (int s = 0; s < spp && !pixels.empty(); s += samplesPerWave)
       waves[worker]->run(pixels, s, std::min(spp, s + samplesPerWave), rgb.data());
     progress.add(1);
   });
@@ -400,7 +404,7 @@ void Renderer::render(std::vector<float> &rgb, RenderStats &stats) {
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (float &v : rgb)
     v /= float(spp);
-  stats.paths = long(opt.xres) * opt.yres * spp;
+  stats.paths = long(opt.windowWidth()) * opt.windowHeight() * spp;
   for (auto &w : waves) {
     stats.batches += w->batches;
     stats.shadedPoints += w->shaded;

@@ -39,6 +39,12 @@ int osl::renderScene(const RunOptions &options) {
   ropt.threads = options.grid.threads;
   ropt.seed = uint32_t(options.seed);
   ropt.timeShading = options.stats;
+  if (options.cropGiven) {
+    ropt.cropX0 = options.crop[0];
+    ropt.cropY0 = options.crop[1];
+    ropt.cropX1 = options.crop[2];
+    ropt.cropY1 = options.crop[3];
+  }
 
   Stats stats;
   Stats *statsPtr = options.stats ? &stats : nullptr;
@@ -54,7 +60,8 @@ int osl::renderScene(const RunOptions &options) {
   stats.add("rendering", rstats.seconds);
   {
     ScopedTimer timer(statsPtr, "write image");
-    if (!writeImage(options.sceneOutput, ropt.xres, ropt.yres, 3, rgb.data(), error)) {
+    if (!writeImage(options.sceneOutput, ropt.windowWidth(), ropt.windowHeight(), 3,
+                    rgb.data(), error)) {
       llvm::errs() << "osl-run: error: cannot write '" << options.sceneOutput << "': " << error
                    << "\n";
       return 1;

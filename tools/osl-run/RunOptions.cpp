@@ -35,7 +35,7 @@ const char *const osl::kUsage =
     "  -r W H                 resolution (default 256 256)\n"
     "  -aa N                  N x N paths per pixel (default 1)\n"
     "  --seed N               random seed (default 0)\n"
-    "  --width, -t, --math, --stats, --cache-dir, --no-cache as below\n"
+    "  --width, -t, --math, --stats, --cache-dir, --no-cache, --crop as below\n"
     "\n"
     "shading options:\n"
     "  -g X Y                 grid size (default 512 512)\n"
@@ -79,8 +79,9 @@ const char *const osl::kUsage =
     "                         debugging the compiler; slower)\n"
     "  --timeout SECONDS      stop with an error when the run takes longer\n"
     "  --crop X0 Y0 X1 Y1     shade and write only the pixels [X0,X1) x [Y0,Y1)\n"
-    "                         of the grid, each as in the whole image (tiles\n"
-    "                         assemble into it bit for bit)\n"
+    "                         of the grid (or with --scene, of the image), each\n"
+    "                         as in the whole image (tiles assemble into it bit\n"
+    "                         for bit)\n"
     "  --image-memory MB      memory for output images (default 8); larger grids \n"
     "                         are shaded and written a band of rows at a time\n"
     "  --info                 print the shader's parameters, defaults and metadata\n"
@@ -566,23 +567,23 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
   if (!o.gridGiven)
     o.grid.xres = o.grid.yres = 512;
   if (o.cropGiven) {
-    if (render) {
-      error = "--crop is for shading a grid; --scene does not take it yet";
-      return false;
-    }
+    // A window of the grid, or of the image with --scene.
     const int *c = o.crop;
-    if (!(c[0] < c[2] && c[2] <= o.grid.xres && c[1] < c[3] && c[3] <= o.grid.yres)) {
+    int width = render ? o.renderX : o.grid.xres, height = render ? o.renderY : o.grid.yres;
+    if (!(c[0] < c[2] && c[2] <= width && c[1] < c[3] && c[3] <= height)) {
       error = "--crop " + std::to_string(c[0]) + " " + std::to_string(c[1]) + " " +
-              std::to_string(c[2]) + " " + std::to_string(c[3]) +
-              " is no window of the " + std::to_string(o.grid.xres) + "x" +
-              std::to_string(o.grid.yres) +
-              " grid: it needs 0 <= X0 < X1 <= width and 0 <= Y0 < Y1 <= height";
+              std::to_string(c[2]) + " " + std::to_string(c[3]) + " is no window of the " +
+              std::to_string(width) + "x" + std::to_string(height) +
+              (render ? " image" : " grid") +
+              ": it needs 0 <= X0 < X1 <= width and 0 <= Y0 < Y1 <= height";
       return false;
     }
-    o.grid.colBegin = c[0];
-    o.grid.rowBegin = c[1];
-    o.grid.colEnd = c[2];
-    o.grid.rowEnd = c[3];
+    if (!render) {
+      o.grid.colBegin = c[0];
+      o.grid.rowBegin = c[1];
+      o.grid.colEnd = c[2];
+      o.grid.rowEnd = c[3];
+    }
   }
   if (o.noCache && o.cacheDirGiven) {
     error = "--cache-dir and --no-cache contradict each other";
