@@ -4,13 +4,15 @@ workers on free ports. A grid in 16 tiles equals one osl-run's images bit
 for bit (float EXR, int TIFF, -od uint8), a scene in 6 tiles one osl-run
 --scene's; killing a worker mid-job still
 gives the identical image; a shader error and a tile failing where it runs
-fail the job with osl-run's message and leave no file.
+fail the job with osl-run's message and leave no file; `suite` runs a
+folder's shaders as tasks.
 
   farm_test.py --bin BUILD/bin
 """
 import argparse
 import filecmp
 import os
+import shutil
 import signal
 import socket
 import subprocess
@@ -154,6 +156,16 @@ def main():
         check(r.returncode != 0 and "no-such-texture.tx" in r.stderr and
               not os.path.exists(os.path.join(tmp, "missing.exr")),
               "a tile failing where it runs fails the job (%s)" % r.stderr.strip()[-200:])
+
+        folder = os.path.join(tmp, "shaders")
+        os.makedirs(folder)
+        for name in ("tiles.osl", "bad.osl"):
+            shutil.copy(os.path.join(HERE, name), folder)
+        r = subprocess.run([farm, "suite", folder, "--scheduler", cluster.address],
+                           capture_output=True, text=True)
+        check(r.returncode == 1 and "PASS: tiles.osl" in r.stdout and
+              "FAIL: bad.osl - " in r.stdout and "1 passed, 1 failed" in r.stdout,
+              "a folder's shaders run as tasks, each judged (%s)" % r.stdout.strip()[-200:])
     finally:
         cluster.stop()
     return 0
