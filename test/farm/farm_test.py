@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """osl-farm with real processes on this machine: a Dask scheduler and two
 workers on free ports. A grid in 16 tiles equals one osl-run's images bit
-for bit (float EXR, int TIFF, -od uint8), a scene in 6 tiles one osl-run
+for bit (float EXR, int TIFF, -od uint8), a scene in 16 tiles one osl-run
 --scene's; killing a worker mid-job still
 gives the identical image; a shader error and a tile failing where it runs
 fail the job with osl-run's message and leave no file; `suite` runs a
@@ -107,12 +107,12 @@ def main():
         subprocess.run([osl_run, "--scene", scene] + render + ["-o", os.path.join(
             tmp, "scene_ref.exr")], check=True, capture_output=True)
         r = subprocess.run([farm, "render", scene] + render +
-                           ["--tiles", "6", "--scheduler", cluster.address, "--cache-dir",
+                           ["--tiles", "16", "--scheduler", cluster.address, "--cache-dir",
                             cache, "-o", os.path.join(tmp, "scene.exr")],
                            capture_output=True, text=True)
         check(r.returncode == 0 and same(os.path.join(tmp, "scene_ref.exr"),
                                          os.path.join(tmp, "scene.exr")),
-              "a scene rendered in 6 tiles equals one osl-run --scene (%s)" %
+              "a scene rendered in 16 tiles equals one osl-run --scene (%s)" %
               r.stderr.strip()[-200:])
 
         # A worker killed once the job is under way: its tiles run elsewhere.
