@@ -9,7 +9,7 @@ config.test_format = lit.formats.ShTest(not llvm_config.use_lit_shell)
 config.suffixes = [".mlir", ".osl"]
 config.test_source_root = os.path.dirname(__file__)
 config.test_exec_root = os.path.join(config.osl_obj_root, "test")
-config.excludes = ["Inputs", "CMakeLists.txt", "lit.cfg.py", "lit.site.cfg.py"]
+config.excludes = ["Inputs", "CMakeLists.txt", "lit.cfg.py", "lit.site.cfg.py", "farm"]
 
 config.substitutions.append(("%shaders", os.path.join(config.osl_src_root, "shaders")))
 config.substitutions.append(("%conformance", os.path.join(config.osl_src_root, "conformance")))
