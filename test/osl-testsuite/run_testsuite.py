@@ -115,8 +115,10 @@ class Context:
         # testshade shades one point unless -g says otherwise.
         flags = "".join(" " + shlex.quote(f) for f in self.compile_flags)
         # -w: oslc has reported the warnings already; testshade loads
-        # compiled shaders and prints none.
-        return self.osl_run_cmd() + " -w" + flags + " -g 1 1 " + args + REDIRECT + " ;\n"
+        # compiled shaders and prints none. --keep-going: testshade reports
+        # a texture it cannot read and still exits 0.
+        return (self.osl_run_cmd() + " -w --keep-going" + flags + " -g 1 1 " + args +
+                REDIRECT + " ;\n")
 
     def testrender(self, args):
         words = shlex.split(args)
@@ -125,7 +127,7 @@ class Context:
         rest = [w for w in words if w not in files]
         scene = next((w for w in files if w.endswith(".xml")), "scene.xml")
         out = next((w for w in files if not w.endswith(".xml")), "out.exr")
-        return (self.osl_run_cmd() + " -w --scene " + shlex.quote(scene) + " -o " +
+        return (self.osl_run_cmd() + " -w --keep-going --scene " + shlex.quote(scene) + " -o " +
                 shlex.quote(out) + " " + " ".join(shlex.quote(w) for w in rest) +
                 REDIRECT + " ;\n")
 
@@ -150,7 +152,8 @@ class Context:
             # oslc names X.oso after the shader the file declares; a shader
             # whose name is not its file's is found by that name (osl-run
             # takes an extensionless file as the shader's source).
-            name = declared_shader_name(os.path.join(self.workdir, src)) or base
+            name = (declared_shader_name(os.path.join(self.workdir, src)) or
+                    preprocessed_shader_name(self.osl_run, flags, self.workdir, src) or base)
             also = "" if name == base else " && cp %s %s" % (shlex.quote(src), shlex.quote(name))
             cmds += ("%s%s%s && echo %s >> out.txt ;\n" %
                      (check, REDIRECT, also, shlex.quote("Compiled %s -> %s.oso" % (src, name))))
@@ -187,6 +190,18 @@ def declared_shader_name(path):
     text = re.sub(r"/\*.*?\*/|//[^\n]*", " ", text, flags=re.S)
     m = SHADER_DECL.search(text)
     return m.group(1) if m else None
+
+
+def preprocessed_shader_name(osl_run, flags, workdir, src):
+    """The shader's name as osl-run --info sees it, after the preprocessor:
+    for a name built by a macro in an included header (OSL's "xmacro" tests)."""
+    try:
+        info = subprocess.run([osl_run, "--info"] + flags + [src], cwd=workdir,
+                              capture_output=True, text=True, timeout=COMMAND_TIMEOUT)
+    except (OSError, subprocess.TimeoutExpired):
+        return None
+    m = re.match(r'\w+ "([A-Za-z_]\w*)"', info.stdout)
+    return m.group(1) if info.returncode == 0 and m else None
 
 
 # osl-imgdiff (beside osl-run): passes images whose every value is within

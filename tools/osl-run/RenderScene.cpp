@@ -82,5 +82,5 @@ int osl::renderScene(const RunOptions &options) {
                                  rstats.shadingSeconds * 1e9 /
                                      std::max(1L, rstats.shadedPoints));
   }
-  return textureFileErrors() > 0 || stringErrors() > 0 ? 1 : 0;
+  return !options.keepGoing && (textureFileErrors() > 0 || stringErrors() > 0) ? 1 : 0;
 }

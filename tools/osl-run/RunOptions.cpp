@@ -78,6 +78,9 @@ const char *const osl::kUsage =
     "  --verify-each          verify the IR after every compiler pass (for\n"
     "                         debugging the compiler; slower)\n"
     "  --timeout SECONDS      stop with an error when the run takes longer\n"
+    "  --keep-going           a texture that cannot be read or a failed string\n"
+    "                         call is reported but exits 0 (testshade's way;\n"
+    "                         by default it makes the exit status 1)\n"
     "  --crop X0 Y0 X1 Y1     shade and write only the pixels [X0,X1) x [Y0,Y1)\n"
     "                         of the grid (or with --scene, of the image), each\n"
     "                         as in the whole image (tiles assemble into it bit\n"
@@ -429,6 +432,8 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       o.compile.includePaths.push_back(a == "-I" ? std::string(argv[++i]) : a.substr(2));
     } else if (a == "-Werror") {
       o.compile.warningsAsErrors = true;
+    } else if (a == "--keep-going") {
+      o.keepGoing = true;
     } else if (a == "-w") {
       o.compile.showWarnings = false;
     } else if (a == "-D" || a == "-U" || (a.size() > 2 && (a.rfind("-D", 0) == 0 ||

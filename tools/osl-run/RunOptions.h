@@ -26,6 +26,9 @@ struct RunOptions {
   bool checkOnly = false;
   /// --timeout SECONDS: stop (exit 1) when the run takes longer; 0: never.
   int timeoutSeconds = 0;
+  /// --keep-going: a texture that cannot be read or a failed string call is
+  /// still reported but leaves the exit status 0, as testshade does.
+  bool keepGoing = false;
   /// --image-memory MB: the most the output images of a grid may hold in
   /// memory; larger grids are shaded and written a band of rows at a time.
   int imageMemoryMB = 8;

@@ -168,8 +168,10 @@ void armTimeout(int seconds) {
 
 /// The exit status once the images are written: a texture that could not
 /// be read or a string call that failed (a bad regex) is an error
-/// (reported once, where it happened).
-int statusAfterShading() { return textureFileErrors() > 0 || stringErrors() > 0 ? 1 : 0; }
+/// (reported once, where it happened), unless --keep-going.
+int statusAfterShading(const RunOptions &options) {
+  return !options.keepGoing && (textureFileErrors() > 0 || stringErrors() > 0) ? 1 : 0;
+}
 
 /// Shades and writes a grid whose images exceed --image-memory, `bandRows`
 /// rows at a time, each image written as it goes (under a temporary name,
@@ -220,7 +222,7 @@ int shadeInBands(RunOptions &options, const CompiledShader &shader,
   for (size_t i = 0; i < files.size(); ++i)
     if (files[i].second != "null" && !options.outputs.empty())
       llvm::outs() << "Output " << options.outputs[i].first << " to " << files[i].second << "\n";
-  return statusAfterShading();
+  return statusAfterShading(options);
 }
 
 } // namespace
@@ -395,5 +397,5 @@ int main(int argc, char **argv) {
     double points = double(imageWidth(options.grid)) * imageHeight(options.grid) * options.iters;
     llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
   }
-  return statusAfterShading();
+  return statusAfterShading(options);
 }
