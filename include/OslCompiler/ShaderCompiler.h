@@ -44,6 +44,8 @@ struct CompileOptions {
   std::vector<std::string> defines;
   /// The ray type raytype() answers 1 for (testshade's --raytype).
   std::string rayType = "camera";
+  /// testshade's --userdata (FrontendOptions::userData).
+  std::vector<UserDatum> userData;
   /// testshade's --groupname (getattribute "shader:groupname").
   std::string groupName;
   /// oslc's -Werror (warnings are errors) and osl-run's -w (no warnings).

@@ -32,6 +32,16 @@ struct ParamOverride {
   std::string value;
 };
 
+/// Per-geometry data the renderer has on every point (testshade's
+/// --userdata:type=TYPE NAME VALUE): getattribute(NAME) finds it and a
+/// lockgeom=0 parameter NAME of a matching type takes it. `value` is the
+/// text as given: comma-separated numbers, or the string.
+struct UserDatum {
+  std::string name;
+  std::string type; // int, float, color, point, vector, normal or string
+  std::string value;
+};
+
 /// What the front end takes besides the source: where #include looks, the
 /// renderer it compiles for, and how warnings are reported.
 struct FrontendOptions {
@@ -45,6 +55,7 @@ struct FrontendOptions {
   std::vector<std::string> defines;
   /// The ray being shaded: raytype() is 1 for it.
   std::string rayType = "camera";
+  std::vector<UserDatum> userData;
   /// The names getattribute("shader:layername") and "shader:groupname"
   /// answer (testshade's --layer and --groupname).
   std::string layerName;

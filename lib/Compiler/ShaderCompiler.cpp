@@ -87,6 +87,7 @@ ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
   frontend.colorSpace = options.colorSpace;
   frontend.defines = options.defines;
   frontend.rayType = options.rayType;
+  frontend.userData = options.userData;
   frontend.layerName = layerName.str();
   frontend.layerIndex = layerIndex;
   frontend.groupName = options.groupName;
@@ -292,7 +293,10 @@ std::string ShaderCompiler::optionsKey() const {
      << "\nmath " << mlir::osl::mathLevelName(options.math) << "\nllvm pipeline "
      << int(options.llvmPipeline)
      << "\ncolorspace " << options.colorSpace << "\nraytype " << options.rayType
-     << "\ngroup name " << options.groupName
+     << "\ngroup name " << options.groupName;
+  for (const UserDatum &d : options.userData)
+    os << "\nuserdata " << d.type << " " << d.name << " " << d.value;
+  os
      // -Werror decides whether a shader with warnings compiles at all.
      << "\nwerror " << options.warningsAsErrors
      << "\ncamera " << options.camera.xres << " "

@@ -1177,8 +1177,34 @@ std::optional<RValue> emitSincos(IRGen &g, const Expr &call) {
 struct RendererAttribute {
   std::vector<double> numbers;
   bool isInt = false;
+  bool isTriple = false; // three numbers for a color, point, vector or normal
   std::string text;
 };
+
+bool isTripleTypeName(llvm::StringRef type) {
+  return type == "color" || type == "point" || type == "vector" || type == "normal";
+}
+
+/// A --userdata datum as an attribute (numbers, or a string).
+RendererAttribute userDatumAttribute(const ::osl::UserDatum &d) {
+  RendererAttribute a;
+  if (d.type == "string") {
+    a.text = d.value;
+    return a;
+  }
+  llvm::SmallVector<llvm::StringRef> words;
+  llvm::StringRef(d.value).split(words, ',', -1, /*KeepEmpty=*/false);
+  for (llvm::StringRef w : words) {
+    double x = 0;
+    if (!w.trim().getAsDouble(x))
+      a.numbers.push_back(x);
+  }
+  a.isInt = d.type == "int";
+  a.isTriple = isTripleTypeName(d.type);
+  if (a.isTriple && a.numbers.size() == 1)
+    a.numbers.assign(3, a.numbers[0]);
+  return a;
+}
 
 std::optional<RendererAttribute> testshadeAttribute(const IRGen &g, llvm::StringRef name,
                                                    bool nameIsConstant) {
@@ -1220,6 +1246,8 @@ std::optional<RendererAttribute> testshadeAttribute(const IRGen &g, llvm::String
     a.numbers = {0, 1};
   } else if (name == "camera:screen_window") {
     a.numbers = {-1, -1, 1, 1};
+  } else if (const ::osl::UserDatum *d = g.userDatum(name)) {
+    a = userDatumAttribute(*d);
   } else {
     return std::nullopt;
   }
@@ -1309,6 +1337,8 @@ std::pair<RValue, RValue> attributeValue(IRGen &g, const Expr &call, const std::
   bool fits = found && !indexed;
   if (fits && !found->text.empty())
     fits = t.isString();
+  else if (fits && found->isTriple)
+    fits = t.isTriple() && !t.isArray() && found->numbers.size() == 3;
   else if (fits)
     fits = (found->isInt ? element.isInt() : element.isFloat()) &&
            int(found->numbers.size()) == (t.isArray() ? t.arrayLen : 1);
@@ -1323,7 +1353,10 @@ std::pair<RValue, RValue> attributeValue(IRGen &g, const Expr &call, const std::
     auto constant = [&](double x) {
       return found->isInt ? g.constInt(int(x), call.loc) : g.constFloat(float(x), call.loc);
     };
-    if (t.isArray())
+    if (found->isTriple)
+      value.value = g.constTriple(float(found->numbers[0]), float(found->numbers[1]),
+                                  float(found->numbers[2]), call.loc);
+    else if (t.isArray())
       for (size_t k = 0; k < found->numbers.size(); ++k)
         value.elems[k] = constant(found->numbers[k]);
     else
@@ -1338,6 +1371,20 @@ namespace osl::frontend {
 
 std::optional<std::pair<Value, Value>> testshadeUserdata(IRGen &g, llvm::StringRef name,
                                                          const OslType &type, SrcLoc l) {
+  // Data given on the command line (--userdata) is the same on every point.
+  if (const ::osl::UserDatum *d = g.userDatum(name)) {
+    RendererAttribute a = userDatumAttribute(*d);
+    bool fits = a.text.empty() && (a.isTriple ? type.isTriple() && a.numbers.size() == 3
+                                              : a.numbers.size() == 1 &&
+                                                    (a.isInt ? type.isInt() : type.isFloat()));
+    if (fits && !type.isArray()) {
+      Value value = a.isTriple ? g.constTriple(float(a.numbers[0]), float(a.numbers[1]),
+                                               float(a.numbers[2]), l)
+                    : a.isInt  ? g.constInt(int(a.numbers[0]), l)
+                               : g.constFloat(float(a.numbers[0]), l);
+      return std::make_pair(g.constBool(true, l), value);
+    }
+  }
   // testshade's renderer has float user data "s" = u and "t" = v on every
   // point, "red" = u where u > 0.5, "green" = v where u < 0.5, and "blue" =
   // 1 - u on the rows where int(v * 12) is even (as testshade answers).

@@ -141,6 +141,13 @@ public:
   // --- building blocks shared with Builtins.cpp -------------------------------
   /// The image testshade's camera sees (the grid's size).
   const mlir::osl::CameraImage &cameraImage() const { return options.camera; }
+  /// The --userdata datum called `name`, or null.
+  const UserDatum *userDatum(llvm::StringRef name) const {
+    for (const UserDatum &d : options.userData)
+      if (d.name == name)
+        return &d;
+    return nullptr;
+  }
   mlir::OpBuilder &builder() { return b; }
   /// The working RGB space of the color functions (a compile option).
   llvm::StringRef workingColorSpace() const { return options.colorSpace; }

@@ -45,6 +45,11 @@ const char *const osl::kUsage =
     "  --param NAME VALUE     set a parameter (numbers, 'a,b,c' for triples)\n"
     "  --param:type=T NAME V  the same, with testshade's type annotation\n"
     "                         (and :lockgeom=0 for per-geometry data)\n"
+    "  --userdata:type=T NAME VALUE\n"
+    "                         per-geometry data on every point (testshade's):\n"
+    "                         getattribute(NAME) finds it, a lockgeom=0\n"
+    "                         parameter NAME takes it; T is int, float,\n"
+    "                         color, point, vector, normal or string\n"
     "\n"
     "Shader groups (testshade's flags): each --param applies to the next\n"
     "--shader; the last layer is the root, whose outputs -o names (another\n"
@@ -87,6 +92,7 @@ const char *const osl::kUsage =
     "                         for bit)\n"
     "  --image-memory MB      memory for output images (default 8); larger grids \n"
     "                         are shaded and written a band of rows at a time\n"
+    "  --print                print every pixel's requested outputs as text\n"
     "  --info                 print the shader's parameters, defaults and metadata\n"
     "                         as oslinfo -v does, and stop\n"
     "  --interpret            reference mode: one point at a time, ordinary\n"
@@ -340,6 +346,47 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       o.compile.params.push_back({argv[i + 1], value});
       o.group.param(argv[i + 1], value, userdata);
       i += 2;
+    } else if (a == "--userdata" || a.rfind("--userdata:", 0) == 0) {
+      if (!need(i, 2, "--userdata"))
+        return false;
+      UserDatum d{argv[i + 1], "", argv[i + 2]};
+      llvm::StringRef note = llvm::StringRef(a).drop_front(strlen("--userdata"));
+      if (note.consume_front(":type="))
+        d.type = note.str();
+      else if (!note.empty()) {
+        error = "unknown annotation in '" + a + "' (expected --userdata:type=T)";
+        return false;
+      } else {
+        // No type: an int, a float or else a string, as the value reads.
+        llvm::StringRef v(d.value);
+        long long n;
+        double x;
+        d.type = !v.getAsInteger(10, n) ? "int" : !v.getAsDouble(x) ? "float" : "string";
+      }
+      static const char *const kTypes[] = {"int",    "float",  "color", "point",
+                                           "vector", "normal", "string"};
+      if (!llvm::is_contained(kTypes, d.type)) {
+        error = "--userdata: unknown type '" + d.type +
+                "' (int, float, color, point, vector, normal or string)";
+        return false;
+      }
+      if (d.type != "string") {
+        d.value = numberList(d.value);
+        llvm::SmallVector<llvm::StringRef> items;
+        llvm::StringRef(d.value).split(items, ',');
+        double x;
+        bool triple = d.type != "int" && d.type != "float";
+        bool ok = items.size() == 1 || (triple && items.size() == 3);
+        for (llvm::StringRef item : items)
+          ok = ok && !item.getAsDouble(x);
+        if (!ok) {
+          error = "--userdata: '" + std::string(argv[i + 2]) + "' is not " +
+                  (triple ? "one or three numbers" : "a number") + " for type " + d.type;
+          return false;
+        }
+      }
+      o.compile.userData.push_back(d);
+      i += 2;
     } else if (a == "--shader") {
       if (!need(i, 2, "--shader") ||
           !o.group.shader(shaderFile(argv[i + 1]), argv[i + 2], error)) {
@@ -432,6 +479,8 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       o.compile.includePaths.push_back(a == "-I" ? std::string(argv[++i]) : a.substr(2));
     } else if (a == "-Werror") {
       o.compile.warningsAsErrors = true;
+    } else if (a == "--print") {
+      o.printValues = true;
     } else if (a == "--keep-going") {
       o.keepGoing = true;
     } else if (a == "-w") {

@@ -29,6 +29,8 @@ struct RunOptions {
   /// --keep-going: a texture that cannot be read or a failed string call is
   /// still reported but leaves the exit status 0, as testshade does.
   bool keepGoing = false;
+  /// --print: every pixel's requested outputs as text, as testshade prints.
+  bool printValues = false;
   /// --image-memory MB: the most the output images of a grid may hold in
   /// memory; larger grids are shaded and written a band of rows at a time.
   int imageMemoryMB = 8;

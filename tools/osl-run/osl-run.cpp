@@ -77,6 +77,34 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
   return true;
 }
 
+/// --print: each pixel's requested outputs, as testshade prints them
+/// ("Pixel (X, Y):" then "  NAME : V V V" per output, %g numbers).
+void printPixelValues(const RunOptions &options, const CompiledShader &shader,
+                      const std::vector<std::pair<size_t, std::string>> &files,
+                      const ShadeResult &result) {
+  int w = imageWidth(options.grid), h = imageHeight(options.grid);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      llvm::outs() << "Pixel (" << x + options.grid.colBegin << ", "
+                   << y + options.grid.rowBegin << "):\n";
+      for (size_t i = 0; i < files.size(); ++i) {
+        const OutputSpec &spec = shader.outputs[files[i].first];
+        const float *pixel =
+            result.images[files[i].first].data() + (size_t(y) * w + x) * spec.channels;
+        llvm::outs() << "  " << (i < options.outputs.size() ? options.outputs[i].first
+                                                             : spec.name)
+                     << " :";
+        for (int c = 0; c < spec.channels; ++c) {
+          if (spec.integer)
+            llvm::outs() << " " << int(pixel[c]);
+          else
+            llvm::outs() << llvm::format(" %g", double(pixel[c]));
+        }
+        llvm::outs() << "\n";
+      }
+    }
+}
+
 /// --emit: runs the compile stages up to the one asked for and prints its
 /// result. False after an error.
 bool emit(ShaderCompiler &compiler, const RunOptions &options, llvm::StringRef source,
@@ -242,7 +270,8 @@ int main(int argc, char **argv) {
       llvm::outs() << kUsage;
       return 0;
     }
-    llvm::errs() << "osl-run: error: " << error << "\n" << kUsage;
+    // The error alone: a page of usage would bury it.
+    llvm::errs() << "osl-run: error: " << error << " (osl-run --help lists the options)\n";
     return 2;
   }
   if (options.timeoutSeconds > 0)
@@ -295,11 +324,11 @@ int main(int argc, char **argv) {
   std::vector<std::pair<size_t, std::string>> files;
   if (!resolveOutputs(options, *shader, files, error))
     return fail(error);
-  // Only the images written to files are kept.
+  // Only the images written to files (or printed, --print) are kept.
   options.grid.keepImages.assign(shader->outputs.size(), false);
   double rowBytes = 0;
   for (auto &[index, file] : files)
-    if (file != "null" && !options.grid.keepImages[index]) {
+    if ((file != "null" || options.printValues) && !options.grid.keepImages[index]) {
       options.grid.keepImages[index] = true;
       rowBytes += 4.0 * imageWidth(options.grid) * shader->outputs[index].channels;
     }
@@ -370,6 +399,8 @@ int main(int argc, char **argv) {
       if (imagesFirst)
         llvm::outs() << "Output " << options.outputs[i].first << " to " << file << "\n";
     }
+    if (options.printValues)
+      printPixelValues(options, *shader, files, result);
     if (imagesFirst) {
       llvm::outs().flush();
       emitPrints(printed, shader->name, options.errorRepeats);
