@@ -9,6 +9,8 @@
 #include "llvm/Support/Path.h"
 
 #include <algorithm>
+#include <climits>
+#include <cmath>
 #include <cstdlib>
 
 using namespace osl::frontend;
@@ -582,6 +584,19 @@ private:
     return -1;
   }
 
+  /// The integer an #if operand stands for; values past long long's range
+  /// saturate (a plain cast of them is undefined behaviour, which the
+  /// fuzzer found with `#if 27777777777777777777777777777777 == 1`).
+  static long long toInteger(double x) {
+    if (std::isnan(x))
+      return 0;
+    if (x >= 9223372036854775807.0)
+      return LLONG_MAX;
+    if (x <= -9223372036854775808.0)
+      return LLONG_MIN;
+    return (long long)x;
+  }
+
   bool evalExpr(double &v, int minPrec) {
     if (!evalUnary(v))
       return false;
@@ -594,7 +609,7 @@ private:
       double r;
       if (!evalExpr(r, prec + 1))
         return false;
-      long long a = (long long)v, b = (long long)r;
+      long long a = toInteger(v), b = toInteger(r);
       const std::string &o = op.text;
       if (o == "||") v = (v != 0) || (r != 0);
       else if (o == "&&") v = (v != 0) && (r != 0);
@@ -607,13 +622,13 @@ private:
       else if (o == "<=") v = v <= r;
       else if (o == ">") v = v > r;
       else if (o == ">=") v = v >= r;
-      else if (o == "<<") v = double(a << (b & 63));
+      else if (o == "<<") v = double((long long)((unsigned long long)a << (b & 63)));
       else if (o == ">>") v = double(a >> (b & 63));
       else if (o == "+") v = v + r;
       else if (o == "-") v = v - r;
       else if (o == "*") v = v * r;
       else if (o == "/") v = r == 0 ? 0 : v / r;
-      else if (o == "%") v = b == 0 ? 0 : double(a % b);
+      else if (o == "%") v = b == 0 || b == -1 ? 0 : double(a % b);
     }
   }
 
@@ -636,7 +651,7 @@ private:
         return false;
       if (t.text == "!") v = v == 0;
       else if (t.text == "-") v = -v;
-      else if (t.text == "~") v = double(~(long long)v);
+      else if (t.text == "~") v = double(~toInteger(v));
       return true;
     }
     if (t.isPunct("(")) {
