@@ -450,12 +450,13 @@ def Osl_GetTextureInfoOp : Osl_Op<"gettextureinfo", [Pure]> {
   let summary = "gettextureinfo(): a fact about a texture file";
   let description = [{
     OpenImageIO's answer for `name` ("resolution", "channels", "exists",
-    "averagecolor", ...) about `file`, as ints or floats (`floats`
+    "averagecolor", "texturetype", metadata...) about `file`, as ints,
+    floats (`floats` set) or i32 handles of run-time strings (`strings`
     set): `found` is 1 when the texture system knew the answer, else 0 and
     the values are undefined. One answer per shader: the results are
     uniform.
   }];
-  let arguments = (ins StrAttr:$file, StrAttr:$name, UnitAttr:$floats);
+  let arguments = (ins StrAttr:$file, StrAttr:$name, UnitAttr:$floats, UnitAttr:$strings);
   let results = (outs I32:$found, Variadic<AnyTypeOf<[F32, I32]>>:$values);
   let assemblyFormat = "$file `,` $name attr-dict `:` type($values)";
   let hasVerifier = 1;

@@ -65,6 +65,13 @@ void setTextureCacheMegabytes(float megabytes);
 /// tool's exit status.
 int textureFileErrors();
 
+/// What gettextureinfo() answers with (its `kind` operand).
+enum TextureInfoKind : int32_t {
+  kTextureInfoInt = 0,
+  kTextureInfoFloat = 1,
+  kTextureInfoString = 2, // i32 handles of the runtime's string table
+};
+
 } // namespace osl
 
 /// One lookup for the lanes set in `laneMask` (bit i = lane i) of a batch
@@ -80,11 +87,11 @@ extern "C" void osl_rt_texture(const char *where, const char *file,
                                int32_t interp, int32_t flags, float *rows,
                                int32_t width, uint32_t laneMask);
 
-/// gettextureinfo(): writes `count` ints or floats (`isFloat`) answering
-/// `name` about `file` to `data`; returns 1 if the texture system knew the
+/// gettextureinfo(): writes `count` values of `kind` answering `name`
+/// about `file` to `data`; returns 1 if the texture system knew the
 /// answer, else 0 (and `data` is unchanged).
 extern "C" int32_t osl_rt_gettextureinfo(const char *file, const char *name,
-                                         int32_t isFloat, int32_t count,
+                                         int32_t kind, int32_t count,
                                          void *data);
 
 #endif // OSLRUNTIME_TEXTURECALL_H

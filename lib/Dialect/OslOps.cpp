@@ -535,6 +535,8 @@ LogicalResult TextureOp::verify() {
 LogicalResult GetTextureInfoOp::verify() {
   if (getValues().empty())
     return emitOpError("needs at least one value");
+  if (getFloats() && getStrings())
+    return emitOpError("answers with floats or with strings, not both");
   Type want = getFloats() ? Type(Float32Type::get(getContext()))
                          : Type(IntegerType::get(getContext(), 32));
   for (Value v : getValues())

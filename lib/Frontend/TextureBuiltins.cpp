@@ -365,18 +365,58 @@ std::optional<RValue> TextureCall::emit(const OslType *expected) {
   return RValue::num(resultType, op.getResult());
 }
 
+/// The texture system's answer about one file and name, merged into the
+/// destination's old value (kept where it does not know the answer).
+struct TextureInfoAnswer {
+  Value found; // i32
+  RValue value;
+};
+
+TextureInfoAnswer askTextureInfo(IRGen &g, const Expr &call, const std::string &file,
+                                 const std::string &name, const OslType &t, const RValue &old) {
+  OslType element = t.isArray() ? t.element() : t;
+  bool isString = t.isString();
+  bool isFloat = element.isFloat() || element.isTriple() || t.isMatrix();
+  int perElement = element.isTriple() ? 3 : t.isMatrix() ? 16 : 1;
+  int count = (t.isArray() ? t.arrayLen : 1) * perElement;
+  OpBuilder &b = g.builder();
+  Location loc = g.loc(call.loc);
+  Type scalar = isFloat ? Type(b.getF32Type()) : Type(b.getI32Type());
+  auto op = b.create<GetTextureInfoOp>(loc, b.getI32Type(),
+                                       SmallVector<Type>(size_t(count), scalar), file, name,
+                                       isFloat, isString);
+  Value found = b.create<CmpOp>(loc, "ne", op.getFound(), g.constInt(0, call.loc));
+  ValueRange v = op.getValues();
+  RValue updated = old;
+  if (isString) { // the answer's handle, or the old string's
+    updated = RValue::runtimeString(
+        b.create<SelectOp>(loc, found, v[0], g.stringHandle(old, call.loc)));
+  } else if (t.isArray() || t.isMatrix()) {
+    for (size_t k = 0; k < updated.elems.size(); ++k)
+      updated.elems[k] = b.create<SelectOp>(loc, found, v[k], old.elems[k]);
+  } else {
+    Value answer = perElement == 3 ? Value(b.create<ConstructOp>(loc, v[0], v[1], v[2]))
+                                   : v[0];
+    updated.value = b.create<SelectOp>(loc, found, answer, old.value);
+  }
+  return {op.getFound(), updated};
+}
+
 /// gettextureinfo(file, name, output dest): the destination's type says
 /// what to ask for; it is left unchanged when the texture system does not
-/// know the answer, as in OSL.
+/// know the answer, as in OSL. A file or name chosen per point (among
+/// strings known when the shader is compiled) asks about each choice, and
+/// each point takes its own answer.
 std::optional<RValue> emitGetTextureInfo(IRGen &g, const Expr &call) {
   const char *usage = "wrong arguments to 'gettextureinfo'; candidates: int gettextureinfo("
-                      "string file, string name, output int|float|triple|int[]|float[] "
-                      "dest)";
+                      "string file, string name, output int|float|triple|string|matrix|int[]|"
+                      "float[] dest)";
   if (call.args.size() != 3) {
     g.error(call.loc, usage);
     return std::nullopt;
   }
-  std::string names[2];
+  std::vector<std::string> choices[2];
+  Value index[2];
   for (int k = 0; k < 2; ++k) {
     auto v = g.emitExpr(*call.args[k]);
     if (!v)
@@ -385,48 +425,58 @@ std::optional<RValue> emitGetTextureInfo(IRGen &g, const Expr &call) {
       g.error(call.args[k]->loc, usage);
       return std::nullopt;
     }
-    if (v->isStringChoice()) {
-      g.error(call.args[k]->loc, "'gettextureinfo' needs a string known when the shader is "
-                                 "compiled; this one is chosen per point");
+    if (v->isRuntimeString()) {
+      g.error(call.args[k]->loc, "'gettextureinfo' needs strings known when the shader is "
+                                 "compiled (or chosen per point among such strings); this "
+                                 "one is computed at run time");
       return std::nullopt;
     }
-    names[k] = v->str;
+    if (v->isStringChoice()) {
+      choices[k] = v->choices;
+      index[k] = v->value;
+    } else {
+      choices[k] = {v->str};
+    }
   }
   auto dest = g.emitLValue(*call.args[2]);
   if (!dest)
     return std::nullopt;
   OslType t = dest->type;
   OslType element = t.isArray() ? t.element() : t;
-  bool isFloat = element.isFloat() || element.isTriple();
-  int perElement = element.isTriple() ? 3 : 1;
-  if (!(element.isInt() || isFloat) || (t.isArray() && element.isTriple())) {
-    g.error(call.args[2]->loc, "'gettextureinfo' cannot answer into a '" + t.str() + "' yet");
+  bool numeric = element.isInt() || element.isFloat() || element.isTriple();
+  if (!(t.isString() || t.isMatrix() || numeric) || (t.isArray() && element.isTriple())) {
+    g.error(call.args[2]->loc, "'gettextureinfo' cannot answer into a '" + t.str() + "'");
     return std::nullopt;
   }
-  int count = (t.isArray() ? t.arrayLen : 1) * perElement;
-  OpBuilder &b = g.builder();
-  Location loc = g.loc(call.loc);
-  Type scalar = isFloat ? Type(b.getF32Type()) : Type(b.getI32Type());
-  auto op = b.create<GetTextureInfoOp>(loc, b.getI32Type(),
-                                       SmallVector<Type>(size_t(count), scalar), names[0],
-                                       names[1], isFloat);
-  Value found = b.create<CmpOp>(loc, "ne", op.getFound(), g.constInt(0, call.loc));
   RValue old = g.loadLValue(*dest, call.loc);
-  auto answer = [&](int k) -> Value {
-    ValueRange v = op.getValues();
-    if (perElement == 3)
-      return b.create<ConstructOp>(loc, v[3 * k], v[3 * k + 1], v[3 * k + 2]);
-    return v[k];
-  };
-  RValue updated = old;
-  if (t.isArray()) {
-    for (int k = 0; k < t.arrayLen; ++k)
-      updated.elems[k] = b.create<SelectOp>(loc, found, answer(k), old.elems[k]);
-  } else {
-    updated.value = b.create<SelectOp>(loc, found, answer(0), old.value);
-  }
-  g.storeLValue(*dest, updated, call.loc);
-  return RValue::num(OslType(BaseType::Int), op.getFound());
+  std::optional<TextureInfoAnswer> merged;
+  for (size_t i = 0; i < choices[0].size(); ++i)
+    for (size_t j = 0; j < choices[1].size(); ++j) {
+      TextureInfoAnswer a = askTextureInfo(g, call, choices[0][i], choices[1][j], t, old);
+      if (!merged) {
+        merged = a;
+        continue;
+      }
+      // This choice where the point chose it, the earlier ones elsewhere.
+      Value chosen = g.constBool(true, call.loc);
+      for (int k = 0; k < 2; ++k)
+        if (index[k])
+          chosen = g.builder().create<AndOp>(
+              g.loc(call.loc), chosen,
+              g.cmp("eq", index[k], g.constInt(int(k == 0 ? i : j), call.loc), call.loc));
+      merged->found = g.select(chosen, a.found, merged->found, call.loc);
+      if (t.isString()) {
+        merged->value = RValue::runtimeString(g.select(
+            chosen, a.value.value, merged->value.value, call.loc));
+      } else {
+        auto both = g.selectFields(chosen, a.value, merged->value, call.loc);
+        if (!both)
+          return std::nullopt;
+        merged->value = *both;
+      }
+    }
+  g.storeLValue(*dest, merged->value, call.loc);
+  return RValue::num(OslType(BaseType::Int), merged->found);
 }
 
 } // namespace

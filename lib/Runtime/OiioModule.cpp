@@ -8,6 +8,7 @@
 #include "OiioModule.h"
 #include "ImageFormats.h"
 
+#include "OslRuntime/PrintCall.h"
 #include "OslRuntime/StringCall.h"
 
 #include <dlfcn.h>
@@ -64,7 +65,11 @@ std::vector<std::string> candidatePaths() {
 }
 
 void load() {
-  static const OiioModuleHost host = {osl_rt_string_intern};
+  static const OiioModuleHost host = {osl_rt_string_intern, [](const char *text) {
+                                        // Uniform calls report on the batch's first point.
+                                        keepLaneText(printStreamCode("renderer_error"), 0, "",
+                                                     text);
+                                      }};
   std::string tried;
   for (const std::string &path : candidatePaths()) {
     if (access(path.c_str(), R_OK) != 0)
@@ -196,9 +201,20 @@ extern "C" void osl_rt_texture(const char *where, const char *file, const char *
         rows[size_t(row) * size_t(width) + size_t(lane)] = 0.0f;
 }
 
-extern "C" int32_t osl_rt_gettextureinfo(const char *file, const char *name, int32_t isFloat,
+extern "C" int32_t osl_rt_gettextureinfo(const char *file, const char *name, int32_t kind,
                                          int32_t count, void *data) {
   std::string error;
   const osl::OiioModuleApi *api = osl::oiioModule(error);
-  return api ? api->gettextureinfo(file, name, isFloat, count, data) : 0;
+  if (!api)
+    return 0;
+  if (kind != osl::kTextureInfoString)
+    return api->gettextureinfo(file, name, kind, count, data);
+  // The module answers with the texture system's own (lasting) texts; the
+  // kernel gets their handles in the string table.
+  std::vector<const char *> texts(size_t(std::max(count, 0)), nullptr);
+  if (!api->gettextureinfo(file, name, kind, count, texts.data()))
+    return 0;
+  for (int32_t k = 0; k < count; ++k)
+    static_cast<int32_t *>(data)[k] = osl_rt_string_intern(texts[size_t(k)] ? texts[size_t(k)] : "");
+  return 1;
 }

@@ -22,6 +22,9 @@ namespace osl {
 /// What the host gives the module: the runtime's functions it calls back.
 struct OiioModuleHost {
   int32_t (*internString)(const char *text);
+  /// The renderer's report of a failed request, printed in the shader's
+  /// output as testshade prints it ("ERROR: text").
+  void (*rendererError)(const char *text);
 };
 
 /// What the module provides. Images use testshade's spec (ImageOutput.h).

@@ -17,7 +17,7 @@ const OiioModuleHost &host();
 void texture(const char *where, const char *file, const char *subimageName, int32_t subimage,
              int32_t kind, int32_t nchannels, int32_t swrap, int32_t twrap, int32_t rwrap,
              int32_t interp, int32_t flags, float *rows, int32_t width, uint32_t laneMask);
-int32_t gettextureinfo(const char *file, const char *name, int32_t isFloat, int32_t count,
+int32_t gettextureinfo(const char *file, const char *name, int32_t kind, int32_t count,
                        void *data);
 int textureFileErrors();
 void setTextureCacheMegabytes(float megabytes);

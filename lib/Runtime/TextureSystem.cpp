@@ -160,14 +160,27 @@ void texture(const char *where, const char *file, const char *subimageName, int3
   }
 }
 
-int32_t gettextureinfo(const char *file, const char *name, int32_t isFloat, int32_t count,
+int32_t gettextureinfo(const char *file, const char *name, int32_t kind, int32_t count,
                        void *data) {
-  TypeDesc type(isFloat ? TypeDesc::FLOAT : TypeDesc::INT);
+  // A string answer is a ustring, whose text lasts as long as the process.
+  TypeDesc type(kind == osl::kTextureInfoString  ? TypeDesc::STRING
+                : kind == osl::kTextureInfoFloat ? TypeDesc::FLOAT
+                                            : TypeDesc::INT);
   if (count > 1)
     type.arraylen = count;
-  return sharedTextureSystem().get_texture_info(ustring(file), 0, ustring(name), type, data)
-             ? 1
-             : 0;
+  TextureSystem &ts = sharedTextureSystem();
+  if (ts.get_texture_info(ustring(file), 0, ustring(name), type, data))
+    return 1;
+  // A file that cannot be read is reported as OSL's renderer services
+  // report it; an attribute the file lacks is no error.
+  // (It counts among the files that could not be read, for the exit status.)
+  std::string error = ts.geterror();
+  if (!error.empty()) {
+    host().rendererError(("[RendererServices::get_texture_info] " + error).c_str());
+    std::lock_guard<std::mutex> lock(missingMutex);
+    missingFiles.insert(file);
+  }
+  return 0;
 }
 
 } // namespace osl::oiio

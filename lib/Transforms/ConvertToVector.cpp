@@ -988,7 +988,9 @@ struct GetTextureInfoLowering : public OslPattern<GetTextureInfoOp> {
                       .create<LLVM::CallOp>(loc, callee,
                                             ValueRange{constantStringAddress(rewriter, loc, op.getFile()),
                                                        constantStringAddress(rewriter, loc, op.getName()),
-                                                       i32Const(op.getFloats() ? 1 : 0),
+                                                       i32Const(op.getFloats()    ? ::osl::kTextureInfoFloat
+                                                                : op.getStrings() ? ::osl::kTextureInfoString
+                                                                                  : ::osl::kTextureInfoInt),
                                                        i32Const(count), data})
                       .getResult();
     SmallVector<Value> results = {found};
