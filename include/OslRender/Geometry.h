@@ -25,6 +25,10 @@ struct SurfaceGeometry {
 };
 SurfaceGeometry surfaceAt(const Primitive &prim, Vec3 p);
 
+/// What surfacearea() answers (emitters divide their power by it), as
+/// testrender answers: a quad's area, a sphere's silhouette (pi r^2).
+float surfaceArea(const Primitive &prim);
+
 /// A direction from `x` toward light `prim` and its solid-angle pdf (0 if
 /// it cannot be sampled from there).
 struct LightSample {

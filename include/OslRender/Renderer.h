@@ -29,7 +29,8 @@ struct RenderOptions {
   int aa = 1;
   int threads = 0; // 0: all cores
   uint32_t seed = 0;
-  /// Longest path (bounces); Russian roulette ends most paths earlier.
+  /// Longest path (bounces; the last one samples the lights, as
+  /// testrender's max_bounces); Russian roulette ends most paths earlier.
   int maxBounces = 64;
   bool progress = true;
   /// Time the kernel calls (RenderStats::shadingSeconds); two clock reads

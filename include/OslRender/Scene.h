@@ -4,12 +4,16 @@
 // shader group before it, an optional background group, and which
 // primitives are lights (is_light="1"). Parameters come as XML attributes
 // (`<Parameter Cd="color 0.8 0.8 0.8"/>`) or as the group's text in
-// testshade's group syntax (`color Cd 0.8 0.8 0.8; shader matte ball;`).
+// testshade's group syntax (`color Cd 0.8 0.8 0.8; shader matte ball;`). A
+// group may have several layers wired by connections (`<ConnectShaders
+// srclayer= srcparam= dstlayer= dstparam=/>` or `connect a.out b.in;`);
+// the last layer is the root, whose Ci shades.
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLRENDER_SCENE_H
 #define OSLRENDER_SCENE_H
 
+#include "OslCompiler/ShaderGroup.h"
 #include "OslFrontend/Frontend.h"
 #include "OslRender/Vec3.h"
 
@@ -31,6 +35,12 @@ struct ShaderInstance {
   std::string shader;
   std::string layer;
   std::vector<ParamOverride> params;
+};
+
+/// A <ShaderGroup>: its layers in order and their connections.
+struct SceneGroup {
+  std::vector<ShaderInstance> layers;
+  std::vector<GroupConnection> connections;
   int line = 0; // where the group starts in the scene file
 };
 
@@ -45,9 +55,11 @@ struct Primitive {
 
 struct Scene {
   Camera camera;
-  std::vector<ShaderInstance> shaders;
+  std::vector<SceneGroup> shaders;
   std::vector<Primitive> prims;
   int background = -1; // the shader escaping rays see
+  /// <Option max_bounces="int N"/>, -1 when the scene does not say.
+  int maxBounces = -1;
 };
 
 /// Reads a testrender scene. On error returns false with "FILE:LINE: why"

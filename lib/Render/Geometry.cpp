@@ -110,6 +110,15 @@ LightSample sampleLight(const Primitive &prim, Vec3 x, float rx, float ry) {
   return s;
 }
 
+float surfaceArea(const Primitive &prim) {
+  // A sphere answers its silhouette's area, pi r^2, as testrender's does:
+  // an emitter dividing its power by pi * surfacearea() then has
+  // testrender's brightness.
+  if (prim.kind == Primitive::Sphere)
+    return kPi * prim.radius * prim.radius;
+  return length(cross(prim.edgeX, prim.edgeY));
+}
+
 float lightPdf(const Primitive &prim, Vec3 x, Vec3 p) {
   if (prim.kind == Primitive::Sphere) {
     Vec3 toC = prim.center - x;

@@ -56,6 +56,7 @@ struct ShadeRequest {
   int path = 0;
   Vec3 p, i, n, ng, dPdu, dPdv;
   float u = 0, v = 0;
+  float area = 0; // the primitive's (surfacearea())
   bool backfacing = false;
   Vec3 contrib; // light queries: what the light's emission is multiplied by
 };
@@ -69,6 +70,7 @@ ShadeRequest hitRequest(const Primitive &prim, Vec3 o, Vec3 d, float t) {
   r.n = r.ng = g.n;
   r.dPdu = g.dPdu;
   r.dPdv = g.dPdv;
+  r.area = surfaceArea(prim);
   r.u = g.u;
   r.v = g.v;
   if (dot(d, g.n) > 0) {
@@ -123,7 +125,8 @@ private:
             rowN = findGlobal("N")->row, rowNg = findGlobal("Ng")->row,
             rowDPdu = findGlobal("dPdu")->row, rowDPdv = findGlobal("dPdv")->row,
             rowU = findGlobal("u")->row, rowV = findGlobal("v")->row,
-            rowBackfacing = findGlobal("backfacing")->row;
+            rowBackfacing = findGlobal("backfacing")->row,
+            rowSurfaceArea = findGlobal("surfacearea")->row;
 };
 
 void PathWave::shade(int shader, const std::vector<ShadeRequest> &requests,
@@ -144,6 +147,7 @@ void PathWave::shade(int shader, const std::vector<ShadeRequest> &requests,
       setRow(rowU, lane, q.u);
       setRow(rowV, lane, q.v);
       setRow(rowBackfacing, lane, q.backfacing ? 1.0f : 0.0f);
+      setRow(rowSurfaceArea, lane, q.area);
     }
     std::fill(outputs.begin(), outputs.end(), 0.0f);
     arena.reset();
@@ -255,7 +259,7 @@ void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
           k = powerHeuristic(p.bsdfPdf, lightPdf(prim, p.o, q.p));
         p.radiance += p.throughput * res.emission * k;
         Vec3 wo = -q.i;
-        if (bounce >= opt.maxBounces || !res.prepare(wo)) {
+        if (!res.prepare(wo)) {
           p.alive = false;
           continue;
         }
@@ -279,6 +283,12 @@ void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
           lq.path = q.path;
           lq.contrib = contrib;
           lightQueries[light.shader].push_back(lq);
+        }
+        // The last bounce still samples the lights (as testrender's
+        // max_bounces does) but traces no further.
+        if (bounce >= opt.maxBounces) {
+          p.alive = false;
+          continue;
         }
         BsdfSample smp = res.sample(wo, bsdfRandom.x, bsdfRandom.y, bsdfRandom.z);
         p.throughput *= smp.weight;
@@ -327,34 +337,59 @@ bool Renderer::compileShaders(const std::vector<std::string> &searchPaths,
                               const CompileOptions &compile, llvm::raw_ostream &errs,
                               Stats *stats) {
   kernels.clear();
-  for (const ShaderInstance &inst : scene.shaders) {
-    std::string found;
-    for (const std::string &dir : searchPaths) {
-      llvm::SmallString<256> path(dir);
-      llvm::sys::path::append(path, inst.shader + ".osl");
-      if (llvm::sys::fs::exists(path)) {
-        found = std::string(path);
-        break;
+  for (const SceneGroup &group : scene.shaders) {
+    // Each layer's shader is found as NAME.osl on the search paths.
+    std::vector<std::string> found;
+    for (const ShaderInstance &inst : group.layers) {
+      std::string path;
+      for (const std::string &dir : searchPaths) {
+        llvm::SmallString<256> candidate(dir);
+        llvm::sys::path::append(candidate, inst.shader + ".osl");
+        if (llvm::sys::fs::exists(candidate)) {
+          path = std::string(candidate);
+          break;
+        }
       }
+      if (path.empty()) {
+        errs << "error: shader '" << inst.shader << "' (scene line " << group.line
+             << "): no " << inst.shader << ".osl in";
+        for (const std::string &dir : searchPaths)
+          errs << " " << dir;
+        errs << " (use --path DIR)\n";
+        return false;
+      }
+      found.push_back(path);
     }
-    if (found.empty()) {
-      errs << "error: shader '" << inst.shader << "' (scene line " << inst.line
-           << "): no " << inst.shader << ".osl in";
-      for (const std::string &dir : searchPaths)
-        errs << " " << dir;
-      errs << " (use --path DIR)\n";
-      return false;
-    }
-    auto buffer = llvm::MemoryBuffer::getFile(found);
-    if (!buffer) {
-      errs << "error: cannot read " << found << "\n";
-      return false;
-    }
-    CompileOptions opts = compile;
-    opts.params = inst.params;
-    ShaderCompiler compiler(opts, errs, stats);
     Kernel k;
-    k.shader = compiler.compile((*buffer)->getBuffer(), found);
+    if (group.layers.size() == 1 && group.connections.empty()) {
+      auto buffer = llvm::MemoryBuffer::getFile(found[0]);
+      if (!buffer) {
+        errs << "error: cannot read " << found[0] << "\n";
+        return false;
+      }
+      CompileOptions opts = compile;
+      opts.params = group.layers[0].params;
+      ShaderCompiler compiler(opts, errs, stats);
+      k.shader = compiler.compile((*buffer)->getBuffer(), found[0]);
+    } else {
+      // Several layers: one kernel for the group, the last layer its root.
+      ShaderGroup shaderGroup;
+      std::string error;
+      for (size_t i = 0; i < group.layers.size() && error.empty(); ++i) {
+        for (const ParamOverride &p : group.layers[i].params)
+          shaderGroup.param(p.name, p.value);
+        shaderGroup.shader(found[i], group.layers[i].layer, error);
+      }
+      for (const GroupConnection &c : group.connections)
+        if (error.empty())
+          shaderGroup.connect(c, error);
+      if (!error.empty() || !shaderGroup.validate(error)) {
+        errs << "error: shader group (scene line " << group.line << "): " << error << "\n";
+        return false;
+      }
+      ShaderCompiler compiler(compile, errs, stats);
+      k.shader = compiler.compileGroup(shaderGroup);
+    }
     if (!k.shader)
       return false;
     int row = 0;

@@ -118,12 +118,46 @@ bool paramText(std::vector<std::string> words, std::string &text, std::string &w
   return true;
 }
 
+/// Adds a layer; unnamed layers are called after their position.
+bool addLayer(Reader &r, const pugi::xml_node &node, SceneGroup &group, std::string shader,
+              std::string layer, std::vector<ParamOverride> &pending) {
+  if (layer.empty())
+    layer = "layer" + std::to_string(group.layers.size());
+  for (const ShaderInstance &l : group.layers)
+    if (l.layer == layer)
+      return r.fail(node, "layer '" + layer + "' is declared twice in the group");
+  group.layers.push_back({std::move(shader), std::move(layer), std::move(pending)});
+  pending.clear();
+  return true;
+}
+
+bool addConnection(Reader &r, const pugi::xml_node &node, SceneGroup &group,
+                   GroupConnection c) {
+  for (const std::string *name : {&c.fromLayer, &c.toLayer})
+    if (std::none_of(group.layers.begin(), group.layers.end(),
+                     [&](const ShaderInstance &l) { return l.layer == *name; }))
+      return r.fail(node, "connect: unknown layer '" + *name +
+                              "' (layers must be declared before they are connected)");
+  group.connections.push_back(std::move(c));
+  return true;
+}
+
+/// "layer.param" as its two names.
+bool splitLayerParam(const std::string &word, std::string &layer, std::string &param) {
+  size_t dot = word.find('.');
+  if (dot == std::string::npos || dot == 0 || dot + 1 == word.size())
+    return false;
+  layer = word.substr(0, dot);
+  param = word.substr(dot + 1);
+  return true;
+}
+
 /// The group's statements in testshade's syntax: `TYPE NAME VALUES;`
-/// (optionally after `param`), `shader NAME LAYER;`.
-bool parseGroupText(Reader &r, const pugi::xml_node &node, ShaderInstance &inst, int &layers) {
+/// (optionally after `param`), `shader NAME LAYER;`, `connect A.OUT B.IN;`.
+bool parseGroupText(Reader &r, const pugi::xml_node &node, SceneGroup &group,
+                    std::vector<ParamOverride> &pending) {
   std::stringstream ss(node.text().get());
   std::string stmt;
-  std::vector<ParamOverride> pending;
   while (std::getline(ss, stmt, ';')) {
     std::vector<std::string> w = splitWords(stmt);
     if (w.empty())
@@ -131,19 +165,24 @@ bool parseGroupText(Reader &r, const pugi::xml_node &node, ShaderInstance &inst,
     if (w[0] == "shader") {
       if (w.size() != 3)
         return r.fail(node, "'shader' takes a shader name and a layer name: '" + stmt + "'");
-      inst.shader = w[1];
-      inst.layer = w[2];
-      inst.params = pending;
-      ++layers;
+      if (!addLayer(r, node, group, w[1], w[2], pending))
+        return false;
       continue;
     }
-    if (w[0] == "connect")
-      return r.fail(node, "connections between layers are not supported by --scene yet");
+    if (w[0] == "connect") {
+      GroupConnection c;
+      if (w.size() != 3 || !splitLayerParam(w[1], c.fromLayer, c.fromOutput) ||
+          !splitLayerParam(w[2], c.toLayer, c.toInput))
+        return r.fail(node, "'connect' takes LAYER.OUTPUT LAYER.INPUT: '" + stmt + "'");
+      if (!addConnection(r, node, group, std::move(c)))
+        return false;
+      continue;
+    }
     if (w[0] == "param")
       w.erase(w.begin());
     if (w.size() < 3 || !isTypeName(w[0]))
-      return r.fail(node, "expected 'TYPE NAME VALUE...;' or 'shader NAME LAYER;', got '" +
-                              stmt + "'");
+      return r.fail(node, "expected 'TYPE NAME VALUE...;', 'shader NAME LAYER;' or "
+                          "'connect A.OUT B.IN;', got '" + stmt + "'");
     std::string name = w[1];
     w.erase(w.begin() + 1);
     std::string text, why;
@@ -154,13 +193,12 @@ bool parseGroupText(Reader &r, const pugi::xml_node &node, ShaderInstance &inst,
   return true;
 }
 
-bool parseGroup(Reader &r, const pugi::xml_node &group, ShaderInstance &inst) {
-  inst.line = r.lineOf(group.offset_debug());
-  int layers = 0;
+bool parseGroup(Reader &r, const pugi::xml_node &node, SceneGroup &group) {
+  group.line = r.lineOf(node.offset_debug());
   std::vector<ParamOverride> pending;
-  for (pugi::xml_node c : group.children()) {
+  for (pugi::xml_node c : node.children()) {
     if (c.type() == pugi::node_pcdata) {
-      if (!parseGroupText(r, group, inst, layers))
+      if (!parseGroupText(r, node, group, pending))
         return false;
       continue;
     }
@@ -174,23 +212,45 @@ bool parseGroup(Reader &r, const pugi::xml_node &group, ShaderInstance &inst) {
         pending.push_back({a.name(), text});
       }
     } else if (!std::strcmp(c.name(), "Shader")) {
-      inst.shader = c.attribute("name").value();
-      inst.layer = c.attribute("layer").value();
-      if (inst.shader.empty())
+      std::string name = c.attribute("name").value();
+      if (name.empty())
         return r.fail(c, "<Shader> needs name");
-      inst.params = pending;
-      pending.clear();
-      ++layers;
+      if (!addLayer(r, c, group, name, c.attribute("layer").value(), pending))
+        return false;
     } else if (!std::strcmp(c.name(), "ConnectShaders")) {
-      return r.fail(c, "connections between layers are not supported by --scene yet");
+      GroupConnection conn{c.attribute("srclayer").value(), c.attribute("srcparam").value(),
+                           c.attribute("dstlayer").value(), c.attribute("dstparam").value()};
+      if (conn.fromLayer.empty() || conn.fromOutput.empty() || conn.toLayer.empty() ||
+          conn.toInput.empty())
+        return r.fail(c, "<ConnectShaders> needs srclayer, srcparam, dstlayer and dstparam");
+      if (!addConnection(r, c, group, std::move(conn)))
+        return false;
     } else {
       return r.fail(c, std::string("unknown element <") + c.name() + "> in <ShaderGroup>");
     }
   }
-  if (layers == 0)
-    return r.fail(group, "<ShaderGroup> names no shader");
-  if (layers > 1)
-    return r.fail(group, "<ShaderGroup> with several layers is not supported by --scene yet");
+  if (group.layers.empty())
+    return r.fail(node, "<ShaderGroup> names no shader");
+  if (!pending.empty())
+    return r.fail(node, "parameter '" + pending.front().name + "' comes after the last shader");
+  return true;
+}
+
+/// <Option NAME="TYPE VALUE"/>: the renderer settings a scene may fix.
+bool parseOption(Reader &r, const pugi::xml_node &node, Scene &scene) {
+  for (pugi::xml_attribute a : node.attributes()) {
+    std::vector<std::string> w = splitWords(a.value());
+    if (!w.empty() && isTypeName(w[0]))
+      w.erase(w.begin());
+    if (std::string(a.name()) != "max_bounces")
+      return r.fail(node, "unknown option '" + std::string(a.name()) +
+                              "' (osl-run --scene knows max_bounces)");
+    char *end = nullptr;
+    long n = w.size() == 1 ? std::strtol(w[0].c_str(), &end, 10) : -1;
+    if (w.size() != 1 || *end || n < 0 || n > 1000000)
+      return r.fail(node, "max_bounces needs a whole number from 0 to 1000000");
+    scene.maxBounces = int(n);
+  }
   return true;
 }
 
@@ -224,16 +284,27 @@ bool loadScene(const std::string &path, Scene &scene, std::string &error) {
       continue;
     std::string name = node.name();
     if (name == "Camera") {
+      // look_at="x,y,z", or dir="x,y,z" (the view direction).
+      Vec3 dir(0, 0, 0);
+      bool hasDir = bool(node.attribute("dir"));
       ok = parseVec3(r, node, "eye", scene.camera.eye, false) &&
            parseVec3(r, node, "look_at", scene.camera.lookAt, false) &&
+           parseVec3(r, node, "dir", dir, false) &&
            parseVec3(r, node, "up", scene.camera.up, false) &&
            parseScalar(r, node, "fov", scene.camera.fovDegrees, false);
       if (ok && !(scene.camera.fovDegrees > 0 && scene.camera.fovDegrees < 180))
         ok = r.fail(node, "fov must be between 0 and 180 degrees");
+      if (ok && hasDir) {
+        if (!(length(dir) > 0))
+          ok = r.fail(node, "dir must not be zero");
+        scene.camera.lookAt = scene.camera.eye + dir;
+      }
+    } else if (name == "Option") {
+      ok = parseOption(r, node, scene);
     } else if (name == "ShaderGroup") {
-      ShaderInstance inst;
-      ok = parseGroup(r, node, inst);
-      scene.shaders.push_back(inst);
+      SceneGroup group;
+      ok = parseGroup(r, node, group);
+      scene.shaders.push_back(std::move(group));
       currentShader = int(scene.shaders.size()) - 1;
     } else if (name == "Background") {
       if (currentShader < 0)
@@ -242,7 +313,8 @@ bool loadScene(const std::string &path, Scene &scene, std::string &error) {
     } else if (name == "Sphere" || name == "Quad") {
       Primitive p;
       p.shader = currentShader;
-      p.isLight = node.attribute("is_light").as_int(0) != 0;
+      // is_light="1" or "yes" (testrender's scenes write both).
+      p.isLight = node.attribute("is_light").as_bool(false);
       if (name == "Sphere") {
         p.kind = Primitive::Sphere;
         ok = parseVec3(r, node, "center", p.center, true) &&

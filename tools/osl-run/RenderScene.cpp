@@ -38,6 +38,8 @@ int osl::renderScene(const RunOptions &options) {
   ropt.aa = options.aa;
   ropt.threads = options.grid.threads;
   ropt.seed = uint32_t(options.seed);
+  if (scene.maxBounces >= 0)
+    ropt.maxBounces = scene.maxBounces;
   ropt.timeShading = options.stats;
   if (options.cropGiven) {
     ropt.cropX0 = options.crop[0];
