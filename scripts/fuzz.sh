@@ -5,10 +5,11 @@
 # fuzzer mutates with OSL's tokens (tools/fuzz/osl.dict). Exits non-zero on
 # any finding (crash, an input over 60 s, sanitizer report) or when a fuzzer
 # fails; reproducers land in build-fuzz/findings.
-#   scripts/fuzz.sh [SECONDS]
+#   scripts/fuzz.sh [SECONDS] [FrontendFuzzer|OslOptFuzzer]   (default: both)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-30}
+only=${2:-}
 launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 if [ ! -f build-fuzz/build.ninja ]; then
@@ -67,6 +68,10 @@ done < <(find "${seed_dirs[@]}" -name '*.osl' -size -8k -print0 2>/dev/null)
 find test -name '*.mlir' -exec cp {} build-fuzz/seeds/mlir/ \;
 echo "seeds: $n shaders, $(ls build-fuzz/seeds/mlir | wc -l) IR files"
 status=0
-run FrontendFuzzer -dict=tools/fuzz/osl.dict -- build-fuzz/seeds/osl || status=1
-run OslOptFuzzer -- build-fuzz/seeds/mlir || status=1
+if [ -z "$only" ] || [ "$only" = FrontendFuzzer ]; then
+  run FrontendFuzzer -dict=tools/fuzz/osl.dict -- build-fuzz/seeds/osl || status=1
+fi
+if [ -z "$only" ] || [ "$only" = OslOptFuzzer ]; then
+  run OslOptFuzzer -- build-fuzz/seeds/mlir || status=1
+fi
 exit $status

@@ -46,7 +46,21 @@ inline constexpr StringFunction kStringFunctions[] = {
     // with entry k of each: (subject, regex, full match?, k, the entry's
     // old value) -> its new value.
     {"regex:result", "ssiii", 'i'},
+    // Dictionaries (never folded when the shader is compiled: node ids
+    // belong to the process that runs it). dict_find(node, query) is
+    // "dict_find:node"; dict_value is "dict_value:found" (node, name, what
+    // is wanted: 0 int, 1 float, 2 string, N >= 3 that many floats) and the
+    // value itself, float k of it for "dict_value:float".
+    {"dict_find", "ss", 'i'},     {"dict_find:node", "is", 'i'},
+    {"dict_next", "i", 'i'},      {"dict_value:found", "isi", 'i'},
+    {"dict_value:int", "is", 'i'}, {"dict_value:float", "isi", 'f'},
+    {"dict_value:string", "is", 's'},
 };
+
+/// Whether string function `name` reads a dictionary (see above).
+constexpr bool isDictionaryFunction(std::string_view name) {
+  return name.substr(0, 5) == "dict_";
+}
 
 /// The index of a string function in kStringFunctions, or -1.
 constexpr int32_t stringFunctionCode(std::string_view name) {

@@ -821,7 +821,8 @@ llvm::SmallVector<size_t> IRGen::libraryOutputArgs(const Expr &e) const {
       outputs.push_back(k);
   if (name == "split" && e.args.size() > 1) // split(str, results, ...)
     outputs.push_back(1);
-  if (name == "getmatrix" || name == "getattribute" || name == "gettextureinfo")
+  if (name == "getmatrix" || name == "getattribute" || name == "gettextureinfo" ||
+      name == "dict_value")
     outputs.push_back(e.args.size() - 1); // the value comes last
   return outputs;
 }

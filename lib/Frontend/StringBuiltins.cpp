@@ -43,6 +43,7 @@ const char *usage(llvm::StringRef name) {
       .Case("stof", "float stof(string)")
       .Case("regex_search", "int regex_search(string subject, string regex)")
       .Case("regex_match", "int regex_match(string subject, string regex)")
+      .Case("dict_next", "int dict_next(int nodeID)")
       .Case("printf", "void printf(string fmt, ...)")
       .Case("fprintf", "void fprintf(string filename, string fmt, ...)")
       .Case("warning", "void warning(string fmt, ...)")
@@ -350,7 +351,9 @@ std::optional<RValue> StringCall::emit() {
   }
   if (!ok || !checkConstantOperands())
     return std::nullopt;
-  if (auto rows = knownRows())
+  // (A dictionary is read when the shader runs: its node ids belong to that
+  // process.)
+  if (auto rows = knownRows(); rows && !::osl::isDictionaryFunction(name))
     return fold(std::move(*rows), code);
 
   OpBuilder &b = g.builder();
@@ -465,11 +468,113 @@ std::optional<RValue> emitRegexWithResults(IRGen &g, const Expr &call) {
   return RValue::num(OslType(BaseType::Int), found);
 }
 
+/// dict_find(string dictionary, string query) or dict_find(int nodeID,
+/// string query): the first matching node's id, 0 if none, -1 if the
+/// dictionary cannot be read.
+std::optional<RValue> emitDictFind(IRGen &g, const Expr &call) {
+  const char *usageText = "int dict_find(string dictionary, string query); "
+                          "int dict_find(int nodeID, string query)";
+  std::vector<RValue> args;
+  for (const ExprPtr &a : call.args) {
+    auto v = g.emitExpr(*a);
+    if (!v)
+      return std::nullopt;
+    args.push_back(*v);
+  }
+  if (args.size() != 2 || !args[1].type.isString() ||
+      !(args[0].type.isString() || args[0].type.isInt())) {
+    g.error(call.loc, llvm::Twine("wrong arguments to 'dict_find'; candidates: ") + usageText);
+    return std::nullopt;
+  }
+  OpBuilder &b = g.builder();
+  bool below = args[0].type.isInt();
+  Value first = below ? args[0].value : g.stringHandle(args[0], call.args[0]->begin);
+  Value found = b.create<StringCallOp>(
+                     g.loc(call.loc), b.getI32Type(), below ? "dict_find:node" : "dict_find",
+                     below ? "is" : "ss",
+                     ValueRange{first, g.stringHandle(args[1], call.args[1]->begin)})
+                    .getResult();
+  return RValue::num(OslType(BaseType::Int), found);
+}
+
+/// dict_value(int nodeID, string attribname, output T value): the node's
+/// attribute as an int, float, string, triple or matrix (numbers separated
+/// by spaces or commas). Returns 1 and writes value when the attribute
+/// exists and reads as T; else 0, and value keeps its old value.
+std::optional<RValue> emitDictValue(IRGen &g, const Expr &call) {
+  const char *usageText = "int dict_value(int nodeID, string attribname, output "
+                          "int|float|string|triple|matrix value)";
+  if (call.args.size() != 3) {
+    g.error(call.loc, llvm::Twine("wrong arguments to 'dict_value'; candidates: ") + usageText);
+    return std::nullopt;
+  }
+  auto node = g.emitExpr(*call.args[0]);
+  if (!node)
+    return std::nullopt;
+  auto name = g.emitExpr(*call.args[1]);
+  if (!name)
+    return std::nullopt;
+  auto dest = g.emitLValue(*call.args[2]);
+  if (!dest)
+    return std::nullopt;
+  OslType t = dest->type;
+  if (!node->type.isInt() || !name->type.isString() ||
+      !(t.isInt() || t.isFloat() || t.isString() || t.isTriple() || t.isMatrix())) {
+    g.error(call.loc, llvm::Twine("wrong arguments to 'dict_value'; candidates: ") + usageText);
+    return std::nullopt;
+  }
+  OpBuilder &b = g.builder();
+  Location l = g.loc(call.loc);
+  Value nameHandle = g.stringHandle(*name, call.args[1]->begin);
+  int what = t.isInt() ? 0 : t.isFloat() ? 1 : t.isString() ? 2 : t.isTriple() ? 3 : 16;
+  Value found = b.create<StringCallOp>(l, b.getI32Type(), "dict_value:found", "isi",
+                                       ValueRange{node->value, nameHandle,
+                                                  g.constInt(what, call.loc)})
+                    .getResult();
+  Value ok = g.cmp("ne", found, g.constInt(0, call.loc), call.loc);
+  auto floatK = [&](int k) {
+    return b.create<StringCallOp>(l, b.getF32Type(), "dict_value:float", "isi",
+                                  ValueRange{node->value, nameHandle, g.constInt(k, call.loc)})
+        .getResult();
+  };
+  RValue old = g.loadLValue(*dest, call.loc);
+  RValue value = old;
+  if (t.isInt()) {
+    Value v = b.create<StringCallOp>(l, b.getI32Type(), "dict_value:int", "is",
+                                     ValueRange{node->value, nameHandle})
+                  .getResult();
+    value.value = g.select(ok, v, old.value, call.loc);
+  } else if (t.isString()) {
+    Value v = b.create<StringCallOp>(l, b.getI32Type(), "dict_value:string", "is",
+                                     ValueRange{node->value, nameHandle})
+                  .getResult();
+    value = RValue::runtimeString(g.select(ok, v, g.stringHandle(old, call.loc), call.loc));
+  } else if (t.isFloat()) {
+    value.value = g.select(ok, floatK(0), old.value, call.loc);
+  } else if (t.isTriple()) {
+    Value v = b.create<ConstructOp>(l, floatK(0), floatK(1), floatK(2));
+    value.value = g.select(ok, v, old.value, call.loc);
+  } else { // a matrix: 16 floats, row-major
+    for (int k = 0; k < 16; ++k)
+      value.elems[size_t(k)] = g.select(ok, floatK(k), old.elems[size_t(k)], call.loc);
+  }
+  g.storeLValue(*dest, value, call.loc);
+  return RValue::num(OslType(BaseType::Int), found);
+}
+
 } // namespace
 
 namespace osl::frontend {
 
 std::optional<RValue> emitStringBuiltin(IRGen &g, const Expr &call, bool &known) {
+  if (call.name == "dict_find") {
+    known = true;
+    return emitDictFind(g, call);
+  }
+  if (call.name == "dict_value") {
+    known = true;
+    return emitDictValue(g, call);
+  }
   if (call.name == "split") {
     known = true;
     return emitSplit(g, call);

@@ -1,7 +1,7 @@
 //===- SceneXml.cpp - Reading testrender's XML scenes ---------------------===//
 #include "OslRender/Scene.h"
 
-#define PUGIXML_NO_XPATH
+// Configured as Dictionaries.cpp configures it (one definition of pugixml).
 #define PUGIXML_NO_EXCEPTIONS
 #include <OpenImageIO/detail/pugixml/pugixml.hpp>
 

@@ -11,6 +11,7 @@
 // by throwing.
 //
 //===----------------------------------------------------------------------===//
+#include "Dictionaries.h"
 #include "OslRuntime/StringCall.h"
 #include "OslRuntime/PrintCall.h"
 #include "OslRuntime/Closure.h"
@@ -347,7 +348,42 @@ void readLane(const char *kinds, const int32_t *rows, int32_t width, int32_t lan
 enum : int32_t {
   kConcat, kFormat, kStrlen, kHash, kStartswith, kEndswith, kGetchar, kSubstr,
   kStoi, kStof, kRegexSearch, kRegexMatch, kSplitCount, kSplitPiece, kRegexResult,
+  kDictFind, kDictFindNode, kDictNext, kDictValueFound, kDictValueInt, kDictValueFloat,
+  kDictValueString,
 };
+
+/// A dictionary attribute's text as `count` numbers (separated by spaces or
+/// commas), each parsed whole; false if it is not.
+bool parseNumbers(const std::string &text, size_t count, bool integer,
+                  std::vector<double> &numbers) {
+  numbers.clear();
+  const char *p = text.c_str();
+  while (*p) {
+    while (*p == ' ' || *p == ',' || *p == '\t' || *p == '\n')
+      ++p;
+    if (!*p)
+      break;
+    char *end = nullptr;
+    double x = integer ? double(std::strtol(p, &end, 10)) : std::strtod(p, &end);
+    if (end == p)
+      return false;
+    numbers.push_back(x);
+    p = end;
+  }
+  return numbers.size() == count;
+}
+
+/// dict_value's answer for a node's attribute: found (what = 0 int, 1
+/// float, 2 string, N >= 3 floats), or the value (component k).
+bool dictNumbers(int32_t node, std::string_view name, int32_t what,
+                 std::vector<double> &numbers) {
+  std::string text;
+  if (!osl::dictAttribute(node, name, text))
+    return false;
+  if (what == 2)
+    return true;
+  return parseNumbers(text, what >= 3 ? size_t(what) : 1, what == 0, numbers);
+}
 
 int32_t intern(std::string_view s) { return internTable().intern(s); }
 
@@ -472,6 +508,34 @@ int32_t callLane(int32_t function, const std::vector<Operand> &a, std::string &e
       return a[4].i;
     return last.positions[size_t(a[3].i)];
   }
+  case kDictFind:
+    return osl::dictFind(a[0].s, a[1].s, error);
+  case kDictFindNode:
+    return osl::dictFindBelow(a[0].i, a[1].s, error);
+  case kDictNext:
+    return osl::dictNext(a[0].i);
+  case kDictValueFound: {
+    std::vector<double> numbers;
+    return dictNumbers(a[0].i, a[1].s, a[2].i, numbers);
+  }
+  case kDictValueInt: {
+    std::vector<double> numbers;
+    return dictNumbers(a[0].i, a[1].s, 0, numbers) ? int32_t(numbers[0]) : 0;
+  }
+  case kDictValueFloat: { // (node, name, k): float k of the attribute's numbers
+    std::string text;
+    std::vector<double> numbers;
+    if (!osl::dictAttribute(a[0].i, a[1].s, text))
+      return bitsOf(0);
+    parseNumbers(text, 0, false, numbers);
+    return bitsOf(a[2].i >= 0 && size_t(a[2].i) < numbers.size()
+                      ? float(numbers[size_t(a[2].i)])
+                      : 0.0f);
+  }
+  case kDictValueString: {
+    std::string text;
+    return intern(osl::dictAttribute(a[0].i, a[1].s, text) ? text : "");
+  }
   case kSplitCount: // (str, sep, maxsplit, result length)
     return std::min(int32_t(splitPieces(a[0].s, a[1].s, a[2].i).size()), a[3].i);
   case kSplitPiece: { // (str, sep, maxsplit, k)
@@ -558,7 +622,14 @@ extern "C" void osl_rt_string_call(const char *where, int32_t function, const ch
     readLane(kinds, rows, width, lane, operands);
     std::string error;
     int32_t value = callLane(function, operands, error);
-    if (!error.empty()) {
+    if (!error.empty() && osl::isDictionaryFunction(osl::kStringFunctions[function].name)) {
+      // A dictionary that cannot be read: reported in the shader's output
+      // as OSL's renderer reports it (dict_find answers -1), and it counts
+      // for the exit status.
+      osl::keepLaneText(osl::printStreamCode("renderer_error"), lane, "", error);
+      std::lock_guard<std::mutex> lock(errorMutex);
+      reportedErrors.insert(error);
+    } else if (!error.empty()) {
       reportOnce(where, error);
       value = osl::kStringFunctions[function].result == 's' ? intern("") : 0;
     }
