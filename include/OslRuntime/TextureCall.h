@@ -27,7 +27,9 @@ enum TextureRow : int32_t {
   kTextureAlphaRow = 26,  ///< the channel after them (alpha)
   kTextureErrorRow = 27,  ///< with kTextureWantsErrorMessage: a string handle
   kTextureFirstChannelRow = 28, ///< the first channel, an int per point
-  kTextureRows = 29,
+  kTextureDsRow = 29,     ///< 4 rows: d(result)/ds of each result row (2D)
+  kTextureDtRow = 33,     ///< 4 rows: d(result)/dt of each result row (2D)
+  kTextureRows = 37,
 };
 
 enum TextureKind : int32_t { kTexture2D = 0, kTexture3D = 1, kTextureEnvironment = 2 };

@@ -30,6 +30,10 @@ inline constexpr const char *kDualRuleSignFlip = "sign_flip";
 /// Marks loads that are not shader globals (constant tables, texture
 /// results): osl-derivatives gives them no derivative.
 inline constexpr const char *kNoDerivativeAttr = "osl.no_derivative";
+/// On the load of a 2D texture lookup's result row (its index in the
+/// lookup's block, OslRuntime/TextureCall.h): osl-derivatives makes its
+/// derivative from the slopes the texture system wrote beside it.
+inline constexpr const char *kTextureResultRowAttr = "osl.texture_result_row";
 /// Marks the arithmetic steps of one library function built from several
 /// ops (sinh from exp, asin from atan2 and sqrt, log10 as a scaled log...):
 /// at --math=precise they are evaluated in double together with the

@@ -115,11 +115,15 @@ void texture(const char *where, const char *file, const char *subimageName, int3
     missing[nchannels] = (flags & kTextureHasMissingAlpha) ? at(o + 7) : 1.0f;
     opt.missingcolor = missingGiven ? missing : nullptr;
     float result[4] = {0, 0, 0, 0};
+    // The result's slopes along s and t: a 2D lookup's derivatives are
+    // these times the coordinates' (osl-derivatives reads them).
+    float dresultds[4] = {0, 0, 0, 0}, dresultdt[4] = {0, 0, 0, 0};
     const int d = kTextureDerivRow;
     bool ok = false;
     if (kind == kTexture2D) {
       ok = ts.texture(handle, thread, opt, at(kTextureCoordRow), at(kTextureCoordRow + 1),
-                      at(d), at(d + 1), at(d + 2), at(d + 3), channels, result);
+                      at(d), at(d + 1), at(d + 2), at(d + 3), channels, result, dresultds,
+                      dresultdt);
     } else {
       Imath::V3f p(at(kTextureCoordRow), at(kTextureCoordRow + 1), at(kTextureCoordRow + 2));
       Imath::V3f dx(at(d), at(d + 1), at(d + 2)), dy(at(d + 3), at(d + 4), at(d + 5));
@@ -153,10 +157,16 @@ void texture(const char *where, const char *file, const char *subimageName, int3
     } else if (!ok && !missingGiven) {
       reportMissing(where, file, ts.geterror());
     }
-    for (int c = 0; c < channels; ++c)
+    for (int c = 0; c < channels; ++c) {
       row(kTextureResultRow + c)[lane] = result[c];
-    if (nchannels == 1)
+      row(kTextureDsRow + c)[lane] = dresultds[c];
+      row(kTextureDtRow + c)[lane] = dresultdt[c];
+    }
+    if (nchannels == 1) {
       row(kTextureAlphaRow)[lane] = result[1];
+      row(kTextureDsRow + 3)[lane] = dresultds[1];
+      row(kTextureDtRow + 3)[lane] = dresultdt[1];
+    }
   }
 }
 

@@ -950,9 +950,20 @@ struct TextureLowering : public OslPattern<TextureOp> {
       load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
       return load.getResult();
     };
+    // A 2D lookup's channels and alpha have derivatives: osl-derivatives
+    // finds their slopes in the rows after the call (kTextureDsRow...).
+    auto loadResultRow = [&](int64_t row) {
+      Value v = loadRow(row, f32);
+      if (op.getKind() == "2d") {
+        Operation *load = v.getDefiningOp();
+        load->removeAttr(kNoDerivativeAttr);
+        load->setAttr(kTextureResultRowAttr, rewriter.getI64IntegerAttr(row));
+      }
+      return v;
+    };
     SmallVector<Value> channels;
     for (uint32_t c = 0; c < op.getNchannels(); ++c)
-      channels.push_back(loadRow(::osl::kTextureResultRow + c, f32));
+      channels.push_back(loadResultRow(::osl::kTextureResultRow + c));
     Value result = unpacker.pack(channels, convert(op.getResult().getType()));
     // Without "errormessage" the row is not written: the message is "".
     Value error = op.getWantsErrorMessage()
@@ -961,7 +972,7 @@ struct TextureLowering : public OslPattern<TextureOp> {
                                     loc, rewriter.getZeroAttr(
                                              convert(op.getErrorMessage().getType())))
                             .getResult();
-    rewriter.replaceOp(op, {result, loadRow(::osl::kTextureAlphaRow, f32), error});
+    rewriter.replaceOp(op, {result, loadResultRow(::osl::kTextureAlphaRow), error});
     return success();
   }
 };

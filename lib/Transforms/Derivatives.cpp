@@ -11,6 +11,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/GlobalsLayout.h"
+#include "OslRuntime/TextureCall.h"
 #include "OslTransforms/LaneMath.h"
 #include "OslTransforms/Passes.h"
 
@@ -486,9 +487,40 @@ private:
 
   /// Derivative of a load of a global's row: the matching derivative row
   /// (dPdx for P, dudy for u...); 0 for globals without derivatives.
+  /// A 2D lookup's result: d(result)/ds * ds/daxis + d(result)/dt *
+  /// dt/daxis, all rows of the lookup's block (read right after the result,
+  /// before a loop's next lookup writes the block again).
+  FailureOr<Value> deriveTextureResult(LLVM::LoadOp load, Operation *user) {
+    int64_t row = load->getAttrOfType<IntegerAttr>(kTextureResultRowAttr).getInt();
+    if (axis != "x" && axis != "y")
+      return Value();
+    auto gep = load.getAddr().getDefiningOp<LLVM::GEPOp>();
+    if (!gep)
+      return fail(user, "a texture result loaded from an unknown address");
+    auto rowType = dyn_cast<VectorType>(load.getType());
+    int64_t width = rowType ? rowType.getDimSize(0) : 1; // scalar: reference mode
+    OpBuilder b(load->getContext());
+    b.setInsertionPointAfter(load);
+    Location loc = load.getLoc();
+    auto rowValue = [&](int64_t r) {
+      auto addr = b.create<LLVM::GEPOp>(loc, gep.getType(), b.getF32Type(), gep.getBase(),
+                                        ArrayRef<LLVM::GEPArg>{int32_t(r * width)});
+      auto v = b.create<LLVM::LoadOp>(loc, load.getType(), addr, 4);
+      v->setAttr(kDerivativeRowAttr, b.getUnitAttr());
+      return v.getResult();
+    };
+    int64_t k = row - ::osl::kTextureResultRow;
+    int64_t d = ::osl::kTextureDerivRow + (axis == "x" ? 0 : 2); // ds/daxis, dt/daxis
+    Value ds = b.create<arith::MulFOp>(loc, rowValue(::osl::kTextureDsRow + k), rowValue(d));
+    Value dt = b.create<arith::MulFOp>(loc, rowValue(::osl::kTextureDtRow + k), rowValue(d + 1));
+    return b.create<arith::AddFOp>(loc, ds, dt).getResult();
+  }
+
   FailureOr<Value> deriveGlobal(LLVM::LoadOp load, Operation *user) {
     if (load->hasAttr(kDerivativeRowAttr))
       return Value(); // no second derivatives, as in OSL
+    if (load->hasAttr(kTextureResultRowAttr))
+      return deriveTextureResult(load, user);
     auto rowAttr = load->getAttrOfType<IntegerAttr>(kGlobalRowAttr);
     if (!rowAttr)
       return fail(user, "a load that is not a shader global");
