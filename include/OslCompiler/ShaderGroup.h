@@ -77,6 +77,10 @@ struct ShaderGroup {
   const GroupLayer *findLayer(const std::string &name) const;
 };
 
+/// "layer.name" -> (layer, name) at the last dot (layer names hold no
+/// dots); false when either side is empty.
+bool splitLayerDotName(const std::string &s, std::string &layer, std::string &name);
+
 } // namespace osl
 
 #endif // OSLCOMPILER_SHADERGROUP_H

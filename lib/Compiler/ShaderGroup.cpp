@@ -148,8 +148,10 @@ std::vector<std::string> tokenize(llvm::StringRef text) {
   return tokens;
 }
 
-/// "a.b" -> (a, b) at the last dot (layer names hold no dots).
-bool splitDotted(const std::string &s, std::string &layer, std::string &name) {
+
+} // namespace
+
+bool osl::splitLayerDotName(const std::string &s, std::string &layer, std::string &name) {
   size_t dot = s.rfind('.');
   if (dot == std::string::npos || dot == 0 || dot + 1 == s.size())
     return false;
@@ -157,8 +159,6 @@ bool splitDotted(const std::string &s, std::string &layer, std::string &name) {
   name = s.substr(dot + 1);
   return true;
 }
-
-} // namespace
 
 bool ShaderGroup::parseStatements(const std::string &text, const std::string &shaderDir,
                                   std::string &error) {
@@ -210,8 +210,8 @@ bool ShaderGroup::parseStatements(const std::string &text, const std::string &sh
         return false;
     } else if (s[0] == "connect") {
       GroupConnection c;
-      if (s.size() != 3 || !splitDotted(s[1], c.fromLayer, c.fromOutput) ||
-          !splitDotted(s[2], c.toLayer, c.toInput))
+      if (s.size() != 3 || !splitLayerDotName(s[1], c.fromLayer, c.fromOutput) ||
+          !splitLayerDotName(s[2], c.toLayer, c.toInput))
         return bad("expected 'connect FROMLAYER.OUTPUT TOLAYER.INPUT ;'");
       if (!connect(std::move(c), error))
         return false;

@@ -475,17 +475,6 @@ std::string argTypesText(const std::vector<RValue> &args) {
   return t;
 }
 
-/// Evaluates every argument of a call (no expected types).
-std::optional<std::vector<RValue>> emitArgs(IRGen &g, const Expr &call) {
-  std::vector<RValue> args;
-  for (const ExprPtr &a : call.args) {
-    auto v = g.emitExpr(*a);
-    if (!v)
-      return std::nullopt;
-    args.push_back(*v);
-  }
-  return args;
-}
 
 std::optional<RValue> emitTableCall(IRGen &g, const Builtin &fn, const Expr &call) {
   auto args = emitArgs(g, call);
@@ -1367,6 +1356,17 @@ std::pair<RValue, RValue> attributeValue(IRGen &g, const Expr &call, const std::
 } // namespace
 
 namespace osl::frontend {
+
+std::optional<std::vector<RValue>> emitArgs(IRGen &g, const Expr &call) {
+  std::vector<RValue> args;
+  for (const ExprPtr &a : call.args) {
+    auto v = g.emitExpr(*a);
+    if (!v)
+      return std::nullopt;
+    args.push_back(*v);
+  }
+  return args;
+}
 
 std::optional<std::pair<Value, Value>> testshadeUserdata(IRGen &g, llvm::StringRef name,
                                                          const OslType &type, SrcLoc l) {

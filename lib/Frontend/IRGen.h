@@ -569,6 +569,10 @@ std::optional<RValue> emitTextureBuiltin(IRGen &gen, const Expr &call,
 /// is false when `call` is none of them.
 std::optional<RValue> emitMessageBuiltin(IRGen &gen, const Expr &call, bool &known);
 
+/// Evaluates every argument of a call, in order, with no expected types
+/// (Builtins.cpp); nullopt after an error.
+std::optional<std::vector<RValue>> emitArgs(IRGen &gen, const Expr &call);
+
 /// testshade's user data for a lockgeom=0 parameter `name` of type `type`:
 /// (where it exists per point, its value), or nullopt when testshade has
 /// none by that name (Builtins.cpp).

@@ -150,13 +150,10 @@ std::optional<RValue> emitGetMatrix(IRGen &g, const Expr &call) {
 /// determinant(M) and transpose(M).
 std::optional<RValue> emitMatrixFunction(IRGen &g, const Expr &call) {
   bool isDet = call.name == "determinant";
-  std::vector<RValue> args;
-  for (const ExprPtr &a : call.args) {
-    auto v = g.emitExpr(*a);
-    if (!v)
-      return std::nullopt;
-    args.push_back(*v);
-  }
+  auto evaluated = emitArgs(g, call);
+  if (!evaluated)
+    return std::nullopt;
+  std::vector<RValue> &args = *evaluated;
   if (args.size() != 1 || !args[0].type.isMatrix()) {
     g.error(call.loc, "wrong arguments to '" + call.name + "(" + typesText(args) +
                           ")'; candidates: " +

@@ -173,13 +173,10 @@ std::optional<RValue> emitGetMessage(IRGen &g, const Expr &call) {
 /// trace(pos, dir, options...): testshade's renderer has no geometry, so
 /// no ray hits anything.
 std::optional<RValue> emitTrace(IRGen &g, const Expr &call) {
-  std::vector<RValue> args;
-  for (const auto &a : call.args) {
-    auto v = g.emitExpr(*a);
-    if (!v)
-      return std::nullopt;
-    args.push_back(*v);
-  }
+  auto evaluated = emitArgs(g, call);
+  if (!evaluated)
+    return std::nullopt;
+  std::vector<RValue> &args = *evaluated;
   bool ok = args.size() >= 2 && args.size() % 2 == 0 && args[0].type.isTriple() &&
             args[1].type.isTriple();
   for (size_t k = 2; ok && k < args.size(); k += 2)

@@ -474,13 +474,10 @@ std::optional<RValue> emitRegexWithResults(IRGen &g, const Expr &call) {
 std::optional<RValue> emitDictFind(IRGen &g, const Expr &call) {
   const char *usageText = "int dict_find(string dictionary, string query); "
                           "int dict_find(int nodeID, string query)";
-  std::vector<RValue> args;
-  for (const ExprPtr &a : call.args) {
-    auto v = g.emitExpr(*a);
-    if (!v)
-      return std::nullopt;
-    args.push_back(*v);
-  }
+  auto evaluated = emitArgs(g, call);
+  if (!evaluated)
+    return std::nullopt;
+  std::vector<RValue> &args = *evaluated;
   if (args.size() != 2 || !args[1].type.isString() ||
       !(args[0].type.isString() || args[0].type.isInt())) {
     g.error(call.loc, llvm::Twine("wrong arguments to 'dict_find'; candidates: ") + usageText);

@@ -142,16 +142,6 @@ bool addConnection(Reader &r, const pugi::xml_node &node, SceneGroup &group,
   return true;
 }
 
-/// "layer.param" as its two names.
-bool splitLayerParam(const std::string &word, std::string &layer, std::string &param) {
-  size_t dot = word.find('.');
-  if (dot == std::string::npos || dot == 0 || dot + 1 == word.size())
-    return false;
-  layer = word.substr(0, dot);
-  param = word.substr(dot + 1);
-  return true;
-}
-
 /// The group's statements in testshade's syntax: `TYPE NAME VALUES;`
 /// (optionally after `param`), `shader NAME LAYER;`, `connect A.OUT B.IN;`.
 bool parseGroupText(Reader &r, const pugi::xml_node &node, SceneGroup &group,
@@ -171,8 +161,8 @@ bool parseGroupText(Reader &r, const pugi::xml_node &node, SceneGroup &group,
     }
     if (w[0] == "connect") {
       GroupConnection c;
-      if (w.size() != 3 || !splitLayerParam(w[1], c.fromLayer, c.fromOutput) ||
-          !splitLayerParam(w[2], c.toLayer, c.toInput))
+      if (w.size() != 3 || !splitLayerDotName(w[1], c.fromLayer, c.fromOutput) ||
+          !splitLayerDotName(w[2], c.toLayer, c.toInput))
         return r.fail(node, "'connect' takes LAYER.OUTPUT LAYER.INPUT: '" + stmt + "'");
       if (!addConnection(r, node, group, std::move(c)))
         return false;

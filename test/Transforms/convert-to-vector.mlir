@@ -265,7 +265,8 @@ func.func @transformc_luminance() {
 // stack (allocated once, in the entry block), the runtime looks up the
 // lanes of the mask, and the result rows are read back; the uniform
 // choices become the file's address and OpenImageIO's wrap code (clamp is
-// 2, black 1).
+// 2, black 1). A 2D lookup's result rows are marked with their row, where
+// osl-derivatives finds their slopes (kTextureDsRow...).
 // CHECK-LABEL: llvm.func @osl_rt_texture(!llvm.ptr, !llvm.ptr, !llvm.ptr, i32, i32, i32, i32, i32, i32, i32, i32, !llvm.ptr, i32, i32)
 // CHECK-LABEL: osl.shader_name = "texture_lookup"
 // CHECK: %[[BLOCK:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
@@ -279,7 +280,7 @@ func.func @transformc_luminance() {
 // CHECK: %[[BITS:.+]] = llvm.bitcast %{{.+}} : vector<8xi1> to i8
 // CHECK: %[[MASK:.+]] = arith.extui %[[BITS]] : i8 to i32
 // CHECK: llvm.call @osl_rt_texture(%[[WHERE]], %[[FILE]], %{{[^,]+}}, %{{[^,]+}}, %{{[^,]+}}, %{{[^,]+}}, %[[S]], %[[T]], %[[R]], %{{[^,]+}}, %{{[^,]+}}, %[[BLOCK]], %{{[^,]+}}, %[[MASK]])
-// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.no_derivative} : !llvm.ptr -> vector<8xf32>
+// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.texture_result_row = 23 : i64} : !llvm.ptr -> vector<8xf32>
 func.func @texture_lookup() {
   %u = osl.global "u" : !osl.varying<f32>
   %v = osl.global "v" : !osl.varying<f32>

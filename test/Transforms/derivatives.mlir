@@ -18,6 +18,31 @@ func.func @global_row(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
 
 // -----
 
+// A 2D lookup's result row (green, row 24 at width 4: 96 floats in) has
+// the derivative d(green)/ds * ds/dy + d(green)/dt * dt/dy: rows 30 and 34
+// (the slopes) and 5 and 6 (ds/dy, dt/dy), read from the same block right
+// after the result.
+// CHECK-LABEL: func.func @texture_result_row
+// CHECK: llvm.load %{{.+}} {alignment = 4 : i64, osl.texture_result_row = 24 : i64}
+// CHECK-DAG: %[[DS:.+]] = llvm.getelementptr %[[BLOCK:.+]][120]
+// CHECK-DAG: %[[DSDY:.+]] = llvm.getelementptr %[[BLOCK]][20]
+// CHECK-DAG: %[[DT:.+]] = llvm.getelementptr %[[BLOCK]][136]
+// CHECK-DAG: %[[DTDY:.+]] = llvm.getelementptr %[[BLOCK]][24]
+// CHECK: arith.addf
+// CHECK-NOT: osl.lane_deriv
+func.func @texture_result_row(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %c = llvm.mlir.constant(148 : i64) : i64
+  %block = llvm.alloca %c x i32 {alignment = 64 : i64} : (i64) -> !llvm.ptr
+  %0 = llvm.getelementptr %block[96] : (!llvm.ptr) -> !llvm.ptr, f32
+  %g = llvm.load %0 {alignment = 4 : i64, osl.texture_result_row = 24 : i64} : !llvm.ptr -> vector<4xf32>
+  %d = osl.lane_deriv "y" %g : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
+
+// -----
+
 // Product rule on u * v with respect to y: dudy * v + u * dvdy (rows 36
 // and 38); nothing is computed for x, which nobody asks for.
 // CHECK-LABEL: func.func @product_rule
