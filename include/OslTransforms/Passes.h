@@ -40,8 +40,7 @@ const char *mathLevelName(MathLevel level);
 /// blocks report their active lanes (osl-run --lane-stats). `math`: how
 /// math ops are computed (osl-approximate-math's level; Double also runs
 /// osl-evaluate-in-double).
-void buildOslToLLVMPipeline(OpPassManager &pm, int width,
-                            const std::string &paramValues = "", bool reference = false,
+void buildOslToLLVMPipeline(OpPassManager &pm, int width, bool reference = false,
                             bool countLanes = false, MathLevel math = MathLevel::Default);
 
 /// Its two halves. The osl-level passes (parameters, uniformity, masks)
@@ -49,8 +48,8 @@ void buildOslToLLVMPipeline(OpPassManager &pm, int width,
 /// must be uniform is varying), so a JIT verifies after each of them; the
 /// lowering to the LLVM dialect works on IR ten times larger and can be
 /// verified once at its end.
-void buildOslLevelPipeline(OpPassManager &pm, const std::string &paramValues = "",
-                           bool reference = false, bool countLanes = false);
+void buildOslLevelPipeline(OpPassManager &pm, bool reference = false,
+                           bool countLanes = false);
 void buildLoweringPipeline(OpPassManager &pm, int width, bool reference = false,
                            MathLevel math = MathLevel::Default);
 

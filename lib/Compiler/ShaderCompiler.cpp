@@ -46,10 +46,6 @@ mlir::ScopedDiagnosticHandler printErrors(mlir::MLIRContext &context, llvm::raw_
   });
 }
 
-std::string paramBindings(const std::vector<ParamOverride> &) {
-  // The front end already turned overrides into constants.
-  return "";
-}
 } // namespace
 
 ShaderCompiler::ShaderCompiler(const CompileOptions &options,
@@ -149,8 +145,7 @@ bool ShaderCompiler::lower() {
   // report the shader's errors. The lowering (most of the passes' time) is
   // verified once at its end unless asked (CompileOptions::verifyEachPass).
   mlir::PassManager oslLevel(&context);
-  mlir::osl::buildOslLevelPipeline(oslLevel, paramBindings(options.params),
-                                   options.reference, options.countLanes);
+  mlir::osl::buildOslLevelPipeline(oslLevel, options.reference, options.countLanes);
   mlir::PassManager lowering(&context);
   lowering.enableVerifier(options.verifyEachPass);
   mlir::osl::buildLoweringPipeline(lowering, options.width, options.reference,

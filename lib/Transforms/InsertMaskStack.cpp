@@ -1,6 +1,6 @@
 //===- InsertMaskStack.cpp - Varying control flow to masked code ----------===//
 //
-// OSL's batched rules (DESIGN.md §2): entering a varying `if` pushes
+// OSL's batched rules (as its SIMD backend masks): entering a varying `if` pushes
 // cond AND top; both arms run under their masks and their values merge per
 // lane. A varying loop iterates while any lane is active and lanes that
 // left keep their values. Every mask is a value here; the innermost one is

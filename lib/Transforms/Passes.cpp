@@ -22,17 +22,17 @@ struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
 };
 } // namespace
 
-void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width,
-                                       const std::string &paramValues, bool reference,
+void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width, bool reference,
                                        bool countLanes, MathLevel math) {
-  buildOslLevelPipeline(pm, paramValues, reference, countLanes);
+  buildOslLevelPipeline(pm, reference, countLanes);
   buildLoweringPipeline(pm, width, reference, math);
 }
 
-void mlir::osl::buildOslLevelPipeline(OpPassManager &pm, const std::string &paramValues,
-                                      bool reference, bool countLanes) {
+void mlir::osl::buildOslLevelPipeline(OpPassManager &pm, bool reference, bool countLanes) {
   OpPassManager &fn = pm.nest<func::FuncOp>();
-  fn.addPass(createBindParams(BindParamsOptions{paramValues}));
+  // Instance values are constants already (the front end bound them); the
+  // pass folds the remaining parameters to their defaults.
+  fn.addPass(createBindParams());
   // Arithmetic on constants folds before the canonicalizer's own patterns
   // see it, as OSL's runtime optimizer folds (0 - 0 becomes a constant 0,
   // then 0^y is 0).
@@ -72,6 +72,6 @@ void mlir::osl::registerOslPasses() {
   PassPipelineRegistration<OslToLLVMOptions>(
       "osl-to-llvm", "Lower an osl shader to an LLVM-dialect batch kernel",
       [](OpPassManager &pm, const OslToLLVMOptions &options) {
-        buildOslToLLVMPipeline(pm, options.width, "", false, false, options.math);
+        buildOslToLLVMPipeline(pm, options.width, false, false, options.math);
       });
 }

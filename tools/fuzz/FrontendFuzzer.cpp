@@ -35,7 +35,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   if (mlir::failed(mlir::verify(*module)))
     __builtin_trap(); // the front end must only emit valid IR
   mlir::PassManager pm(&context);
-  mlir::osl::buildOslToLLVMPipeline(pm, /*width=*/4, /*paramValues=*/"");
+  mlir::osl::buildOslToLLVMPipeline(pm, /*width=*/4);
   (void)pm.run(*module);
   return 0;
 }
