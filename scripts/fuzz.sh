@@ -3,7 +3,7 @@
 # UBSan and runs each for SECONDS (default 30) from a seed corpus of every
 # .osl in the project (and ../shared, for long runs), and the project's IR; the front-end
 # fuzzer mutates with OSL's tokens (tools/fuzz/osl.dict). Exits non-zero on
-# any finding (crash, an input over 60 s, sanitizer report) or when a fuzzer
+# any finding (crash, an input over 180 s, sanitizer report) or when a fuzzer
 # fails; reproducers land in build-fuzz/findings.
 #   scripts/fuzz.sh [SECONDS] [FrontendFuzzer|OslOptFuzzer]   (default: both)
 set -euo pipefail
@@ -23,11 +23,13 @@ if [ ! -f build-fuzz/build.ninja ]; then
 fi
 ninja -C build-fuzz -j2 osl-fuzz-FrontendFuzzer osl-fuzz-OslOptFuzzer
 
-# An input may take 60 s: conformance/tools/noise_probe.osl, a seed, indexes
-# a 400-element array 180 times, each a chain of 400 selects (arrays are
-# SSA values until memory-backed arrays, issue 17): 6.7 s to compile in
-# release, 15 s under the sanitizers (measured), where CI's fuzz run
-# stopped on it at 10 s. A hang still shows, at 60 s.
+# An input may take 180 s: conformance/tools/noise_probe.osl, a seed,
+# indexes a 400-element array 180 times, each a chain of 400 selects
+# (arrays are SSA values until memory-backed arrays, issue 17): 6.7 s to
+# compile in release, 15 s under the sanitizers on an idle machine, and
+# 62 s for a mutation of it while two builds shared the machine's two
+# cores (measured: two 30-minute runs stopped on it as a "timeout"). A
+# hang still shows, at 180 s.
 run() { # name extra-flags... -- seed-dirs...
   local name=$1; shift
   local corpus=build-fuzz/corpus/$name findings=build-fuzz/findings/$name
@@ -37,7 +39,7 @@ run() { # name extra-flags... -- seed-dirs...
   echo "== $name: ${seconds}s"
   local rc=0
   build-fuzz/bin/osl-fuzz-$name "$corpus" "$@" "${flags[@]}" -max_total_time="$seconds" \
-    -timeout=60 -report_slow_units=60 -rss_limit_mb=4096 -max_len=8192 -print_final_stats=1 \
+    -timeout=180 -report_slow_units=180 -rss_limit_mb=4096 -max_len=8192 -print_final_stats=1 \
     -artifact_prefix="$findings/" >"$log" 2>&1 || rc=$?
   grep -E "^(#[0-9]+ *DONE|stat::number_of_executed_units|==[0-9]+==ERROR|SUMMARY|Done)" "$log" || true
   # A finding leaves a file; any other failure of the fuzzer (a bad flag,
