@@ -524,28 +524,23 @@ std::optional<RValue> emitDictValue(IRGen &g, const Expr &call) {
   Location l = g.loc(call.loc);
   Value nameHandle = g.stringHandle(*name, call.args[1]->begin);
   int what = t.isInt() ? 0 : t.isFloat() ? 1 : t.isString() ? 2 : t.isTriple() ? 3 : 16;
-  Value found = b.create<StringCallOp>(l, b.getI32Type(), "dict_value:found", "isi",
-                                       ValueRange{node->value, nameHandle,
-                                                  g.constInt(what, call.loc)})
-                    .getResult();
-  Value ok = g.cmp("ne", found, g.constInt(0, call.loc), call.loc);
-  auto floatK = [&](int k) {
-    return b.create<StringCallOp>(l, b.getF32Type(), "dict_value:float", "isi",
-                                  ValueRange{node->value, nameHandle, g.constInt(k, call.loc)})
-        .getResult();
+  // One string call on (node, name[, k]): "dict_value:found|int|float|string".
+  auto dictCall = [&](llvm::StringRef function, Type type, std::optional<int> k = {}) {
+    SmallVector<Value> operands = {node->value, nameHandle};
+    if (k)
+      operands.push_back(g.constInt(*k, call.loc));
+    return b.create<StringCallOp>(l, type, function, k ? "isi" : "is", operands).getResult();
   };
+  Value found = dictCall("dict_value:found", b.getI32Type(), what);
+  Value ok = g.cmp("ne", found, g.constInt(0, call.loc), call.loc);
+  auto floatK = [&](int k) { return dictCall("dict_value:float", b.getF32Type(), k); };
   RValue old = g.loadLValue(*dest, call.loc);
   RValue value = old;
   if (t.isInt()) {
-    Value v = b.create<StringCallOp>(l, b.getI32Type(), "dict_value:int", "is",
-                                     ValueRange{node->value, nameHandle})
-                  .getResult();
-    value.value = g.select(ok, v, old.value, call.loc);
+    value.value = g.select(ok, dictCall("dict_value:int", b.getI32Type()), old.value, call.loc);
   } else if (t.isString()) {
-    Value v = b.create<StringCallOp>(l, b.getI32Type(), "dict_value:string", "is",
-                                     ValueRange{node->value, nameHandle})
-                  .getResult();
-    value = RValue::runtimeString(g.select(ok, v, g.stringHandle(old, call.loc), call.loc));
+    value = RValue::runtimeString(g.select(ok, dictCall("dict_value:string", b.getI32Type()),
+                                           g.stringHandle(old, call.loc), call.loc));
   } else if (t.isFloat()) {
     value.value = g.select(ok, floatK(0), old.value, call.loc);
   } else if (t.isTriple()) {

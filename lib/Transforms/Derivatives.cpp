@@ -485,8 +485,22 @@ private:
     return b.create<arith::BitcastOp>(loc, def->getResult(0).getType(), dflip).getResult();
   }
 
-  /// Derivative of a load of a global's row: the matching derivative row
-  /// (dPdx for P, dudy for u...); 0 for globals without derivatives.
+  /// Row `row` of the block `load` reads from (its GEP's base), loaded as
+  /// `load` is and marked as a derivative row (no derivatives of its own);
+  /// null when the address is not a GEP of such a block.
+  static Value loadSiblingRow(OpBuilder &b, LLVM::LoadOp load, int64_t row) {
+    auto gep = load.getAddr().getDefiningOp<LLVM::GEPOp>();
+    if (!gep)
+      return Value();
+    auto rowType = dyn_cast<VectorType>(load.getType());
+    int64_t width = rowType ? rowType.getDimSize(0) : 1; // scalar: reference mode
+    auto addr = b.create<LLVM::GEPOp>(load.getLoc(), gep.getType(), b.getF32Type(),
+                                      gep.getBase(), ArrayRef<LLVM::GEPArg>{int32_t(row * width)});
+    auto v = b.create<LLVM::LoadOp>(load.getLoc(), load.getType(), addr, 4);
+    v->setAttr(kDerivativeRowAttr, b.getUnitAttr());
+    return v.getResult();
+  }
+
   /// A 2D lookup's result: d(result)/ds * ds/daxis + d(result)/dt *
   /// dt/daxis, all rows of the lookup's block (read right after the result,
   /// before a loop's next lookup writes the block again).
@@ -494,21 +508,12 @@ private:
     int64_t row = load->getAttrOfType<IntegerAttr>(kTextureResultRowAttr).getInt();
     if (axis != "x" && axis != "y")
       return Value();
-    auto gep = load.getAddr().getDefiningOp<LLVM::GEPOp>();
-    if (!gep)
+    if (!load.getAddr().getDefiningOp<LLVM::GEPOp>())
       return fail(user, "a texture result loaded from an unknown address");
-    auto rowType = dyn_cast<VectorType>(load.getType());
-    int64_t width = rowType ? rowType.getDimSize(0) : 1; // scalar: reference mode
     OpBuilder b(load->getContext());
     b.setInsertionPointAfter(load);
     Location loc = load.getLoc();
-    auto rowValue = [&](int64_t r) {
-      auto addr = b.create<LLVM::GEPOp>(loc, gep.getType(), b.getF32Type(), gep.getBase(),
-                                        ArrayRef<LLVM::GEPArg>{int32_t(r * width)});
-      auto v = b.create<LLVM::LoadOp>(loc, load.getType(), addr, 4);
-      v->setAttr(kDerivativeRowAttr, b.getUnitAttr());
-      return v.getResult();
-    };
+    auto rowValue = [&](int64_t r) { return loadSiblingRow(b, load, r); };
     int64_t k = row - ::osl::kTextureResultRow;
     int64_t d = ::osl::kTextureDerivRow + (axis == "x" ? 0 : 2); // ds/daxis, dt/daxis
     Value ds = b.create<arith::MulFOp>(loc, rowValue(::osl::kTextureDsRow + k), rowValue(d));
@@ -516,6 +521,8 @@ private:
     return b.create<arith::AddFOp>(loc, ds, dt).getResult();
   }
 
+  /// Derivative of a load of a global's row: the matching derivative row
+  /// (dPdx for P, dudy for u...); 0 for globals without derivatives.
   FailureOr<Value> deriveGlobal(LLVM::LoadOp load, Operation *user) {
     if (load->hasAttr(kDerivativeRowAttr))
       return Value(); // no second derivatives, as in OSL
@@ -533,19 +540,11 @@ private:
     const ::osl::GlobalSlot *dslot = ::osl::findGlobal(name);
     if (!dslot)
       return Value();
-    auto gep = load.getAddr().getDefiningOp<LLVM::GEPOp>();
-    if (!gep)
-      return fail(user, "a global loaded from an unknown address");
-    auto rowType = dyn_cast<VectorType>(load.getType());
-    int64_t width = rowType ? rowType.getDimSize(0) : 1; // scalar: reference mode
     OpBuilder b(load);
-    Location loc = load.getLoc();
-    auto addr = b.create<LLVM::GEPOp>(
-        loc, gep.getType(), b.getF32Type(), gep.getBase(),
-        ArrayRef<LLVM::GEPArg>{int32_t((dslot->row + (row - slot->row)) * width)});
-    auto derivative = b.create<LLVM::LoadOp>(loc, load.getType(), addr, 4);
-    derivative->setAttr(kDerivativeRowAttr, b.getUnitAttr());
-    return derivative.getResult();
+    Value derivative = loadSiblingRow(b, load, dslot->row + (row - slot->row));
+    if (!derivative)
+      return fail(user, "a global loaded from an unknown address");
+    return derivative;
   }
 
   static Value product(OpBuilder &b, Location loc, Value a, Value c) {

@@ -8,8 +8,6 @@
 
 #include "OslRender/Renderer.h"
 #include "OslRuntime/ImageOutput.h"
-#include "OslRuntime/StringCall.h"
-#include "OslRuntime/TextureCall.h"
 
 #include "llvm/Support/Format.h"
 #include "llvm/Support/Path.h"
@@ -84,5 +82,5 @@ int osl::renderScene(const RunOptions &options) {
                                  rstats.shadingSeconds * 1e9 /
                                      std::max(1L, rstats.shadedPoints));
   }
-  return !options.keepGoing && (textureFileErrors() > 0 || stringErrors() > 0) ? 1 : 0;
+  return statusAfterShading(options);
 }

@@ -83,6 +83,11 @@ inline int imageHeight(const GridOptions &g) {
 /// Renders options.scenePath (RenderScene.cpp); the process exit status.
 int renderScene(const RunOptions &options);
 
+/// The exit status once the images are written: a texture that could not
+/// be read or a string call that failed (a bad regex) is an error
+/// (reported once, where it happened), unless --keep-going (osl-run.cpp).
+int statusAfterShading(const RunOptions &options);
+
 /// testshade-style arguments (testrender's with --scene). On error returns
 /// false with a message.
 bool parseRunOptions(int argc, char **argv, RunOptions &options,

@@ -194,12 +194,6 @@ void armTimeout(int seconds) {
   alarm(unsigned(seconds));
 }
 
-/// The exit status once the images are written: a texture that could not
-/// be read or a string call that failed (a bad regex) is an error
-/// (reported once, where it happened), unless --keep-going.
-int statusAfterShading(const RunOptions &options) {
-  return !options.keepGoing && (textureFileErrors() > 0 || stringErrors() > 0) ? 1 : 0;
-}
 
 /// Shades and writes a grid whose images exceed --image-memory, `bandRows`
 /// rows at a time, each image written as it goes (under a temporary name,
@@ -254,6 +248,10 @@ int shadeInBands(RunOptions &options, const CompiledShader &shader,
 }
 
 } // namespace
+
+int osl::statusAfterShading(const RunOptions &options) {
+  return !options.keepGoing && (textureFileErrors() > 0 || stringErrors() > 0) ? 1 : 0;
+}
 
 int main(int argc, char **argv) {
   llvm::InitLLVM init(argc, argv);
