@@ -77,9 +77,21 @@ struct CompileOptions {
   /// the lowering once at its end: verifying after each lowering pass was
   /// about 40% of the MLIR passes' time for marble (2.3 of 6 ms).
   bool verifyEachPass = false;
+  /// The outputs the renderer reads (testshade's -o names) of a single
+  /// shader: isconnected() answers 2 for them. (A group's are
+  /// ShaderGroup::outputs.)
+  std::vector<std::string> rendererOutputs;
+  /// testshade's --userdata_isconnected: isconnected() answers 1 for a
+  /// lockgeom=0 parameter.
+  bool userdataIsConnected = false;
   /// Directory of the persistent kernel cache (KernelCache.h), used by
   /// compile(); empty: no cache.
   std::string cacheDir;
+};
+
+/// What isconnected() answers in one layer (FrontendOptions).
+struct LayerConnections {
+  std::vector<std::string> inputs, outputs;
 };
 
 /// What compile() did with the kernel cache.
@@ -174,7 +186,8 @@ private:
                                                 llvm::StringRef filename,
                                                 llvm::ArrayRef<ParamOverride> params,
                                                 llvm::StringRef layerName = "",
-                                                int layerIndex = 0);
+                                                int layerIndex = 0,
+                                                const LayerConnections &connections = {});
   std::unique_ptr<CompiledShader> loadObject(std::string object, std::string name,
                                              std::vector<OutputSpec> outputs);
   bool defineRuntimeSymbols(Jit &target);

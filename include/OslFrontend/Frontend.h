@@ -24,6 +24,11 @@
 
 namespace osl {
 
+/// The OSL release whose behaviour the project reproduces (1.13.12): the
+/// preprocessor's OSL_VERSION_* and getattribute("osl:version").
+constexpr int kOslVersionMajor = 1, kOslVersionMinor = 13, kOslVersionPatch = 12;
+constexpr int kOslVersion = kOslVersionMajor * 10000 + kOslVersionMinor * 100 + kOslVersionPatch;
+
 /// An instance value for a shader parameter, testshade style: "0.5", "3",
 /// "0.1,0.2,0.3" for a triple (one number is repeated), comma-separated
 /// lists for arrays, or the text itself for a string parameter.
@@ -66,6 +71,14 @@ struct FrontendOptions {
   /// hidden, or errors (oslc's -Werror).
   bool warningsAsErrors = false;
   bool showWarnings = true;
+  /// What isconnected() answers: this layer's inputs an upstream layer's
+  /// output feeds, and its outputs a downstream layer or the renderer reads
+  /// (names, with ".field" for a struct's field); with
+  /// userdataIsConnected (testshade's --userdata_isconnected), a lockgeom=0
+  /// parameter counts as connected, to the geometry.
+  std::vector<std::string> connectedInputs;
+  std::vector<std::string> connectedOutputs;
+  bool userdataIsConnected = false;
 };
 
 /// Parses `source` (named `filename` in diagnostics) and returns a module

@@ -72,7 +72,7 @@ ShaderCompiler::~ShaderCompiler() = default;
 mlir::OwningOpRef<mlir::ModuleOp>
 ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
                             llvm::ArrayRef<ParamOverride> params, llvm::StringRef layerName,
-                            int layerIndex) {
+                            int layerIndex, const LayerConnections &connections) {
   std::string text;
   llvm::raw_string_ostream os(text);
   // Warnings are always collected, so the cache keeps them for runs that
@@ -88,6 +88,9 @@ ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
   frontend.layerIndex = layerIndex;
   frontend.groupName = options.groupName;
   frontend.warningsAsErrors = options.warningsAsErrors;
+  frontend.connectedInputs = connections.inputs;
+  frontend.connectedOutputs = connections.outputs;
+  frontend.userdataIsConnected = options.userdataIsConnected;
   auto module = parseOslShader(source, filename, context, params, os, frontend);
   llvm::SmallVector<llvm::StringRef> lines;
   llvm::StringRef(text).split(lines, '\n', -1, /*KeepEmpty=*/false);
@@ -112,7 +115,8 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
     mlir::SourceMgrDiagnosticHandler handler(sourceMgr, &context, errs);
     mlirModule = mlir::parseSourceFile<mlir::ModuleOp>(sourceMgr, &context);
   } else {
-    mlirModule = parseSource(source, filename, options.params);
+    mlirModule = parseSource(source, filename, options.params, "", 0,
+                             LayerConnections{{}, options.rendererOutputs});
   }
   if (!mlirModule)
     return false;
@@ -288,7 +292,10 @@ std::string ShaderCompiler::optionsKey() const {
      << "\nmath " << mlir::osl::mathLevelName(options.math) << "\nllvm pipeline "
      << int(options.llvmPipeline)
      << "\ncolorspace " << options.colorSpace << "\nraytype " << options.rayType
-     << "\ngroup name " << options.groupName;
+     << "\ngroup name " << options.groupName
+     << "\nuserdata is connected " << options.userdataIsConnected;
+  for (const std::string &o : options.rendererOutputs)
+    os << "\nrenderer output " << o.size() << ":" << o;
   for (const UserDatum &d : options.userData)
     os << "\nuserdata " << d.type << " " << d.name << " " << d.value;
   os
@@ -362,6 +369,34 @@ int countOps(mlir::Operation *root) {
   });
   return n;
 }
+
+/// A connection's parameter name without an element or component index.
+std::string connectedName(llvm::StringRef name) { return name.split('[').first.str(); }
+
+/// Layer `index`'s connected inputs and outputs: those connections name,
+/// and the group outputs the renderer reads (ShaderGroup::outputs: the
+/// root layer's by name, another layer's as LAYER.NAME).
+LayerConnections connectionsOf(const ShaderGroup &group, size_t index) {
+  LayerConnections c;
+  const std::string &layer = group.layers[index].name;
+  for (const GroupConnection &k : group.connections) {
+    if (k.toLayer == layer)
+      c.inputs.push_back(connectedName(k.toInput));
+    if (k.fromLayer == layer)
+      c.outputs.push_back(connectedName(k.fromOutput));
+  }
+  bool root = index + 1 == group.layers.size();
+  for (llvm::StringRef output : group.outputs) {
+    auto [prefix, rest] = output.split('.');
+    if (!rest.empty() && group.findLayer(prefix.str()))
+      output = prefix == layer ? rest : llvm::StringRef();
+    else if (!root)
+      output = llvm::StringRef();
+    if (!output.empty())
+      c.outputs.push_back(connectedName(output));
+  }
+  return c;
+}
 } // namespace
 
 bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
@@ -383,7 +418,7 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
       return false;
     }
     auto parsed = parseSource((*buffer)->getBuffer(), layer.shaderPath, layer.params, layer.name,
-                              int(layerIndex));
+                              int(layerIndex), connectionsOf(group, layerIndex));
     if (!parsed) {
       errs << "note: in layer '" << layer.name << "'\n";
       return false;

@@ -439,7 +439,7 @@ const char *const kUnsupported[] = {
     "smooth_linearstep", "raytype",
     "setmessage", "getmessage", "trace", "transformu",
     "splineinverse",
-    "pointcloud_search", "pointcloud_get", "pointcloud_write", "isconnected", "random", "exit", "arraylength", "spline", "noise",
+    "pointcloud_search", "pointcloud_get", "pointcloud_write", "random", "exit", "arraylength", "spline", "noise",
     "snoise", "cellnoise", "hashnoise", "transform", "ptransform", "vtransform",
     "ntransform", "displace", "bump", "fmin", "fmax", "nsnoise",
     "gabor", "pgabor", "sincos",
@@ -1211,6 +1211,11 @@ std::optional<RendererAttribute> testshadeAttribute(const IRGen &g, llvm::String
       a.text = g.groupName();
     else
       return std::nullopt;
+  } else if (name == "osl:version") {
+    // The ShadingSystem's own attribute: the version the preprocessor's
+    // OSL_VERSION names.
+    a.numbers = {double(::osl::kOslVersion)};
+    a.isInt = true;
   } else if (name == "camera:resolution") {
     a.numbers = {double(g.cameraImage().xres), double(g.cameraImage().yres)};
     a.isInt = true;
@@ -1433,8 +1438,8 @@ std::optional<double> lookupFloatConstant(llvm::StringRef name) {
 bool isBuiltinName(llvm::StringRef name) {
   if (name == "determinant" || name == "transpose" || name == "getmatrix" ||
       name == "texture" || name == "texture3d" || name == "environment" ||
-      name == "gettextureinfo" || name == "split" || ::osl::stringFunctionCode(name) >= 0 ||
-      ::osl::closureId(name) >= 0)
+      name == "gettextureinfo" || name == "isconnected" || name == "split" ||
+      ::osl::stringFunctionCode(name) >= 0 || ::osl::closureId(name) >= 0)
     return true;
   for (const Builtin &b : builtinTable())
     if (name == b.name)
@@ -1466,6 +1471,10 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
   auto string = emitStringBuiltin(g, call, stringBuiltin);
   if (stringBuiltin)
     return string;
+  bool connectionBuiltin = true;
+  auto connection = emitConnectionBuiltin(g, call, connectionBuiltin);
+  if (connectionBuiltin)
+    return connection;
   bool messageBuiltin = true;
   auto message = emitMessageBuiltin(g, call, messageBuiltin);
   if (messageBuiltin)

@@ -818,6 +818,7 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
     if (!v)
       return false;
     v->isOutputParam = p.isOutput;
+    v->param = {p.name, isLockgeomZero(p)};
     return true;
   }
   if (t.isVoid())
@@ -907,6 +908,7 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   if (!v)
     return false;
   v->isOutputParam = p.isOutput;
+  v->param = {p.name, isLockgeomZero(p)};
   return true;
 }
 

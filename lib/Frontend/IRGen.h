@@ -83,6 +83,13 @@ struct RValue {
   static RValue voidValue() { return RValue(); }
 };
 
+/// A shader parameter as isconnected() names it: its name, with ".field"
+/// for a struct's field; an empty path for a variable that is none.
+struct ParamRef {
+  std::string path;
+  bool geometryData = false; // a lockgeom=0 parameter
+};
+
 struct Var {
   std::string name;
   OslType type;
@@ -97,6 +104,9 @@ struct Var {
   /// and v too, are writable, as testshade's lazyglobals test shows.)
   bool readOnly = false;
   bool writtenThrough = false;
+  /// The shader parameter this variable is, or a function's parameter
+  /// refers to (isconnected() answers for it).
+  ParamRef param;
 };
 
 struct Scope;
@@ -149,6 +159,10 @@ public:
     return nullptr;
   }
   mlir::OpBuilder &builder() { return b; }
+  const FrontendOptions &frontendOptions() const { return options; }
+  /// The shader parameter `e` names: a variable, a struct field of one, or
+  /// an element of one (the whole parameter) (ConnectionBuiltins.cpp).
+  ParamRef parameterOf(const Expr &e);
   /// The working RGB space of the color functions (a compile option).
   llvm::StringRef workingColorSpace() const { return options.colorSpace; }
   /// The ray being shaded: raytype() is 1 for it.
@@ -568,6 +582,10 @@ std::optional<RValue> emitTextureBuiltin(IRGen &gen, const Expr &call,
 /// setmessage(), getmessage() and trace() (MessageBuiltins.cpp); `known`
 /// is false when `call` is none of them.
 std::optional<RValue> emitMessageBuiltin(IRGen &gen, const Expr &call, bool &known);
+
+/// isconnected() (ConnectionBuiltins.cpp); `known` is false for any other
+/// call.
+std::optional<RValue> emitConnectionBuiltin(IRGen &gen, const Expr &call, bool &known);
 
 /// Evaluates every argument of a call, in order, with no expected types
 /// (Builtins.cpp); nullopt after an error.

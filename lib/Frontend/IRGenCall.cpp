@@ -285,6 +285,9 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
     if (!pv)
       return std::nullopt;
     pv->readOnly = !p.isOutput;
+    // A reference to a shader parameter stays one (isconnected()).
+    if (k < call.args.size())
+      pv->param = parameterOf(*call.args[k]);
     params.push_back(pv);
   }
   InlineFrame frame;

@@ -1,6 +1,8 @@
 //===- Preprocessor.cpp - A small C-style preprocessor -----------------------===//
 #include "Preprocessor.h"
 
+#include "OslFrontend/Frontend.h"
+
 #include "llvm/ADT/SmallVector.h"
 #include "llvm/ADT/StringMap.h"
 #include "llvm/ADT/StringSet.h"
@@ -37,18 +39,18 @@ class Preprocessor {
 public:
   Preprocessor(Diagnostics &diags, llvm::ArrayRef<std::string> includePaths)
       : diags(diags), includePaths(includePaths) {
-    auto define = [&](const char *name, const char *value) {
+    auto define = [&](const char *name, int value) {
       Macro m;
       Token t;
       t.kind = TokKind::Int;
-      t.text = value;
+      t.text = std::to_string(value);
       m.body.push_back(t);
       macros[name] = m;
     };
-    define("OSL_VERSION_MAJOR", "1");
-    define("OSL_VERSION_MINOR", "13");
-    define("OSL_VERSION_PATCH", "12");
-    define("OSL_VERSION", "11312");
+    define("OSL_VERSION_MAJOR", ::osl::kOslVersionMajor);
+    define("OSL_VERSION_MINOR", ::osl::kOslVersionMinor);
+    define("OSL_VERSION_PATCH", ::osl::kOslVersionPatch);
+    define("OSL_VERSION", ::osl::kOslVersion);
   }
 
   /// -D NAME[=VALUE] (VALUE defaults to 1) and -U NAME ("-NAME").

@@ -50,6 +50,8 @@ const char *const osl::kUsage =
     "                         getattribute(NAME) finds it, a lockgeom=0\n"
     "                         parameter NAME takes it; T is int, float,\n"
     "                         color, point, vector, normal or string\n"
+    "  --userdata_isconnected isconnected() counts a lockgeom=0 parameter as\n"
+    "                         connected (to the geometry)\n"
     "\n"
     "Shader groups (testshade's flags): each --param applies to the next\n"
     "--shader; the last layer is the root, whose outputs -o names (another\n"
@@ -174,7 +176,7 @@ std::string testshadeSpelling(std::string a) {
       "param", "layer", "connect", "center", "iters", "entry", "reparam", "group",
       "shader", "od", "vary_udxdy", "vary_vdxdy", "vary_pdxdy", "colorspace",
       "options", "debug", "res", "raytype", "raytype_opt", "groupoutputs",
-      "batched", "groupname", "jbufferMB"};
+      "batched", "groupname", "jbufferMB", "inbuffer", "userdata_isconnected"};
   if (a.size() > 2 && a[0] == '-' && a[1] != '-') {
     llvm::StringRef name = llvm::StringRef(a).drop_front().split(':').first;
     for (const char *flag : kLong)
@@ -233,6 +235,11 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         error = "--seed needs an integer";
         return false;
       }
+    } else if (a == "--userdata_isconnected") {
+      o.compile.userdataIsConnected = true;
+    } else if (a == "--inbuffer") {
+      // testshade reads the shader into memory before loading it: osl-run
+      // always compiles from text it has read, so the flag changes nothing.
     } else if (a == "-v" || a == "--debug") {
       // testshade's verbosity: osl-run reports what it does with --stats.
     } else if (a == "--llvm_opt" || a == "--options") {
@@ -617,6 +624,8 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       error = "no shader given";
       return false;
     }
+    for (auto &[name, file] : o.outputs)
+      o.compile.rendererOutputs.push_back(name);
   }
   if (!o.gridGiven)
     o.grid.xres = o.grid.yres = 512;
