@@ -28,6 +28,10 @@ inline std::pair<llvm::StringRef, int> splitComponentName(llvm::StringRef name) 
 /// osl-link-group replaces by an earlier layer's Ci with lazy-globals=false.
 inline constexpr const char *kInitialCiAttr = "osl.initial_ci";
 
+/// Marks a parameter whose metadata forbids connections to it
+/// ([[int allowconnect = 0]]); the front end sets it.
+inline constexpr const char *kNotConnectableAttr = "osl.not_connectable";
+
 } // namespace mlir::osl
 
 #endif // OSLTRANSFORMS_GROUPNAMES_H

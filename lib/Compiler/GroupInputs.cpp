@@ -19,6 +19,8 @@ public:
       : func(func), layer(layer), shaderName(shaderName), errs(errs), b(func.getContext()) {}
 
   bool connect(const GroupConnection &c) {
+    if (!connectable(c))
+      return false;
     Attribute from = b.getStrArrayAttr({c.fromLayer, c.fromOutput});
     auto [base, component] = mlir::osl::splitComponentName(c.toInput);
     if (component >= 0)
@@ -77,6 +79,22 @@ private:
     inserted.getDefiningOp()->setOperand(1, tip);
     tip = inserted;
     return true;
+  }
+
+  /// OSL's words when metadata forbids the connection.
+  bool connectable(const GroupConnection &c) {
+    llvm::StringRef input = mlir::osl::splitComponentName(c.toInput).first;
+    bool forbidden = false;
+    func.walk([&](mlir::osl::ParamOp p) {
+      llvm::StringRef name = p.getName();
+      if ((name == input || name.starts_with(input.str() + ".")) &&
+          p->hasAttr(mlir::osl::kNotConnectableAttr))
+        forbidden = true;
+    });
+    if (forbidden)
+      errs << "error: cannot connect to " << layer.name << "." << c.toInput
+           << " because it has metadata allowconnect=0\n";
+    return !forbidden;
   }
 
   void noParameter(llvm::StringRef name) {

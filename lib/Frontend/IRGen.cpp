@@ -583,6 +583,16 @@ OwningOpRef<ModuleOp> IRGen::emitProgram(const Program &program) {
   return module;
 }
 
+/// Does the parameter's metadata say [[int NAME = 0]]?
+static bool intMetadataIsZero(const Param &p, llvm::StringRef name) {
+  for (const Metadatum &m : p.metadata)
+    if (m.name == name && m.value && m.value->kind == ExprKind::IntLit)
+      return m.value->intValue == 0;
+  return false;
+}
+
+static bool isLockgeomZero(const Param &p) { return intMetadataIsZero(p, "lockgeom"); }
+
 bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   for (const ParamOverride &o : overrides) {
     // A struct parameter's fields are set as NAME.FIELD (nested: NAME.A.B).
@@ -617,6 +627,16 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   for (const Param &p : shader.params)
     if (!emitParam(p, paramScope, /*runDefault=*/p.isOutput || used.count(p.name)))
       return false;
+  // [[int allowconnect = 0]]: the group builder refuses to connect these.
+  llvm::StringSet<> unconnectable;
+  for (const Param &p : shader.params)
+    if (intMetadataIsZero(p, "allowconnect"))
+      unconnectable.insert(p.name);
+  if (!unconnectable.empty())
+    func.walk([&](ParamOp op) {
+      if (unconnectable.contains(op.getName().split('.').first))
+        op->setAttr(kNotConnectableAttr, b.getUnitAttr());
+    });
 
   current = newScope(paramScope);
   shaderReturned = declareFlag(current, kReturnedFlag, shader.loc);
@@ -752,14 +772,6 @@ std::optional<RValue> IRGen::overrideValue(const Param &p, const std::string &te
   for (size_t i = 0; i < count; ++i)
     r.elems.push_back(makeElem(i, false));
   return r;
-}
-
-/// Does the parameter's metadata say [[int lockgeom = 0]]?
-static bool isLockgeomZero(const Param &p) {
-  for (const Metadatum &m : p.metadata)
-    if (m.name == "lockgeom" && m.value && m.value->kind == ExprKind::IntLit)
-      return m.value->intValue == 0;
-  return false;
 }
 
 bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
