@@ -21,8 +21,12 @@ namespace mlir::osl {
 /// (the derivative is the false operand's), kDualRuleNone on an op whose
 /// result has no derivative in OSL (blackbody, wavelength_color),
 /// kDualRuleSignFlip on the bitcast that ends bitcast(xor(bitcast(v), s))
-/// where s holds only sign bits (its derivative is v's, flipped alike).
+/// where s holds only sign bits (its derivative is v's, flipped alike),
+/// kDualRuleOslPow on pow's select(cmpf false x y, dual, plain): where its
+/// derivative is taken, OSL's dual pow x^(y-1) * x (`dual`) is the value
+/// too, and the derivative is OSL's; elsewhere the select folds to `plain`.
 inline constexpr const char *kDualRuleAttr = "osl.dual_rule";
+inline constexpr const char *kDualRuleOslPow = "osl_pow";
 inline constexpr const char *kDualRuleOslAtan2 = "osl_atan2";
 inline constexpr const char *kDualRuleValueOnly = "value_only";
 inline constexpr const char *kDualRuleNone = "none";

@@ -119,6 +119,8 @@ private:
       return fail(user, def->getName().getStringRef());
     if (rule && rule.getValue() == kDualRuleSignFlip)
       return deriveSignFlip(def, user);
+    if (rule && rule.getValue() == kDualRuleOslPow)
+      return deriveOslPow(cast<arith::SelectOp>(def), user);
 
     // Operands' derivatives first (they are placed after their own
     // definitions, so they dominate this one's).
@@ -221,6 +223,29 @@ private:
       return sum(b, loc, t0, t1);
     }
     return fail(user, def->getName().getStringRef());
+  }
+
+  /// pow's select(cmpf false x y, dual, plain) (lane::pow): the value
+  /// becomes OSL's dual x^(y-1) * x, and the derivative OSL's
+  /// y x^(y-1) x' + x^y ln(x) y'.
+  FailureOr<Value> deriveOslPow(arith::SelectOp select, Operation *user) {
+    auto carrier = select.getCondition().getDefiningOp<arith::CmpFOp>();
+    Value x = carrier.getLhs(), y = carrier.getRhs();
+    Value dual = select.getTrueValue();
+    Value below = dual.getDefiningOp()->getOperand(0);
+    select.getFalseValueMutable().assign(dual);
+    FailureOr<Value> dx = derive(x, user), dy = derive(y, user);
+    if (failed(dx) || failed(dy))
+      return failure();
+    OpBuilder b(select);
+    b.setInsertionPointAfter(select);
+    Location loc = select.getLoc();
+    Value t0 = *dx ? product(b, loc, b.create<arith::MulFOp>(loc, y, below), *dx) : Value();
+    Value t1 = *dy ? product(b, loc, b.create<arith::MulFOp>(loc, select.getResult(),
+                                                             b.create<math::LogOp>(loc, x)),
+                             *dy)
+                   : Value();
+    return sum(b, loc, t0, t1);
   }
 
   /// A result of a uniform branch: the branch is rebuilt to also yield the

@@ -437,10 +437,10 @@ Value lane::sign(OpBuilder &b, Location loc, ValueRange x) {
              sel(b, loc, negv, cst(b, loc, x[0], -1), zero));
 }
 
+namespace {
 /// OSL's safe pow: pow(x, 0) = 1; pow(0, y) = 0 for y != 0; a negative
 /// base needs an integer exponent (odd ones keep the sign), else 0.
-Value lane::pow(OpBuilder &b, Location loc, ValueRange x) {
-  Value base = x[0], e = x[1];
+Value safePow(OpBuilder &b, Location loc, Value base, Value e) {
   Value zero = cst(b, loc, base, 0), one = cst(b, loc, base, 1);
   Value mag = b.create<math::PowFOp>(loc, b.create<math::AbsFOp>(loc, base), e);
   Value isInt = fcmp(b, loc, arith::CmpFPredicate::OEQ,
@@ -462,15 +462,27 @@ Value lane::pow(OpBuilder &b, Location loc, ValueRange x) {
       op->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleValueOnly));
     return v;
   };
-  Value square = min(b, loc, {b.create<arith::MulFOp>(loc, base, base), cst(b, loc, base, FLT_MAX)});
+  Value square = lane::min(b, loc, {b.create<arith::MulFOp>(loc, base, base), cst(b, loc, base, FLT_MAX)});
   r = valueOnly(fcmp(b, loc, arith::CmpFPredicate::OEQ, e, cst(b, loc, e, 2)), square, r);
   r = valueOnly(fcmp(b, loc, arith::CmpFPredicate::OEQ, e, one), base, r);
   r = sel(b, loc, fcmp(b, loc, arith::CmpFPredicate::OEQ, base, zero), zero, r);
-  // OSL's dual pow differentiates u^v as v u^(v-1) u' + ln(u) u^v v' even
-  // where the value is special-cased to 1 (v = 0).
-  Value result = sel(b, loc, fcmp(b, loc, arith::CmpFPredicate::OEQ, e, zero), one, r);
-  if (Operation *op = result.getDefiningOp())
-    op->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleValueOnly));
+  return sel(b, loc, fcmp(b, loc, arith::CmpFPredicate::OEQ, e, zero), one, r);
+}
+} // namespace
+
+/// pow(x, y) as OSL computes it: safe pow, except where a derivative is
+/// taken, where OSL's dual pow computes x^(y-1) * x (so 0^0 is 0 there,
+/// and other values may round differently). Both are built; the
+/// derivatives pass picks (kDualRuleOslPow), and the unused one folds away.
+Value lane::pow(OpBuilder &b, Location loc, ValueRange x) {
+  Value base = x[0], e = x[1];
+  Value plain = safePow(b, loc, base, e);
+  Value below = safePow(b, loc, base, b.create<arith::SubFOp>(loc, e, cst(b, loc, e, 1)));
+  Value dual = b.create<arith::MulFOp>(loc, below, base);
+  // Always false; its operands tell osl-derivatives x and y.
+  Value carrier = fcmp(b, loc, arith::CmpFPredicate::AlwaysFalse, base, e);
+  Value result = sel(b, loc, carrier, dual, plain);
+  result.getDefiningOp()->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleOslPow));
   return result;
 }
 

@@ -117,6 +117,42 @@ func.func @osl_atan2(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
 
 // -----
 
+// OSL's dual pow (osl.dual_rule = "osl_pow" on lane::pow's select): where
+// the derivative is taken the value becomes x^(y-1) * x (the select's
+// plain operand is replaced by it), and the derivative is
+// y x^(y-1) x' + x^y ln(x) y' (here x = u, y = 3: only the first term).
+// CHECK-LABEL: func.func @osl_pow
+// CHECK: %[[DU:.+]] = llvm.load %{{.+}} {alignment = 4 : i64, osl.derivative_row} : !llvm.ptr -> vector<4xf32>
+// CHECK: math.powf %[[U:.+]], %{{.+}} : vector<4xf32>
+// CHECK: %[[BELOW:.+]] = math.powf %[[U]], %{{.+}} : vector<4xf32>
+// CHECK: %[[DUAL:.+]] = arith.mulf %[[BELOW]], %[[U]] : vector<4xf32>
+// CHECK: %[[C:.+]] = arith.cmpf false, %[[U]], %[[Y:.+]] : vector<4xf32>
+// CHECK: %[[V:.+]] = arith.select %[[C]], %[[DUAL]], %[[DUAL]] {osl.dual_rule = "osl_pow"}
+// CHECK: %[[S:.+]] = arith.mulf %[[Y]], %[[BELOW]]
+// CHECK: %[[D:.+]] = arith.mulf %[[S]], %[[DU]]
+// CHECK: llvm.intr.masked.store %[[V]]
+// CHECK: llvm.intr.masked.store %[[D]]
+func.func @osl_pow(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %y = arith.constant dense<3.0> : vector<4xf32>
+  %one = arith.constant dense<1.0> : vector<4xf32>
+  %plain = math.powf %u, %y : vector<4xf32>
+  %ybelow = arith.subf %y, %one : vector<4xf32>
+  %below = math.powf %u, %ybelow : vector<4xf32>
+  %dual = arith.mulf %below, %u : vector<4xf32>
+  %c = arith.cmpf false, %u, %y : vector<4xf32>
+  %v = arith.select %c, %dual, %plain {osl.dual_rule = "osl_pow"} : vector<4xi1>, vector<4xf32>
+  %d = osl.lane_deriv "x" %v : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %v, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  %1 = llvm.getelementptr %arg1[4] : (!llvm.ptr) -> !llvm.ptr, f32
+  llvm.intr.masked.store %d, %1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
+
+// -----
+
 // A value carried around a loop carries its derivative too: the loop is
 // rebuilt with one more iter_arg, starting at d(init) (dudx, 140 floats in)
 // and yielding the derivative of what the body yields (the product rule).
