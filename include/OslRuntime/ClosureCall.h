@@ -42,7 +42,8 @@ enum ClosureId : int32_t {
   kMxLayer, kClosureCount,
 };
 
-/// testshade's and testrender's closures take a "label" keyword.
+/// Most of testshade's and testrender's closures take a "label" keyword
+/// (not microfacet, reflection and refraction, which OSL prints without one).
 #define OSL_LABEL_KEYWORD "label:s"
 #define OSL_MX_KEYWORDS "label:s"
 #define OSL_MX_FILM_KEYWORDS "label:s,thinfilm_thickness:f,thinfilm_ior:f"
@@ -56,10 +57,10 @@ inline constexpr ClosureSignature kClosures[] = {
     {"phong", "nf", OSL_LABEL_KEYWORD},
     {"ward", "nnff", OSL_LABEL_KEYWORD},
     // distribution, N, U, xalpha, yalpha, eta, refract (0 reflect, 1 refract, 2 both)
-    {"microfacet", "snnfffi", OSL_LABEL_KEYWORD},
+    {"microfacet", "snnfffi", ""},
     // N, eta; eta 0 means no Fresnel term (reflection(N))
-    {"reflection", "nf", OSL_LABEL_KEYWORD},
-    {"refraction", "nf", OSL_LABEL_KEYWORD},
+    {"reflection", "nf", ""},
+    {"refraction", "nf", ""},
     {"transparent", "", ""},
     {"debug", "s", ""},
     {"holdout", "", ""},

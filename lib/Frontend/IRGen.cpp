@@ -248,7 +248,7 @@ bool IRGen::checkStructType(const OslType &t, SrcLoc l) {
       return error(l, "field '" + f.name + "' of struct '" + t.structDecl->name +
                           "': string fields of arrays of structs, and arrays of strings "
                           "as fields, are not supported yet");
-    if (f.type.base == BaseType::Closure ||
+    if ((f.type.base == BaseType::Closure && (t.isArray() || f.type.isArray())) ||
         (f.type.base == BaseType::Matrix && (t.isArray() || f.type.isArray())))
       return error(l, "field '" + f.name + "' of struct '" + t.structDecl->name +
                           "': '" + f.type.str() + "' fields are not supported yet");
@@ -776,8 +776,7 @@ std::optional<RValue> IRGen::overrideValue(const Param &p, const std::string &te
 
 bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   OslType t = p.type;
-  if ((t.base == BaseType::Matrix && t.isArray()) || (t.isStructLike() && t.isArray()) ||
-      (t.base == BaseType::Closure && t.isArray()))
+  if ((t.base == BaseType::Matrix && t.isArray()) || (t.isStructLike() && t.isArray()))
     return error(p.loc, "shader parameters of type '" + t.str() + "' are not supported yet");
   if (t.isStructLike()) {
     // Instance values and connections name the fields (`p.field`): each
@@ -796,7 +795,7 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
       return false;
     bool ok = true;
     forEachStructLeaf(p.name, t, *c, [&](const std::string &name, RValue &leaf) {
-      if (!ok || leaf.type.isString() || leaf.type.isClosure())
+      if (!ok || leaf.type.isString())
         return;
       const ParamOverride *fieldValue = nullptr;
       for (const ParamOverride &o : overrides)

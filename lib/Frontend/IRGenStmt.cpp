@@ -252,8 +252,6 @@ bool IRGen::emitDecl(const Stmt &s) {
   for (const Declarator &d : s.decls) {
     OslType t = base;
     t.arrayLen = d.arrayLen;
-    if (t.base == BaseType::Closure && t.isArray())
-      return error(d.loc, "arrays of closures are not supported yet");
     if (!checkStructType(t, d.loc))
       return false;
     RValue init;

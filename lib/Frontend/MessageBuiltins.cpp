@@ -35,8 +35,7 @@ std::optional<MessageOperands> operandsOf(IRGen &g, const RValue &v, SrcLoc l,
                                           llvm::StringRef function) {
   MessageOperands ops;
   const OslType &t = v.type;
-  if (t.isStructLike() || t.base == BaseType::Bool ||
-      (t.isArray() && t.base == BaseType::Closure)) {
+  if (t.isStructLike() || t.base == BaseType::Bool) {
     g.error(l, "'" + function + "' cannot pass a value of type '" + t.str() + "' yet");
     return std::nullopt;
   }

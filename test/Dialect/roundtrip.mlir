@@ -93,7 +93,7 @@ func.func @string_calls(%i: !osl.varying<i32>, %f: f32, %c: vector<3xf32>) {
 // Closures: uniform or varying, built by component, product and sum.
 // CHECK-LABEL: func.func @closures
 // CHECK: osl.closure_empty : !osl.closure
-// CHECK: osl.closure_component "microfacet"(%{{.+}}) : (i32, vector<3xf32>, vector<3xf32>, f32, f32, f32, i32, i32) -> !osl.closure
+// CHECK: osl.closure_component "microfacet"(%{{.+}}) : (i32, vector<3xf32>, vector<3xf32>, f32, f32, f32, i32) -> !osl.closure
 // CHECK: osl.closure_component "diffuse"(%{{.+}}) : (!osl.varying<vector<3xf32>>, i32) -> !osl.varying<!osl.closure>
 // CHECK: osl.closure_mul %{{.+}}, %{{.+}} : !osl.varying<!osl.closure>, vector<3xf32> -> !osl.varying<!osl.closure>
 // CHECK: osl.closure_add %{{.+}}, %{{.+}} : !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<!osl.closure>
@@ -102,7 +102,7 @@ func.func @string_calls(%i: !osl.varying<i32>, %f: f32, %c: vector<3xf32>) {
 func.func @closures(%n: !osl.varying<vector<3xf32>>, %c: !osl.varying<i1>, %dist: i32,
                     %u: vector<3xf32>, %a: f32, %refr: i32, %w: vector<3xf32>) {
   %empty = osl.closure_empty : !osl.closure
-  %spec = osl.closure_component "microfacet"(%dist, %u, %u, %a, %a, %a, %refr, %dist) : (i32, vector<3xf32>, vector<3xf32>, f32, f32, f32, i32, i32) -> !osl.closure
+  %spec = osl.closure_component "microfacet"(%dist, %u, %u, %a, %a, %a, %refr) : (i32, vector<3xf32>, vector<3xf32>, f32, f32, f32, i32) -> !osl.closure
   %d = osl.closure_component "diffuse"(%n, %dist) : (!osl.varying<vector<3xf32>>, i32) -> !osl.varying<!osl.closure>
   %dw = osl.closure_mul %d, %w : !osl.varying<!osl.closure>, vector<3xf32> -> !osl.varying<!osl.closure>
   %sum = osl.closure_add %dw, %spec : !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<!osl.closure>
