@@ -29,6 +29,9 @@ struct CachedKernel {
   std::string object;
   /// The front end's warnings when it was compiled, printed again on a hit.
   std::string warnings;
+  /// Reports asked for (optimization warnings), printed again on a hit
+  /// even where warnings are hidden.
+  std::string reports;
 };
 
 enum class CacheLookup { Hit, Miss, Corrupt };

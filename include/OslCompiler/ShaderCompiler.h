@@ -84,6 +84,10 @@ struct CompileOptions {
   /// testshade's --userdata_isconnected: isconnected() answers 1 for a
   /// lockgeom=0 parameter.
   bool userdataIsConnected = false;
+  /// Report what is left to run time that OSL would fold (strings made or
+  /// read while shading, texture names that are not handles), as OSL's
+  /// opt_warnings does (testshade's --options opt_warnings=1).
+  bool optimizationWarnings = false;
   /// Directory of the persistent kernel cache (KernelCache.h), used by
   /// compile(); empty: no cache.
   std::string cacheDir;
@@ -199,6 +203,8 @@ private:
   llvm::raw_ostream &errs;
   /// What the front end warned of in this compile.
   std::string warnings;
+  /// The optimization warnings asked for (CompileOptions::optimizationWarnings).
+  std::string reports;
   Stats *stats;
   mlir::MLIRContext context;
   mlir::OwningOpRef<mlir::ModuleOp> mlirModule;

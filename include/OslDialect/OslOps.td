@@ -421,6 +421,10 @@ def Osl_TextureOp : Osl_Op<"texture", [AttrSizedOperandSegments]> {
     list of `candidates`. A varying index is split into lane groups that
     agree by osl-lane-group-filter; the lowering needs them uniform.
 
+    `fileHandle` (optional), a string handle, is the file name where it is
+    computed at run time (format, concat...): then each lane looks up the
+    file it names, and the file's candidates are unused.
+
     `mask` (optional) limits the lookup to some lanes; the other lanes'
     results are undefined. Results are varying: a lookup reads per point.
     The lookup may report an error (a missing file) once per file, unless
@@ -434,12 +438,13 @@ def Osl_TextureOp : Osl_Op<"texture", [AttrSizedOperandSegments]> {
                        Variadic<Osl_Float>:$coords, Variadic<Osl_Float>:$derivs,
                        Variadic<Osl_Float>:$floatOptions,
                        Osl_Value:$firstchannel, Osl_Value:$subimage,
-                       Variadic<Osl_Value>:$choices, Optional<Osl_Bool>:$mask);
+                       Variadic<Osl_Value>:$choices, Optional<Osl_Value>:$fileHandle,
+                       Optional<Osl_Bool>:$mask);
   let results = (outs Osl_Value:$result, Osl_Float:$alpha, Osl_Value:$errorMessage);
   let assemblyFormat = [{
     $kind `(` $coords `)` `derivs` `(` $derivs `)` `options` `(` $floatOptions `)`
     `channel` $firstchannel `subimage` $subimage `choices` `(` $choices `)`
-    (`mask` $mask^ `:` type($mask))? attr-dict `:` `(` type($coords) `)` `(` type($derivs) `)`
+    (`file` $fileHandle^ `:` type($fileHandle))? (`mask` $mask^ `:` type($mask))? attr-dict `:` `(` type($coords) `)` `(` type($derivs) `)`
     `(` type($floatOptions) `)` type($firstchannel) `,` type($subimage) `(` type($choices) `)`
     `->` type($result) `,` type($alpha) `,` type($errorMessage)
   }];
@@ -453,12 +458,17 @@ def Osl_GetTextureInfoOp : Osl_Op<"gettextureinfo", [Pure]> {
     "averagecolor", "texturetype", metadata...) about `file`, as ints,
     floats (`floats` set) or i32 handles of run-time strings (`strings`
     set): `found` is 1 when the texture system knew the answer, else 0 and
-    the values are undefined. One answer per shader: the results are
-    uniform.
+    the values are undefined. The results are uniform, unless `fileHandle`
+    (optional), a string handle, names the file (computed at run time,
+    `file` is then unused) and is varying: each point asks about its own.
   }];
-  let arguments = (ins StrAttr:$file, StrAttr:$name, UnitAttr:$floats, UnitAttr:$strings);
-  let results = (outs I32:$found, Variadic<AnyTypeOf<[F32, I32]>>:$values);
-  let assemblyFormat = "$file `,` $name attr-dict `:` type($values)";
+  let arguments = (ins StrAttr:$file, StrAttr:$name, UnitAttr:$floats, UnitAttr:$strings,
+                       Optional<Osl_Value>:$fileHandle);
+  let results = (outs Osl_Value:$found, Variadic<Osl_Value>:$values);
+  let assemblyFormat = [{
+    $file `,` $name (`file` $fileHandle^ `:` type($fileHandle))? attr-dict `:`
+    type($found) `,` `(` type($values) `)`
+  }];
   let hasVerifier = 1;
 }
 

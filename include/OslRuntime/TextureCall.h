@@ -29,7 +29,9 @@ enum TextureRow : int32_t {
   kTextureFirstChannelRow = 28, ///< the first channel, an int per point
   kTextureDsRow = 29,     ///< 4 rows: d(result)/ds of each result row (2D)
   kTextureDtRow = 33,     ///< 4 rows: d(result)/dt of each result row (2D)
-  kTextureRows = 37,
+  kTextureFileRow = 37,   ///< with a null `file`: each lane's file name, a
+                          ///< string handle (a name computed at run time)
+  kTextureRows = 38,
 };
 
 enum TextureKind : int32_t { kTexture2D = 0, kTexture3D = 1, kTextureEnvironment = 2 };
@@ -78,6 +80,8 @@ enum TextureInfoKind : int32_t {
 
 /// One lookup for the lanes set in `laneMask` (bit i = lane i) of a batch
 /// of `width` lanes; reads and writes `rows` (kTextureRows x width floats).
+/// A null `file` means each lane names its own in kTextureFileRow (lanes
+/// naming the same file are looked up together).
 /// A file that cannot be read is reported once, at `where` (the call's
 /// file:line:col), unless missingcolor or errormessage is given; its lanes
 /// get missingcolor, or zeros.
@@ -95,5 +99,14 @@ extern "C" void osl_rt_texture(const char *where, const char *file,
 extern "C" int32_t osl_rt_gettextureinfo(const char *file, const char *name,
                                          int32_t kind, int32_t count,
                                          void *data);
+
+/// gettextureinfo() about files named at run time, for the points set in
+/// `laneMask` of `width`: point i asks about the file whose string handle
+/// is handles[i], writes its `count` values to data[k * width + i] (k =
+/// 0..count-1; unchanged where unknown) and 1 or 0 to found[i]. Points
+/// naming the same file ask once.
+extern "C" void osl_rt_gettextureinfo_lanes(const int32_t *handles, const char *name,
+                                            int32_t kind, int32_t count, void *data,
+                                            int32_t *found, int32_t width, uint32_t laneMask);
 
 #endif // OSLRUNTIME_TEXTURECALL_H

@@ -121,9 +121,10 @@ CacheLookup KernelCache::lookup(llvm::StringRef key, CachedKernel &entry) const 
     return CacheLookup::Corrupt;
 
   FieldReader reader{body.drop_front(sizeof kMagic)};
-  llvm::StringRef storedKey, name, outputs, object, warnings;
+  llvm::StringRef storedKey, name, outputs, object, warnings, reports;
   if (!reader.next(storedKey) || !reader.next(name) || !reader.next(outputs) ||
-      !reader.next(object) || !reader.next(warnings) || !reader.rest.empty())
+      !reader.next(object) || !reader.next(warnings) || !reader.next(reports) ||
+      !reader.rest.empty())
     return CacheLookup::Corrupt;
   if (storedKey != key)
     return CacheLookup::Corrupt; // a hash collision or a foreign file
@@ -133,6 +134,7 @@ CacheLookup KernelCache::lookup(llvm::StringRef key, CachedKernel &entry) const 
   entry.shaderName = name.str();
   entry.object = object.str();
   entry.warnings = warnings.str();
+  entry.reports = reports.str();
   return CacheLookup::Hit;
 }
 
@@ -148,6 +150,7 @@ bool KernelCache::store(llvm::StringRef key, const CachedKernel &entry,
   putField(data, outputsText(entry.outputs));
   putField(data, entry.object);
   putField(data, entry.warnings);
+  putField(data, entry.reports);
   uint64_t checksum = llvm::xxh3_64bits(data);
   data.append(reinterpret_cast<const char *>(&checksum), sizeof checksum);
 

@@ -3,6 +3,7 @@
 #include "OslRuntime/ClosureCall.h"
 #include "OslCompiler/KernelCache.h"
 #include "GroupInputs.h"
+#include "OptimizationWarnings.h"
 
 #include "OslDialect/OslDialect.h"
 #include "OslRuntime/LaneStats.h"
@@ -92,6 +93,12 @@ ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
   frontend.connectedOutputs = connections.outputs;
   frontend.userdataIsConnected = options.userdataIsConnected;
   auto module = parseOslShader(source, filename, context, params, os, frontend);
+  if (module && options.optimizationWarnings) {
+    std::string layer = layerName.str();
+    if (layer.empty())
+      module->walk([&](mlir::func::FuncOp f) { layer = f.getSymName().str() + "_0"; });
+    tagLayerForWarnings(*module, layer);
+  }
   llvm::SmallVector<llvm::StringRef> lines;
   llvm::StringRef(text).split(lines, '\n', -1, /*KeepEmpty=*/false);
   for (llvm::StringRef line : lines) {
@@ -159,8 +166,16 @@ bool ShaderCompiler::lower() {
   auto handler = printErrors(context, errs);
   if (isGroup && !specialiseGroup())
     return false;
-  return mlir::succeeded(oslLevel.run(*mlirModule)) &&
-         mlir::succeeded(lowering.run(*mlirModule)) &&
+  if (mlir::failed(oslLevel.run(*mlirModule)))
+    return false;
+  if (options.optimizationWarnings) {
+    // Asked for, so shown even where warnings are hidden (-w); kept for
+    // the kernel cache to replay.
+    reports = optimizationWarnings(
+        *mlirModule, options.groupName.empty() ? "unnamed_group_1" : options.groupName);
+    errs << reports;
+  }
+  return mlir::succeeded(lowering.run(*mlirModule)) &&
          mlir::succeeded(mlir::verify(*mlirModule));
 }
 
@@ -192,6 +207,8 @@ bool ShaderCompiler::defineRuntimeSymbols(Jit &target) {
   if (llvm::Error e = target.defineSymbols(
           {{"osl_rt_texture", reinterpret_cast<void *>(&osl_rt_texture)},
            {"osl_rt_gettextureinfo", reinterpret_cast<void *>(&osl_rt_gettextureinfo)},
+           {"osl_rt_gettextureinfo_lanes",
+            reinterpret_cast<void *>(&osl_rt_gettextureinfo_lanes)},
            {"osl_rt_string_intern", reinterpret_cast<void *>(&osl_rt_string_intern)},
            {"osl_rt_string_call", reinterpret_cast<void *>(&osl_rt_string_call)},
            {"osl_rt_print", reinterpret_cast<void *>(&osl_rt_print)},
@@ -293,7 +310,8 @@ std::string ShaderCompiler::optionsKey() const {
      << int(options.llvmPipeline)
      << "\ncolorspace " << options.colorSpace << "\nraytype " << options.rayType
      << "\ngroup name " << options.groupName
-     << "\nuserdata is connected " << options.userdataIsConnected;
+     << "\nuserdata is connected " << options.userdataIsConnected
+     << "\noptimization warnings " << options.optimizationWarnings;
   for (const std::string &o : options.rendererOutputs)
     os << "\nrenderer output " << o.size() << ":" << o;
   for (const UserDatum &d : options.userData)
@@ -335,6 +353,7 @@ ShaderCompiler::compileCached(const std::string &key,
       // The same warnings as the compile that stored it.
       if (options.showWarnings)
         errs << entry.warnings;
+      errs << entry.reports;
       return shader;
     }
     found = CacheLookup::Corrupt; // a well-formed file the linker refused
@@ -348,7 +367,7 @@ ShaderCompiler::compileCached(const std::string &key,
   ScopedTimer timer(stats, "kernel cache");
   std::string error;
   CachedKernel stored{shader->name, shader->outputs, shader->jit->compiledObject().str(),
-                      warnings};
+                      warnings, reports};
   // A cache that cannot be written costs the next run a compile, nothing
   // more: say so and go on.
   if (!cache.store(key, stored, error))

@@ -529,6 +529,8 @@ LogicalResult TextureOp::verify() {
     if (!getUniformType(c.getType()).isInteger(32))
       return emitOpError("choice of ") << kTextureChoiceNames[i] << " must be i32";
   }
+  if (getFileHandle() && !getUniformType(getFileHandle().getType()).isInteger(32))
+    return emitOpError("fileHandle must be an i32 string handle");
   return success();
 }
 
@@ -540,8 +542,15 @@ LogicalResult GetTextureInfoOp::verify() {
   Type want = getFloats() ? Type(Float32Type::get(getContext()))
                          : Type(IntegerType::get(getContext(), 32));
   for (Value v : getValues())
-    if (v.getType() != want)
+    if (getUniformType(v.getType()) != want)
       return emitOpError("values must all be ") << want;
+  if (!getUniformType(getFound().getType()).isInteger(32))
+    return emitOpError("found must be i32");
+  if (getFileHandle() && !getUniformType(getFileHandle().getType()).isInteger(32))
+    return emitOpError("fileHandle must be an i32 string handle");
+  if (!getFileHandle() && (isVarying(getFound().getType()) ||
+                           llvm::any_of(getValues(), [](Value v) { return isVarying(v.getType()); })))
+    return emitOpError("answers about a file known when compiled are uniform");
   return success();
 }
 

@@ -83,6 +83,7 @@ private:
   Value choice[NumChoices];
   std::vector<std::string> candidates[NumChoices];
   Value firstChannel, subimage;
+  Value fileHandle; // a file name computed at run time
   bool hasMissingColor = false, hasMissingAlpha = false;
   std::optional<LValue> alphaOut;
   std::optional<LValue> errorOut; // "errormessage"
@@ -121,7 +122,14 @@ bool TextureCall::stringChoice(size_t k, ChoiceOption which) {
   if (!v->type.isString())
     return g.error(argLoc(k), "'" + call.name + "' expects a string here, got '" +
                                   v->type.str() + "'");
-  if (!g.compileTimeStrings(*v, argLoc(k), "a texture's file name or string option"))
+  if (which == File && v->isRuntimeString()) {
+    // Each lane looks up the file it names.
+    fileHandle = v->value;
+    candidates[which] = {""};
+    choice[which] = g.constInt(0, call.loc);
+    return true;
+  }
+  if (!g.compileTimeStrings(*v, argLoc(k), "a texture's string option"))
     return false;
   if (v->isStringChoice()) {
     candidates[which] = v->choices;
@@ -357,7 +365,7 @@ std::optional<RValue> TextureCall::emit(const OslType *expected) {
                                 uint32_t(color ? 3 : 1), hasMissingColor, hasMissingAlpha,
                                 errorOut.has_value(), b.getArrayAttr(lists), coords, derivs,
                                 ArrayRef<Value>(floats), firstChannel, subimage, choices,
-                                /*mask=*/Value());
+                                fileHandle, /*mask=*/Value());
   if (alphaOut)
     g.storeLValue(*alphaOut, RValue::num(OslType(BaseType::Float), op.getAlpha()), call.loc);
   if (errorOut)
@@ -372,8 +380,10 @@ struct TextureInfoAnswer {
   RValue value;
 };
 
+/// `fileHandle`, when set, is the file's name computed at run time.
 TextureInfoAnswer askTextureInfo(IRGen &g, const Expr &call, const std::string &file,
-                                 const std::string &name, const OslType &t, const RValue &old) {
+                                 const std::string &name, const OslType &t, const RValue &old,
+                                 Value fileHandle) {
   OslType element = t.isArray() ? t.element() : t;
   bool isString = t.isString();
   bool isFloat = element.isFloat() || element.isTriple() || t.isMatrix();
@@ -384,7 +394,7 @@ TextureInfoAnswer askTextureInfo(IRGen &g, const Expr &call, const std::string &
   Type scalar = isFloat ? Type(b.getF32Type()) : Type(b.getI32Type());
   auto op = b.create<GetTextureInfoOp>(loc, b.getI32Type(),
                                        SmallVector<Type>(size_t(count), scalar), file, name,
-                                       isFloat, isString);
+                                       isFloat, isString, fileHandle);
   Value found = b.create<CmpOp>(loc, "ne", op.getFound(), g.constInt(0, call.loc));
   ValueRange v = op.getValues();
   RValue updated = old;
@@ -417,6 +427,7 @@ std::optional<RValue> emitGetTextureInfo(IRGen &g, const Expr &call) {
   }
   std::vector<std::string> choices[2];
   Value index[2];
+  Value fileHandle; // a file name computed at run time
   for (int k = 0; k < 2; ++k) {
     auto v = g.emitExpr(*call.args[k]);
     if (!v)
@@ -425,10 +436,15 @@ std::optional<RValue> emitGetTextureInfo(IRGen &g, const Expr &call) {
       g.error(call.args[k]->loc, usage);
       return std::nullopt;
     }
+    if (k == 0 && v->isRuntimeString()) {
+      fileHandle = v->value;
+      choices[k] = {""};
+      continue;
+    }
     if (v->isRuntimeString()) {
-      g.error(call.args[k]->loc, "'gettextureinfo' needs strings known when the shader is "
-                                 "compiled (or chosen per point among such strings); this "
-                                 "one is computed at run time");
+      g.error(call.args[k]->loc, "'gettextureinfo' needs the name of what it asks known when "
+                                 "the shader is compiled (or chosen per point among such "
+                                 "strings); this one is computed at run time");
       return std::nullopt;
     }
     if (v->isStringChoice()) {
@@ -452,7 +468,8 @@ std::optional<RValue> emitGetTextureInfo(IRGen &g, const Expr &call) {
   std::optional<TextureInfoAnswer> merged;
   for (size_t i = 0; i < choices[0].size(); ++i)
     for (size_t j = 0; j < choices[1].size(); ++j) {
-      TextureInfoAnswer a = askTextureInfo(g, call, choices[0][i], choices[1][j], t, old);
+      TextureInfoAnswer a =
+          askTextureInfo(g, call, choices[0][i], choices[1][j], t, old, fileHandle);
       if (!merged) {
         merged = a;
         continue;

@@ -190,8 +190,25 @@ extern "C" void osl_rt_texture(const char *where, const char *file, const char *
                                int32_t flags, float *rows, int32_t width, uint32_t laneMask) {
   std::string error;
   if (const osl::OiioModuleApi *api = osl::oiioModule(error)) {
-    api->texture(where, file, subimageName, subimage, kind, nchannels, swrap, twrap, rwrap,
-                 interp, flags, rows, width, laneMask);
+    if (file) {
+      api->texture(where, file, subimageName, subimage, kind, nchannels, swrap, twrap, rwrap,
+                   interp, flags, rows, width, laneMask);
+      return;
+    }
+    // Names computed at run time: the lanes naming one file at a time.
+    const int32_t *handles =
+        reinterpret_cast<const int32_t *>(rows + size_t(osl::kTextureFileRow) * size_t(width));
+    for (uint32_t left = laneMask; left;) {
+      int32_t handle = handles[__builtin_ctz(left)];
+      uint32_t same = 0;
+      for (int32_t lane = 0; lane < width; ++lane)
+        if ((left >> lane & 1u) && handles[lane] == handle)
+          same |= 1u << lane;
+      std::string name = osl::stringText(handle);
+      api->texture(where, name.c_str(), subimageName, subimage, kind, nchannels, swrap, twrap,
+                   rwrap, interp, flags, rows, width, same);
+      left &= ~same;
+    }
     return;
   }
   osl::reportUnreachable(where, error);
@@ -217,4 +234,28 @@ extern "C" int32_t osl_rt_gettextureinfo(const char *file, const char *name, int
   for (int32_t k = 0; k < count; ++k)
     static_cast<int32_t *>(data)[k] = osl_rt_string_intern(texts[size_t(k)] ? texts[size_t(k)] : "");
   return 1;
+}
+
+extern "C" void osl_rt_gettextureinfo_lanes(const int32_t *handles, const char *name,
+                                            int32_t kind, int32_t count, void *data,
+                                            int32_t *found, int32_t width, uint32_t laneMask) {
+  // Every value is 4 bytes (int, float or string handle).
+  auto *values = static_cast<int32_t *>(data);
+  std::vector<int32_t> answer(size_t(std::max(count, 0)));
+  uint32_t done = ~laneMask;
+  for (int32_t lane = 0; lane < width; ++lane) {
+    if (done >> lane & 1u)
+      continue;
+    std::string file = osl::stringText(handles[lane]);
+    int32_t known = osl_rt_gettextureinfo(file.c_str(), name, kind, count, answer.data());
+    for (int32_t other = lane; other < width; ++other) {
+      if ((done >> other & 1u) || handles[other] != handles[lane])
+        continue;
+      done |= 1u << other;
+      found[other] = known;
+      if (known)
+        for (int32_t k = 0; k < count; ++k)
+          values[size_t(k) * size_t(width) + size_t(other)] = answer[size_t(k)];
+    }
+  }
 }

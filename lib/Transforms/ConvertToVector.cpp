@@ -888,6 +888,8 @@ struct TextureLowering : public OslPattern<TextureOp> {
     for (auto [i, v] : llvm::enumerate(op.getFloatOptions()))
       storeRow(::osl::kTextureOptionRow + i, v, adaptor.getFloatOptions()[i]);
     storeRow(::osl::kTextureFirstChannelRow, op.getFirstchannel(), adaptor.getFirstchannel());
+    if (op.getFileHandle())
+      storeRow(::osl::kTextureFileRow, op.getFileHandle(), adaptor.getFileHandle());
 
     // The uniform options: a string's address, or OpenImageIO's code for it.
     auto candidates = [&](int which) { return cast<ArrayAttr>(op.getCandidates()[which]); };
@@ -928,7 +930,9 @@ struct TextureLowering : public OslPattern<TextureOp> {
     if (varying && !isa<VectorType>(mask.getType()))
       mask = lane::broadcast(rewriter, loc, mask, width);
     SmallVector<Value> args = {stringAddress(callSiteText(loc, "texture()")),
-                               pick(0, stringAddress),
+                               op.getFileHandle()
+                                   ? rewriter.create<LLVM::ZeroOp>(loc, ptr).getResult()
+                                   : pick(0, stringAddress),
                                pick(5, stringAddress),
                                adaptor.getSubimage(),
                                i32Const(kind),
@@ -978,11 +982,14 @@ struct TextureLowering : public OslPattern<TextureOp> {
 };
 
 /// gettextureinfo: a uniform runtime call that writes its answer to the
-/// stack.
+/// stack; about files named at run time, one call for the batch that
+/// answers per point (rows of W values).
 struct GetTextureInfoLowering : public OslPattern<GetTextureInfoOp> {
   using OslPattern::OslPattern;
-  LogicalResult matchAndRewrite(GetTextureInfoOp op, OpAdaptor,
+  LogicalResult matchAndRewrite(GetTextureInfoOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
+    if (op.getFileHandle())
+      return lowerPerPoint(op, adaptor, rewriter);
     Location loc = op.getLoc();
     MLIRContext *ctx = rewriter.getContext();
     auto ptr = LLVM::LLVMPointerType::get(ctx);
@@ -1012,6 +1019,57 @@ struct GetTextureInfoLowering : public OslPattern<GetTextureInfoOp> {
       load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
       results.push_back(load);
     }
+    rewriter.replaceOp(op, results);
+    return success();
+  }
+
+  LogicalResult lowerPerPoint(GetTextureInfoOp op, OpAdaptor adaptor,
+                              ConversionPatternRewriter &rewriter) const {
+    Location loc = op.getLoc();
+    MLIRContext *ctx = rewriter.getContext();
+    auto ptr = LLVM::LLVMPointerType::get(ctx);
+    Type i32 = rewriter.getI32Type();
+    Type element = op.getFloats() ? Type(rewriter.getF32Type()) : i32;
+    bool varying = isVarying(op.getFound().getType());
+    int64_t lanes = varying ? width : 1;
+    int64_t count = op.getValues().size();
+    // Rows: the handles, whether found, then the values.
+    Value block = entryBlockRows(rewriter, loc, op, (2 + count) * lanes);
+    Lanes unpacker{rewriter, loc, width};
+    Value handles = unpacker.unpack(adaptor.getFileHandle(), op.getFileHandle().getType(),
+                                    varying)[0];
+    rewriter.create<LLVM::StoreOp>(loc, handles, rowAddress(rewriter, loc, block, 0, lanes), 4);
+    auto i32Const = [&](int64_t v) {
+      return rewriter.create<arith::ConstantIntOp>(loc, v, 32).getResult();
+    };
+    LLVM::LLVMFuncOp callee =
+        runtimeDeclaration(rewriter, op, "osl_rt_gettextureinfo_lanes",
+                           LLVM::LLVMVoidType::get(ctx), {ptr, ptr, i32, i32, ptr, ptr, i32, i32});
+    // The batch's points (lanes past its end name nothing).
+    Value mask = varying ? activeLanes(rewriter, loc, op, width)
+                         : rewriter.create<arith::CmpIOp>(loc, arith::CmpIPredicate::sgt,
+                                                          kernelArg(op, 2), i32Const(0))
+                               .getResult();
+    rewriter.create<LLVM::CallOp>(
+        loc, callee,
+        ValueRange{rowAddress(rewriter, loc, block, 0, lanes),
+                   constantStringAddress(rewriter, loc, op.getName()),
+                   i32Const(op.getFloats()    ? ::osl::kTextureInfoFloat
+                            : op.getStrings() ? ::osl::kTextureInfoString
+                                              : ::osl::kTextureInfoInt),
+                   i32Const(count), rowAddress(rewriter, loc, block, 2, lanes),
+                   rowAddress(rewriter, loc, block, 1, lanes), i32Const(lanes),
+                   maskBits(rewriter, loc, mask)});
+    auto loadRow = [&](int64_t row, Type type) {
+      Type laneType = varying ? Type(VectorType::get({lanes}, type)) : type;
+      auto load = rewriter.create<LLVM::LoadOp>(loc, laneType,
+                                                rowAddress(rewriter, loc, block, row, lanes), 4);
+      load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+      return load.getResult();
+    };
+    SmallVector<Value> results = {loadRow(1, i32)};
+    for (int64_t k = 0; k < count; ++k)
+      results.push_back(loadRow(2 + k, element));
     rewriter.replaceOp(op, results);
     return success();
   }

@@ -237,7 +237,7 @@ func.func @string_call_unknown_function(%s: i32) {
 
 func.func @gettextureinfo_floats_and_strings() {
   // expected-error @+1 {{answers with floats or with strings, not both}}
-  %found, %v = osl.gettextureinfo "a.tx", "texturetype" {floats, strings} : f32
+  %found, %v = osl.gettextureinfo "a.tx", "texturetype" {floats, strings} : i32, (f32)
   return
 }
 
@@ -245,7 +245,7 @@ func.func @gettextureinfo_floats_and_strings() {
 
 func.func @gettextureinfo_mixed_types() {
   // expected-error @+1 {{values must all be 'f32'}}
-  %found, %v:2 = osl.gettextureinfo "a.tx", "averagecolor" {floats} : f32, i32
+  %found, %v:2 = osl.gettextureinfo "a.tx", "averagecolor" {floats} : i32, (f32, i32)
   return
 }
 

@@ -69,8 +69,8 @@ func.func @texture_ops(%s: !osl.varying<f32>, %m: !osl.varying<i1>) {
   %r, %a, %err = osl.texture "2d"(%s, %s) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c0, %c0, %c0, %c0, %c0) mask %m : !osl.varying<i1> {candidates = [["a.tx"], ["default"], ["default"], ["default"], ["smartcubic"], [""]], nchannels = 1 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<f32>, !osl.varying<f32>, !osl.varying<i32>
   // CHECK: osl.first_lane %{{.+}}, %{{.+}} : !osl.varying<f32>, !osl.varying<i1> -> f32
   %f = osl.first_lane %s, %m : !osl.varying<f32>, !osl.varying<i1> -> f32
-  // CHECK: osl.gettextureinfo "a.tx", "resolution" : i32, i32
-  %found, %res:2 = osl.gettextureinfo "a.tx", "resolution" : i32, i32
+  // CHECK: osl.gettextureinfo "a.tx", "resolution" : i32, (i32, i32)
+  %found, %res:2 = osl.gettextureinfo "a.tx", "resolution" : i32, (i32, i32)
   return
 }
 

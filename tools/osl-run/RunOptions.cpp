@@ -259,6 +259,8 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
             o.errorRepeats = value.trim() != "0";
           else if (name.trim() == "lazyglobals")
             o.group.lazyGlobals = value.trim() != "0";
+          else if (name.trim() == "opt_warnings")
+            o.compile.optimizationWarnings = value.trim() != "0";
         }
       }
     } else if (a == "-g" || a == "--g" || a == "--res") {
