@@ -96,6 +96,8 @@ struct CompileOptions {
 /// What isconnected() answers in one layer (FrontendOptions).
 struct LayerConnections {
   std::vector<std::string> inputs, outputs;
+  /// Inputs connected to an array output, and its length.
+  std::vector<std::pair<std::string, int>> arrayLengths;
 };
 
 /// What compile() did with the kernel cache.

@@ -79,6 +79,9 @@ struct FrontendOptions {
   std::vector<std::string> connectedInputs;
   std::vector<std::string> connectedOutputs;
   bool userdataIsConnected = false;
+  /// Inputs connected to an array output, with its length: an unsized
+  /// array input (`float a[]`) takes it.
+  std::vector<std::pair<std::string, int>> connectedArrayLengths;
 };
 
 /// Parses `source` (named `filename` in diagnostics) and returns a module

@@ -22,6 +22,7 @@
 #include "mlir/Target/LLVMIR/Dialect/LLVMIR/LLVMToLLVMIRTranslation.h"
 #include "mlir/Target/LLVMIR/Export.h"
 #include "mlir/Transforms/Passes.h"
+#include "llvm/ADT/StringMap.h"
 #include "llvm/ADT/StringSet.h"
 #include "llvm/IR/LLVMContext.h"
 #include "llvm/Config/llvm-config.h"
@@ -91,6 +92,7 @@ ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
   frontend.warningsAsErrors = options.warningsAsErrors;
   frontend.connectedInputs = connections.inputs;
   frontend.connectedOutputs = connections.outputs;
+  frontend.connectedArrayLengths = connections.arrayLengths;
   frontend.userdataIsConnected = options.userdataIsConnected;
   auto module = parseOslShader(source, filename, context, params, os, frontend);
   if (module && options.optimizationWarnings) {
@@ -395,12 +397,21 @@ std::string connectedName(llvm::StringRef name) { return name.split('[').first.s
 /// Layer `index`'s connected inputs and outputs: those connections name,
 /// and the group outputs the renderer reads (ShaderGroup::outputs: the
 /// root layer's by name, another layer's as LAYER.NAME).
-LayerConnections connectionsOf(const ShaderGroup &group, size_t index) {
+/// The lengths of each parsed layer's array outputs, by layer and output.
+using OutputLengths = llvm::StringMap<llvm::StringMap<int>>;
+
+LayerConnections connectionsOf(const ShaderGroup &group, size_t index,
+                               const OutputLengths &outputLengths) {
   LayerConnections c;
   const std::string &layer = group.layers[index].name;
   for (const GroupConnection &k : group.connections) {
-    if (k.toLayer == layer)
+    if (k.toLayer == layer) {
       c.inputs.push_back(connectedName(k.toInput));
+      auto from = outputLengths.find(k.fromLayer);
+      if (from != outputLengths.end())
+        if (auto length = from->second.find(k.fromOutput); length != from->second.end())
+          c.arrayLengths.push_back({k.toInput, length->second});
+    }
     if (k.fromLayer == layer)
       c.outputs.push_back(connectedName(k.fromOutput));
   }
@@ -429,6 +440,7 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
   mlir::OpBuilder b(&context);
   groupCounts = GroupStats();
   groupCounts.layersBefore = int(group.layers.size());
+  OutputLengths outputLengths;
   for (const auto &[layerIndex, layer] : llvm::enumerate(group.layers)) {
     auto buffer = llvm::MemoryBuffer::getFile(layer.shaderPath, /*IsText=*/true);
     if (!buffer) {
@@ -437,11 +449,17 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
       return false;
     }
     auto parsed = parseSource((*buffer)->getBuffer(), layer.shaderPath, layer.params, layer.name,
-                              int(layerIndex), connectionsOf(group, layerIndex));
+                              int(layerIndex), connectionsOf(group, layerIndex, outputLengths));
     if (!parsed) {
       errs << "note: in layer '" << layer.name << "'\n";
       return false;
     }
+    parsed->walk([&](mlir::osl::OutputOp out) {
+      if (auto element = out->getAttrOfType<mlir::IntegerAttr>("osl.index")) {
+        int &length = outputLengths[layer.name][out.getName()];
+        length = std::max(length, int(element.getInt()) + 1);
+      }
+    });
     auto funcs = llvm::to_vector(parsed->getOps<mlir::func::FuncOp>());
     if (funcs.size() != 1) {
       errs << "error: layer '" << layer.name << "': expected one shader in '"

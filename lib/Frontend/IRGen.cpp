@@ -774,6 +774,13 @@ std::optional<RValue> IRGen::overrideValue(const Param &p, const std::string &te
   return r;
 }
 
+int IRGen::connectedArrayLength(llvm::StringRef name) const {
+  for (const auto &[input, length] : options.connectedArrayLengths)
+    if (input == name)
+      return length;
+  return 0;
+}
+
 bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   OslType t = p.type;
   if ((t.base == BaseType::Matrix && t.isArray()) || (t.isStructLike() && t.isArray()))
@@ -884,6 +891,11 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
     sized.name = p.name;
     sized.loc = p.loc;
     init = overrideValue(sized, ov->value);
+  } else if (int length = connectedArrayLength(p.name); t.arrayLen == 0 && length > 0) {
+    // An unsized array input takes the length of the array output
+    // connected to it, which gives every element.
+    t.arrayLen = length;
+    init = zeroValue(t, p.loc);
   } else if (!runDefault && !t.isString() && !t.isClosure() && hasSideEffects(*p.init)) {
     if (t.arrayLen == 0 && p.init->kind == ExprKind::InitList)
       t.arrayLen = int(p.init->args.size());

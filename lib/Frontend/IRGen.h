@@ -160,6 +160,8 @@ public:
   }
   mlir::OpBuilder &builder() { return b; }
   const FrontendOptions &frontendOptions() const { return options; }
+  /// The length of the array output connected to input `name`, or 0.
+  int connectedArrayLength(llvm::StringRef name) const;
   /// The shader parameter `e` names: a variable, a struct field of one, or
   /// an element of one (the whole parameter) (ConnectionBuiltins.cpp).
   ParamRef parameterOf(const Expr &e);
