@@ -5,8 +5,9 @@
 // color, T any triple, the same kind throughout one call) and an emitter.
 // Overloads are ranked by the cost of the implicit conversions they need.
 // Functions with string options, variable argument lists or a result type
-// chosen by context (noise, transform, spline, type constructors) are
-// handled by hand.
+// chosen by context are handled by hand: type constructors here, the rest
+// in files of their own (NoiseBuiltins, SpaceBuiltins, SplineBuiltins,
+// AttributeBuiltins, TextureBuiltins, StringBuiltins...).
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
@@ -249,10 +250,6 @@ Value emitRotate(IRGen &g, SrcLoc l, Vals a, OslType) {
 }
 
 /// Dx, Dy, Dz: the derivative is varying exactly when the value is.
-Value derivOf(IRGen &g, SrcLoc l, Value v, char axis) {
-  const char *name = axis == 'x' ? "x" : axis == 'y' ? "y" : "z";
-  return g.builder().create<DerivOp>(g.loc(l), v.getType(), v, name);
-}
 template <char Axis>
 Value emitDeriv(IRGen &g, SrcLoc l, Vals a, OslType) {
   return derivOf(g, l, a[0], Axis);
@@ -468,12 +465,6 @@ std::string sigText(const char *name, const Sig &s) {
   return t + ")";
 }
 
-std::string argTypesText(const std::vector<RValue> &args) {
-  std::string t;
-  for (size_t k = 0; k < args.size(); ++k)
-    t += (k ? ", " : "") + args[k].type.str();
-  return t;
-}
 
 
 std::optional<RValue> emitTableCall(IRGen &g, const Builtin &fn, const Expr &call) {
@@ -528,433 +519,6 @@ std::optional<RValue> emitTableCall(IRGen &g, const Builtin &fn, const Expr &cal
   return RValue::num(result, fn.emit(g, call.loc, values, result));
 }
 
-/// A compile-time string argument.
-bool stringArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
-               llvm::StringRef what, std::string &out) {
-  if (!v.type.isString())
-    return g.error(e.loc, "'" + fn + "' expects " + what + " (a string) here, got '" +
-                              v.type.str() + "'");
-  if (v.isStringChoice())
-    return g.error(e.loc, "'" + fn + "' needs " + what +
-                              " known when the shader is compiled; this string is chosen "
-                              "per point");
-  if (!g.compileTimeStrings(v, e.loc, llvm::Twine(what) + " of '" + fn + "'"))
-    return false;
-  out = v.str;
-  return true;
-}
-
-/// A string argument known when the shader is compiled, or chosen per
-/// point among such strings (forEachStringChoice then runs each choice on
-/// its lanes).
-bool namesArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
-              llvm::StringRef what) {
-  if (!v.type.isString())
-    return g.error(e.loc, "'" + fn + "' expects " + what + " (a string) here, got '" +
-                              v.type.str() + "'");
-  return bool(g.compileTimeStrings(v, e.loc, llvm::Twine(what) + " of '" + fn + "'"));
-}
-
-/// Whether the renderer knows every space of a transform; each unknown one is
-/// reported when the point runs (the transform is then the identity, as in
-/// OSL).
-bool knownSpaces(IRGen &g, std::initializer_list<llvm::StringRef> names, SrcLoc l) {
-  bool known = true;
-  for (llvm::StringRef name : names)
-    if (!namedSpaceTransform(name, "common", g.cameraImage())) {
-      g.reportAtRunTime("Unknown transformation \"" + name.str() + "\"", l);
-      known = false;
-    }
-  return known;
-}
-
-/// Whether transformc(from, to, ...) can convert; if not, the color stays as
-/// it is and the renderer reports it when the point runs, as OSL's does.
-bool knownColorTransform(IRGen &g, const std::string &from, const std::string &to,
-                         SrcLoc l) {
-  if (isColorSpaceName(from, g.workingColorSpace()) &&
-      isColorSpaceName(to, g.workingColorSpace()))
-    return true;
-  g.reportAtRunTime("Unknown color space transformation \"" + from + "\" -> \"" + to + "\"",
-                    l);
-  return false;
-}
-
-/// transformc([from,] to, C): from defaults to "rgb".
-std::optional<RValue> emitTransformc(IRGen &g, const Expr &call) {
-  auto args = emitArgs(g, call);
-  if (!args)
-    return std::nullopt;
-  size_t n = args->size();
-  if (n != 2 && n != 3) {
-    g.error(call.loc, "wrong arguments to 'transformc(" + argTypesText(*args) +
-                          ")'; candidates: color transformc(string to, color); "
-                          "color transformc(string from, string to, color)");
-    return std::nullopt;
-  }
-  RValue from = RValue::string("rgb");
-  if (n == 3) {
-    if (!namesArg(g, (*args)[0], *call.args[0], "transformc", "a color space name"))
-      return std::nullopt;
-    from = (*args)[0];
-  }
-  const RValue &to = (*args)[n - 2];
-  if (!namesArg(g, to, *call.args[n - 2], "transformc", "a color space name"))
-    return std::nullopt;
-  OslType color(BaseType::Color);
-  auto c = g.coerce((*args)[n - 1], color, call.args[n - 1]->begin, "in 'transformc'");
-  if (!c)
-    return std::nullopt;
-  return g.forEachStringChoice(from, call.loc, [&](const std::string &f) {
-    return g.forEachStringChoice(to, call.loc, [&](const std::string &t) {
-      if (!knownColorTransform(g, f, t, call.loc))
-        return std::optional<RValue>(*c);
-      Value r = g.builder().create<TransformcOp>(g.loc(call.loc), c->value.getType(), f, t,
-                                                 g.workingColorSpace(), c->value);
-      return std::optional<RValue>(RValue::num(color, r));
-    });
-  });
-}
-
-/// The values of noise("gabor", ..., "name", value, ...)'s options (null
-/// where not given).
-struct NoiseOptionValues {
-  Value anisotropic, direction, bandwidth, impulses, doFilter;
-};
-
-/// Reads (name, value) option pairs from args[at] on: names are constant
-/// strings, values uniform; anisotropic and do_filter are ints, direction a
-/// triple, bandwidth and impulses an int or a float (made float).
-std::optional<NoiseOptionValues> parseNoiseOptions(IRGen &g, const Expr &call,
-                                                   const std::vector<RValue> &args,
-                                                   size_t at) {
-  NoiseOptionValues out;
-  for (size_t k = at; k < args.size(); k += 2) {
-    const RValue &name = args[k];
-    SrcLoc nameLoc = call.args[k]->loc;
-    if (!name.type.isString() || name.isStringChoice()) {
-      g.error(nameLoc, "expected a constant noise option name here (anisotropic, direction, "
-                       "bandwidth, impulses, do_filter)");
-      return std::nullopt;
-    }
-    if (k + 1 >= args.size()) {
-      g.error(nameLoc, "noise option '" + name.str + "' has no value");
-      return std::nullopt;
-    }
-    const RValue &v = args[k + 1];
-    SrcLoc valueLoc = call.args[k + 1]->loc;
-    auto bad = [&](const char *what) -> std::optional<NoiseOptionValues> {
-      g.error(valueLoc, "noise option '" + name.str + "' takes " + what);
-      return std::nullopt;
-    };
-    if (v.type.isNumeric() && isVarying(v.value.getType()))
-      return bad("a uniform value (the same at every point)");
-    if (name.str == "anisotropic" || name.str == "do_filter") {
-      if (!v.type.isInt())
-        return bad("an int");
-      (name.str == "anisotropic" ? out.anisotropic : out.doFilter) = v.value;
-    } else if (name.str == "direction") {
-      if (!v.type.isTriple())
-        return bad("a vector");
-      out.direction = v.value;
-    } else if (name.str == "bandwidth" || name.str == "impulses") {
-      if (!v.type.isInt() && !v.type.isFloat())
-        return bad("a float");
-      (name.str == "bandwidth" ? out.bandwidth : out.impulses) =
-          g.convert(v.value, g.builder().getF32Type(), valueLoc);
-    } else {
-      g.error(nameLoc, "unknown noise option '" + name.str +
-                           "' (known: anisotropic, direction, bandwidth, impulses, do_filter)");
-      return std::nullopt;
-    }
-  }
-  return out;
-}
-
-/// Dx then Dy of Gabor's lookup point for its filter: the triple, or the
-/// float coordinates of a 2D domain. None for a 1D domain (its derivatives
-/// span no area, so OSL never filters it) or when do_filter is a constant 0.
-std::vector<Value> gaborFilterDerivs(IRGen &g, SrcLoc l, llvm::ArrayRef<Value> point,
-                                     const NoiseOptionValues &options) {
-  APInt doFilter;
-  if (options.doFilter && matchPattern(options.doFilter, m_ConstantInt(&doFilter)) &&
-      doFilter.isZero())
-    return {};
-  if (point.size() == 1 && !isTriple(getUniformType(point[0].getType())))
-    return {};
-  std::vector<Value> derivs;
-  for (char axis : {'x', 'y'})
-    for (Value c : point)
-      derivs.push_back(derivOf(g, l, c, axis));
-  return derivs;
-}
-
-std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expected) {
-  llvm::StringRef name = call.name;
-  auto args = emitArgs(g, call);
-  if (!args)
-    return std::nullopt;
-  std::string kind = llvm::StringSwitch<std::string>(name)
-                         .Cases("noise", "pnoise", "uperlin")
-                         .Cases("snoise", "psnoise", "perlin")
-                         .Case("cellnoise", "cell")
-                         .Default("hash");
-  bool periodic = name == "pnoise" || name == "psnoise";
-  size_t first = 0;
-  RValue kindName = RValue::string(kind);
-  if (!args->empty() && (*args)[0].type.isString()) {
-    if (name != "noise" && name != "pnoise") {
-      g.error(call.args[0]->loc, "'" + name + "' takes no noise type name; use noise(\"" +
-                                     (*args)[0].str + "\", ...)");
-      return std::nullopt;
-    }
-    kindName = (*args)[0];
-    first = 1;
-    if (!g.compileTimeStrings(kindName, call.args[0]->loc, "the noise type"))
-      return std::nullopt;
-  }
-  // Trailing (string, value) pairs are noise options (Gabor's parameters).
-  size_t optionsAt = first;
-  while (optionsAt < args->size() && !(*args)[optionsAt].type.isString())
-    ++optionsAt;
-  std::optional<NoiseOptionValues> options =
-      parseNoiseOptions(g, call, *args, optionsAt);
-  if (!options)
-    return std::nullopt;
-  args->resize(optionsAt);
-  size_t n = args->size() - first;
-  auto wrong = [&]() -> std::optional<RValue> {
-    std::string prefix = name == "noise" ? "[string name, ]" : "";
-    g.error(call.loc, "wrong arguments to '" + name + "(" + argTypesText(*args) +
-                          ")'; candidates: " + name + "(" + prefix + "float); " + name +
-                          "(" + prefix + "float, float); " + name + "(" + prefix +
-                          "point); " + name + "(" + prefix + "point, float)");
-    return std::nullopt;
-  };
-  // pnoise: each coordinate is followed, after all of them, by its period.
-  size_t ncoords = periodic ? n / 2 : n;
-  if (ncoords < 1 || ncoords > 2 || (periodic && n % 2))
-    return wrong();
-  std::vector<Value> coords;
-  for (size_t k = first; k < args->size(); ++k) {
-    const RValue &a = (*args)[k];
-    bool firstCoord = k == first || (periodic && k == first + ncoords);
-    if (a.type.isTriple() && firstCoord) {
-      coords.push_back(a.value);
-      continue;
-    }
-    if (!a.type.isScalar())
-      return wrong();
-    coords.push_back(g.convert(a.value, g.builder().getF32Type(), call.args[k]->loc));
-  }
-  // The lookup point: a triple or the float coordinates (not w, not periods).
-  llvm::ArrayRef<Value> pointCoords(coords);
-  pointCoords = isTriple(getUniformType(coords[0].getType())) ? pointCoords.take_front(1)
-                                                              : pointCoords.take_front(ncoords);
-  bool triple = expected && expected->isTriple();
-  OslType resultType = triple ? OslType(expected->base) : OslType(BaseType::Float);
-  bool varying = llvm::any_of(coords, [](Value v) { return isVarying(v.getType()); });
-  Type t = withUniformity(irType(g.builder(), resultType), varying);
-  return g.forEachStringChoice(kindName, call.loc, [&](const std::string &k) {
-    if (!isKnownNoiseName(k)) {
-      // OSL's renderer reports an unknown name where the point runs, and
-      // the noise is 0.
-      g.reportAtRunTime(std::string(periodic ? "periodic " : "") + "noise type \"" + k +
-                            "\" is unknown, called from (" + g.fileLine(call.loc) + ")",
-                        call.loc);
-      return std::optional<RValue>(g.zeroValue(resultType, call.loc));
-    }
-    if (k != "gabor") { // other noises ignore the options, as in OSL
-      Value v = g.builder().create<NoiseOp>(g.loc(call.loc), t, k, coords, periodic);
-      return std::optional<RValue>(RValue::num(resultType, v));
-    }
-    Value v = g.builder().create<NoiseOp>(
-        g.loc(call.loc), t, k, coords, periodic,
-        gaborFilterDerivs(g, call.loc, pointCoords, *options), options->anisotropic,
-        options->direction, options->bandwidth, options->impulses, options->doFilter);
-    return std::optional<RValue>(RValue::num(resultType, v));
-  });
-}
-
-std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
-  auto args = emitArgs(g, call);
-  if (!args)
-    return std::nullopt;
-  size_t n = args->size();
-  auto wrong = [&]() -> std::optional<RValue> {
-    g.error(call.loc, "wrong arguments to 'transform(" + argTypesText(*args) +
-                          ")'; candidates: triple transform(string to, triple); "
-                          "triple transform(string from, string to, triple); "
-                          "triple transform(matrix, triple) "
-                          "(triple: point, vector or normal)");
-    return std::nullopt;
-  };
-  if (n != 2 && n != 3)
-    return wrong();
-  const RValue &p = args->back();
-  if (!p.type.isTriple())
-    return wrong();
-  if (n == 2 && (*args)[0].type.isMatrix()) {
-    if (p.type.base == BaseType::Color) {
-      g.error(call.args.back()->loc,
-              "transform() applies to points, vectors and normals, not 'color'");
-      return std::nullopt;
-    }
-    return RValue::num(p.type,
-                       g.transformByMatrix((*args)[0].elems, p.value, p.type.base, call.loc));
-  }
-  for (size_t k = 0; k + 1 < n; ++k) {
-    if (!(*args)[k].type.isString())
-      return wrong();
-    if (!namesArg(g, (*args)[k], *call.args[k], "transform", "a space name"))
-      return std::nullopt;
-  }
-  if (p.type.base == BaseType::Color) {
-    g.error(call.args.back()->loc,
-            "transform() applies to points, vectors and normals, not 'color'");
-    return std::nullopt;
-  }
-  // Names may be chosen per point: each pair of names runs on its lanes.
-  auto between = [&](const std::string &from, const std::string &to) -> std::optional<RValue> {
-    if (from.empty() || to.empty()) {
-      g.error(call.loc, "transform() needs non-empty space names");
-      return std::nullopt;
-    }
-    if (from == to)
-      return p;
-    if (isProjectionSpace(from)) {
-      g.error(call.args[0]->loc, "the renderer knows '" + from +
-                                     "' only as a destination space");
-      return std::nullopt;
-    }
-    if (isProjectionSpace(to)) {
-      // The camera's projection depends on the image size the front end was
-      // given: a constant matrix, applied with the w divide.
-      // (An unknown space is reported, and its half is the identity.)
-      bool known = true;
-      RValue m = g.namedMatrix(from, to, call.loc, known);
-      return RValue::num(p.type, g.transformByMatrix(m.elems, p.value, p.type.base, call.loc));
-    }
-    if (!knownSpaces(g, {from, to}, call.loc))
-      return p;
-    std::string kind = baseTypeName(p.type.base).str();
-    Value v = g.builder().create<TransformOp>(g.loc(call.loc), p.value.getType(), from, to,
-                                              kind, p.value);
-    return RValue::num(p.type, v);
-  };
-  RValue from = n == 3 ? (*args)[0] : RValue::string("common");
-  const RValue &to = (*args)[n - 2];
-  return g.forEachStringChoice(from, call.loc, [&](const std::string &f) {
-    return g.forEachStringChoice(to, call.loc, [&](const std::string &t) { return between(f, t); });
-  });
-}
-
-/// spline() and splineinverse(): (basis, x, knots...), (basis, x, knots[])
-/// or (basis, x, nknots, knots[]); splineinverse takes float knots only.
-std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
-  auto args = emitArgs(g, call);
-  if (!args)
-    return std::nullopt;
-  llvm::StringRef fn = inverse ? "splineinverse" : "spline";
-  auto wrong = [&]() -> std::optional<RValue> {
-    std::string T = inverse ? "float" : "T";
-    g.error(call.loc, "wrong arguments to '" + fn + "(" + argTypesText(*args) +
-                          ")'; candidates: " + fn + "(string basis, float x, " + T +
-                          " knots...); " + fn + "(string basis, float x, " + T +
-                          " knots[]); " + fn + "(string basis, float x, int nknots, " + T +
-                          " knots[])" + (inverse ? "" : " (T: float or triple)"));
-    return std::nullopt;
-  };
-  if (args->size() < 3)
-    return wrong();
-  const RValue &basisName = (*args)[0];
-  if (!basisName.type.isString()) {
-    g.error(call.args[0]->loc, "'" + fn + "' expects the basis name (a string) here, got '" +
-                                   basisName.type.str() + "'");
-    return std::nullopt;
-  }
-  auto knownBases = g.compileTimeStrings(basisName, call.args[0]->loc, "the spline basis");
-  if (!knownBases)
-    return std::nullopt;
-  std::vector<std::string> bases = *knownBases;
-  for (const std::string &basis : bases) {
-    bool known = llvm::is_contained(
-        {"catmull-rom", "bezier", "bspline", "hermite", "linear", "constant"}, basis);
-    if (!known) {
-      g.error(call.args[0]->loc, "unknown spline basis '" + basis +
-                                     "' (expected catmull-rom, bezier, bspline, hermite, "
-                                     "linear or constant)");
-      return std::nullopt;
-    }
-  }
-  const RValue &x = (*args)[1];
-  if (!x.type.isScalar())
-    return wrong();
-  Value xv = g.convert(x.value, g.builder().getF32Type(), call.args[1]->loc);
-  // The knots: one array, (count, array), or a list of values.
-  std::vector<RValue> knots;
-  Value count;
-  SrcLoc knotLoc = call.args[2]->loc;
-  if (args->size() <= 4 && args->back().type.isArray()) {
-    const RValue &arr = args->back();
-    if (args->size() == 4) {
-      const RValue &c = (*args)[2];
-      if (!c.type.isInt())
-        return wrong();
-      auto k = IRGen::getConstInt(c.value);
-      if (k && (*k < 4 || size_t(*k) > arr.elems.size())) {
-        g.error(call.args[2]->loc, "knot count " + llvm::Twine(*k) +
-                                       " is out of range for '" + arr.type.str() +
-                                       "' (at least 4)");
-        return std::nullopt;
-      }
-      count = c.value; // may be a parameter or computed per point
-    } else if (args->size() != 3) {
-      return wrong();
-    }
-    for (Value e : arr.elems)
-      knots.push_back(RValue::num(arr.type.element(), e));
-    knotLoc = call.args.back()->loc;
-  } else {
-    for (size_t k = 2; k < args->size(); ++k) {
-      if (!(*args)[k].type.isNumeric())
-        return wrong();
-      knots.push_back((*args)[k]);
-    }
-  }
-  if (knots.size() < 4) {
-    g.error(knotLoc, "'" + fn + "' needs at least 4 knots, got " +
-                         llvm::Twine(knots.size()));
-    return std::nullopt;
-  }
-  OslType knotType(BaseType::Float);
-  for (const RValue &k : knots)
-    if (k.type.isTriple()) {
-      if (inverse)
-        return wrong();
-      knotType = k.type;
-      break;
-    }
-  std::vector<Value> kv;
-  bool varying = isVarying(xv.getType()) || (count && isVarying(count.getType()));
-  for (const RValue &k : knots) {
-    auto c = g.coerce(k, knotType, knotLoc, "in spline knots");
-    if (!c)
-      return std::nullopt;
-    kv.push_back(c->value);
-    varying |= isVarying(c->value.getType());
-  }
-  Type t = withUniformity(irType(g.builder(), knotType), varying);
-  return g.forEachStringChoice(basisName, call.loc, [&](const std::string &basis) {
-    Value v =
-        inverse
-            ? g.builder().create<SplineInverseOp>(g.loc(call.loc), t, basis, xv, count, kv)
-                  .getResult()
-            : g.builder().create<SplineOp>(g.loc(call.loc), t, basis, xv, count, kv)
-                  .getResult();
-    return std::optional<RValue>(RValue::num(knotType, v));
-  });
-}
 
 std::optional<RValue> emitConstructor(IRGen &g, OslType t, const std::vector<ExprPtr> &callArgs,
                                       SrcLoc callLoc) {
@@ -1160,204 +724,6 @@ std::optional<RValue> emitSincos(IRGen &g, const Expr &call) {
   return RValue::voidValue();
 }
 
-/// The attributes testshade's renderer answers: its camera (an image of
-/// the grid's size, testshade's defaults otherwise). Numbers, or a string.
-struct RendererAttribute {
-  std::vector<double> numbers;
-  bool isInt = false;
-  bool isTriple = false; // three numbers for a color, point, vector or normal
-  std::string text;
-};
-
-bool isTripleTypeName(llvm::StringRef type) {
-  return type == "color" || type == "point" || type == "vector" || type == "normal";
-}
-
-/// A --userdata datum as an attribute (numbers, or a string).
-RendererAttribute userDatumAttribute(const ::osl::UserDatum &d) {
-  RendererAttribute a;
-  if (d.type == "string") {
-    a.text = d.value;
-    return a;
-  }
-  llvm::SmallVector<llvm::StringRef> words;
-  llvm::StringRef(d.value).split(words, ',', -1, /*KeepEmpty=*/false);
-  for (llvm::StringRef w : words) {
-    double x = 0;
-    if (!w.trim().getAsDouble(x))
-      a.numbers.push_back(x);
-  }
-  a.isInt = d.type == "int";
-  a.isTriple = isTripleTypeName(d.type);
-  if (a.isTriple && a.numbers.size() == 1)
-    a.numbers.assign(3, a.numbers[0]);
-  return a;
-}
-
-std::optional<RendererAttribute> testshadeAttribute(const IRGen &g, llvm::StringRef name,
-                                                   bool nameIsConstant) {
-  RendererAttribute a;
-  if (name.starts_with("shader:")) {
-    // OSL answers these while it optimizes the group, so only for a name
-    // known then (its testsuite checks that a name picked per point finds
-    // nothing).
-    if (!nameIsConstant)
-      return std::nullopt;
-    if (name == "shader:shadername")
-      a.text = g.shaderName().str();
-    else if (name == "shader:layername")
-      a.text = g.layerName();
-    else if (name == "shader:groupname")
-      a.text = g.groupName();
-    else
-      return std::nullopt;
-  } else if (name == "osl:version") {
-    // The ShadingSystem's own attribute: the version the preprocessor's
-    // OSL_VERSION names.
-    a.numbers = {double(::osl::kOslVersion)};
-    a.isInt = true;
-  } else if (name == "camera:resolution") {
-    a.numbers = {double(g.cameraImage().xres), double(g.cameraImage().yres)};
-    a.isInt = true;
-  } else if (name == "camera:projection") {
-    a.text = "perspective";
-  } else if (name == "camera:fov") {
-    a.numbers = {90};
-  } else if (name == "camera:pixelaspect") {
-    a.numbers = {1};
-  } else if (name == "camera:clip_near") {
-    a.numbers = {0.1};
-  } else if (name == "camera:clip_far") {
-    a.numbers = {1000};
-  } else if (name == "camera:clip") {
-    a.numbers = {0.1, 1000};
-  } else if (name == "camera:shutter_open") {
-    a.numbers = {0};
-  } else if (name == "camera:shutter_close") {
-    a.numbers = {1};
-  } else if (name == "camera:shutter") {
-    a.numbers = {0, 1};
-  } else if (name == "camera:screen_window") {
-    a.numbers = {-1, -1, 1, 1};
-  } else if (const ::osl::UserDatum *d = g.userDatum(name)) {
-    a = userDatumAttribute(*d);
-  } else {
-    return std::nullopt;
-  }
-  return a;
-}
-
-/// getattribute([object,] name, [index,] out dest): testshade's renderer
-/// answers from constants, so a name known when the shader is compiled is
-/// looked up then; dest is written only when the attribute exists and has
-/// dest's type, and the result says whether it was.
-std::pair<RValue, RValue> attributeValue(IRGen &g, const Expr &call, const std::string &object,
-                                         const std::string &attribute, bool nameIsConstant,
-                                         bool indexed, const LValue &dest);
-
-std::optional<RValue> emitGetAttribute(IRGen &g, const Expr &call) {
-  size_t n = call.args.size();
-  if (n < 2 || n > 4) {
-    g.error(call.loc, "wrong arguments to 'getattribute'; candidates: int getattribute(string "
-                      "name, output T value); int getattribute(string object, string name, "
-                      "output T value); with an int index before the value for arrays");
-    return std::nullopt;
-  }
-  std::vector<RValue> names;
-  for (size_t k = 0; k < n - 1; ++k) {
-    auto v = g.emitExpr(*call.args[k]);
-    if (!v)
-      return std::nullopt;
-    names.push_back(*v);
-  }
-  size_t nameCount = names.size() >= 2 && names[1].type.isString() ? 2 : 1;
-  std::string object;
-  if (nameCount == 2 && !stringArg(g, names[0], *call.args[0], "getattribute",
-                                   "the object name", object))
-    return std::nullopt;
-  bool indexed = names.size() > nameCount;
-  auto dest = g.emitLValue(*call.args[n - 1]);
-  if (!dest)
-    return std::nullopt;
-  const RValue &attrName = names[nameCount - 1];
-  if (!attrName.isStringChoice()) {
-    std::string attribute;
-    if (!stringArg(g, attrName, *call.args[nameCount - 1], "getattribute",
-                   "the attribute name", attribute))
-      return std::nullopt;
-    auto [value, found] =
-        attributeValue(g, call, object, attribute, /*nameIsConstant=*/true, indexed, *dest);
-    g.storeLValue(*dest, value, call.loc);
-    return found;
-  }
-  // A name chosen per point: every choice's answer (constants), then each
-  // lane takes its own.
-  std::vector<RValue> values, founds;
-  for (const std::string &attribute : attrName.choices) {
-    auto [value, found] =
-        attributeValue(g, call, object, attribute, /*nameIsConstant=*/false, indexed, *dest);
-    values.push_back(value);
-    founds.push_back(found);
-  }
-  RValue value = values.back(), found = founds.back();
-  if (dest->type.isString()) {
-    value = g.stringChoice(values, attrName.value, call.loc);
-  }
-  for (size_t k = attrName.choices.size() - 1; k-- > 0;) {
-    mlir::Value isK = g.cmp("eq", attrName.value, g.constInt(int(k), call.loc), call.loc);
-    found.value = g.select(isK, founds[k].value, found.value, call.loc);
-    if (dest->type.isString())
-      continue;
-    auto merged = g.selectFields(isK, values[k], value, call.loc);
-    if (!merged)
-      return std::nullopt;
-    value = *merged;
-  }
-  g.storeLValue(*dest, value, call.loc);
-  return found;
-}
-
-/// What getattribute(object, attribute, dest) leaves in dest (its current
-/// value where testshade has no such attribute) and returns (1 or 0).
-std::pair<RValue, RValue> attributeValue(IRGen &g, const Expr &call, const std::string &object,
-                                         const std::string &attribute, bool nameIsConstant,
-                                         bool indexed, const LValue &destRef) {
-  const LValue *dest = &destRef;
-  std::optional<RendererAttribute> found =
-      object.empty() ? testshadeAttribute(g, attribute, nameIsConstant) : std::nullopt;
-  OslType t = dest->type;
-  OslType element = t.isArray() ? t.element() : t;
-  bool fits = found && !indexed;
-  if (fits && !found->text.empty())
-    fits = t.isString();
-  else if (fits && found->isTriple)
-    fits = t.isTriple() && !t.isArray() && found->numbers.size() == 3;
-  else if (fits)
-    fits = (found->isInt ? element.isInt() : element.isFloat()) &&
-           int(found->numbers.size()) == (t.isArray() ? t.arrayLen : 1);
-  if (!fits)
-    return {g.loadLValue(*dest, call.loc),
-            RValue::num(OslType(BaseType::Int), g.constInt(0, call.loc))};
-  RValue value;
-  if (t.isString()) {
-    value = RValue::string(found->text);
-  } else {
-    value = g.loadLValue(*dest, call.loc);
-    auto constant = [&](double x) {
-      return found->isInt ? g.constInt(int(x), call.loc) : g.constFloat(float(x), call.loc);
-    };
-    if (found->isTriple)
-      value.value = g.constTriple(float(found->numbers[0]), float(found->numbers[1]),
-                                  float(found->numbers[2]), call.loc);
-    else if (t.isArray())
-      for (size_t k = 0; k < found->numbers.size(); ++k)
-        value.elems[k] = constant(found->numbers[k]);
-    else
-      value.value = constant(found->numbers[0]);
-  }
-  return {value, RValue::num(OslType(BaseType::Int), g.constInt(1, call.loc))};
-}
-
 } // namespace
 
 namespace osl::frontend {
@@ -1371,47 +737,6 @@ std::optional<std::vector<RValue>> emitArgs(IRGen &g, const Expr &call) {
     args.push_back(*v);
   }
   return args;
-}
-
-std::optional<std::pair<Value, Value>> testshadeUserdata(IRGen &g, llvm::StringRef name,
-                                                         const OslType &type, SrcLoc l) {
-  // Data given on the command line (--userdata) is the same on every point.
-  if (const ::osl::UserDatum *d = g.userDatum(name)) {
-    RendererAttribute a = userDatumAttribute(*d);
-    bool fits = a.text.empty() && (a.isTriple ? type.isTriple() && a.numbers.size() == 3
-                                              : a.numbers.size() == 1 &&
-                                                    (a.isInt ? type.isInt() : type.isFloat()));
-    if (fits && !type.isArray()) {
-      Value value = a.isTriple ? g.constTriple(float(a.numbers[0]), float(a.numbers[1]),
-                                               float(a.numbers[2]), l)
-                    : a.isInt  ? g.constInt(int(a.numbers[0]), l)
-                               : g.constFloat(float(a.numbers[0]), l);
-      return std::make_pair(g.constBool(true, l), value);
-    }
-  }
-  // testshade's renderer has float user data "s" = u and "t" = v on every
-  // point, "red" = u where u > 0.5, "green" = v where u < 0.5, and "blue" =
-  // 1 - u on the rows where int(v * 12) is even (as testshade answers).
-  if (!type.isFloat() || !llvm::is_contained({"s", "t", "red", "green", "blue"}, name))
-    return std::nullopt;
-  OpBuilder &b = g.builder();
-  Location ml = g.loc(l);
-  Type f32 = b.getF32Type();
-  Value u = g.getGlobal("u", f32, l), v = g.getGlobal("v", f32, l);
-  Value half = g.constFloat(0.5f, l);
-  Value value = name == "t" || name == "green" ? v : u;
-  Value found = g.constBool(true, l);
-  if (name == "red")
-    found = b.create<CmpOp>(ml, "gt", u, half);
-  else if (name == "green")
-    found = b.create<CmpOp>(ml, "lt", u, half);
-  if (name == "blue") {
-    value = b.create<SubOp>(ml, g.constFloat(1, l), u);
-    Value row = g.convert(b.create<MulOp>(ml, v, g.constFloat(12, l)), b.getI32Type(), l);
-    Value odd = b.create<ModOp>(ml, row, g.constInt(2, l));
-    found = b.create<CmpOp>(ml, "eq", odd, g.constInt(0, l));
-  }
-  return std::make_pair(found, value);
 }
 
 std::optional<RValue> emitTypeConstructor(IRGen &g, OslType type,
@@ -1565,6 +890,45 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
     }
   known = false;
   return std::nullopt;
+}
+
+std::string argTypesText(const std::vector<RValue> &args) {
+  std::string t;
+  for (size_t k = 0; k < args.size(); ++k)
+    t += (k ? ", " : "") + args[k].type.str();
+  return t;
+}
+
+/// A compile-time string argument.
+bool stringArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
+               llvm::StringRef what, std::string &out) {
+  if (!v.type.isString())
+    return g.error(e.loc, "'" + fn + "' expects " + what + " (a string) here, got '" +
+                              v.type.str() + "'");
+  if (v.isStringChoice())
+    return g.error(e.loc, "'" + fn + "' needs " + what +
+                              " known when the shader is compiled; this string is chosen "
+                              "per point");
+  if (!g.compileTimeStrings(v, e.loc, llvm::Twine(what) + " of '" + fn + "'"))
+    return false;
+  out = v.str;
+  return true;
+}
+
+/// A string argument known when the shader is compiled, or chosen per
+/// point among such strings (forEachStringChoice then runs each choice on
+/// its lanes).
+bool namesArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
+              llvm::StringRef what) {
+  if (!v.type.isString())
+    return g.error(e.loc, "'" + fn + "' expects " + what + " (a string) here, got '" +
+                              v.type.str() + "'");
+  return bool(g.compileTimeStrings(v, e.loc, llvm::Twine(what) + " of '" + fn + "'"));
+}
+
+mlir::Value derivOf(IRGen &g, SrcLoc l, mlir::Value v, char axis) {
+  const char *name = axis == 'x' ? "x" : axis == 'y' ? "y" : "z";
+  return g.builder().create<DerivOp>(g.loc(l), v.getType(), v, name);
 }
 
 } // namespace osl::frontend

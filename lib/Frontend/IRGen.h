@@ -589,6 +589,37 @@ std::optional<RValue> emitMessageBuiltin(IRGen &gen, const Expr &call, bool &kno
 /// call.
 std::optional<RValue> emitConnectionBuiltin(IRGen &gen, const Expr &call, bool &known);
 
+/// noise, snoise, cellnoise, hashnoise, pnoise, psnoise and gabor by name
+/// (NoiseBuiltins.cpp).
+std::optional<RValue> emitNoise(IRGen &gen, const Expr &call, const OslType *expected);
+/// transform() between named spaces and transformc() between color spaces
+/// (SpaceBuiltins.cpp).
+std::optional<RValue> emitTransform(IRGen &gen, const Expr &call);
+std::optional<RValue> emitTransformc(IRGen &gen, const Expr &call);
+/// Whether the renderer knows every space named; each unknown one is
+/// reported when the point runs (SpaceBuiltins.cpp).
+bool knownSpaces(IRGen &gen, std::initializer_list<llvm::StringRef> names, SrcLoc l);
+/// Whether a color converts from space `from` to `to`; if not, the renderer
+/// reports it when the point runs (SpaceBuiltins.cpp).
+bool knownColorTransform(IRGen &gen, const std::string &from, const std::string &to, SrcLoc l);
+/// Dx, Dy or Dz of `v` (axis 'x', 'y' or 'z') (Builtins.cpp).
+mlir::Value derivOf(IRGen &gen, SrcLoc l, mlir::Value v, char axis);
+/// spline() and splineinverse() (SplineBuiltins.cpp).
+std::optional<RValue> emitSpline(IRGen &gen, const Expr &call, bool inverse);
+/// getattribute() (AttributeBuiltins.cpp).
+std::optional<RValue> emitGetAttribute(IRGen &gen, const Expr &call);
+
+/// The argument types of a call, for errors: "float, color" (Builtins.cpp).
+std::string argTypesText(const std::vector<RValue> &args);
+/// A string argument `what` of `fn` that must be known when the shader is
+/// compiled, into `out`; false after reporting why not (Builtins.cpp).
+bool stringArg(IRGen &gen, const RValue &v, const Expr &e, llvm::StringRef fn,
+               llvm::StringRef what, std::string &out);
+/// A string argument known when compiled, or chosen per point among such
+/// strings; false after reporting why not (Builtins.cpp).
+bool namesArg(IRGen &gen, const RValue &v, const Expr &e, llvm::StringRef fn,
+              llvm::StringRef what);
+
 /// Evaluates every argument of a call, in order, with no expected types
 /// (Builtins.cpp); nullopt after an error.
 std::optional<std::vector<RValue>> emitArgs(IRGen &gen, const Expr &call);

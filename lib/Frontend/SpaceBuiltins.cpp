@@ -1,0 +1,151 @@
+//===- SpaceBuiltins.cpp - transform, transformc ----------------------------===//
+//
+// Points, vectors and normals between named coordinate spaces, matrices
+// aside (MatrixBuiltins.cpp), and colors between color spaces. A space the
+// renderer does not know is reported when the point runs, and the value is
+// left as it is, as in OSL.
+//
+//===----------------------------------------------------------------------===//
+#include "IRGen.h"
+#include "OslTransforms/ColorBuilder.h"
+
+using namespace mlir;
+using namespace mlir::osl;
+
+namespace osl::frontend {
+
+/// Whether the renderer knows every space of a transform; each unknown one is
+/// reported when the point runs (the transform is then the identity, as in
+/// OSL).
+bool knownSpaces(IRGen &g, std::initializer_list<llvm::StringRef> names, SrcLoc l) {
+  bool known = true;
+  for (llvm::StringRef name : names)
+    if (!namedSpaceTransform(name, "common", g.cameraImage())) {
+      g.reportAtRunTime("Unknown transformation \"" + name.str() + "\"", l);
+      known = false;
+    }
+  return known;
+}
+
+/// Whether transformc(from, to, ...) can convert; if not, the color stays as
+/// it is and the renderer reports it when the point runs, as OSL's does.
+bool knownColorTransform(IRGen &g, const std::string &from, const std::string &to,
+                         SrcLoc l) {
+  if (isColorSpaceName(from, g.workingColorSpace()) &&
+      isColorSpaceName(to, g.workingColorSpace()))
+    return true;
+  g.reportAtRunTime("Unknown color space transformation \"" + from + "\" -> \"" + to + "\"",
+                    l);
+  return false;
+}
+
+/// transformc([from,] to, C): from defaults to "rgb".
+std::optional<RValue> emitTransformc(IRGen &g, const Expr &call) {
+  auto args = emitArgs(g, call);
+  if (!args)
+    return std::nullopt;
+  size_t n = args->size();
+  if (n != 2 && n != 3) {
+    g.error(call.loc, "wrong arguments to 'transformc(" + argTypesText(*args) +
+                          ")'; candidates: color transformc(string to, color); "
+                          "color transformc(string from, string to, color)");
+    return std::nullopt;
+  }
+  RValue from = RValue::string("rgb");
+  if (n == 3) {
+    if (!namesArg(g, (*args)[0], *call.args[0], "transformc", "a color space name"))
+      return std::nullopt;
+    from = (*args)[0];
+  }
+  const RValue &to = (*args)[n - 2];
+  if (!namesArg(g, to, *call.args[n - 2], "transformc", "a color space name"))
+    return std::nullopt;
+  OslType color(BaseType::Color);
+  auto c = g.coerce((*args)[n - 1], color, call.args[n - 1]->begin, "in 'transformc'");
+  if (!c)
+    return std::nullopt;
+  return g.forEachStringChoice(from, call.loc, [&](const std::string &f) {
+    return g.forEachStringChoice(to, call.loc, [&](const std::string &t) {
+      if (!knownColorTransform(g, f, t, call.loc))
+        return std::optional<RValue>(*c);
+      Value r = g.builder().create<TransformcOp>(g.loc(call.loc), c->value.getType(), f, t,
+                                                 g.workingColorSpace(), c->value);
+      return std::optional<RValue>(RValue::num(color, r));
+    });
+  });
+}
+
+std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
+  auto args = emitArgs(g, call);
+  if (!args)
+    return std::nullopt;
+  size_t n = args->size();
+  auto wrong = [&]() -> std::optional<RValue> {
+    g.error(call.loc, "wrong arguments to 'transform(" + argTypesText(*args) +
+                          ")'; candidates: triple transform(string to, triple); "
+                          "triple transform(string from, string to, triple); "
+                          "triple transform(matrix, triple) "
+                          "(triple: point, vector or normal)");
+    return std::nullopt;
+  };
+  if (n != 2 && n != 3)
+    return wrong();
+  const RValue &p = args->back();
+  if (!p.type.isTriple())
+    return wrong();
+  if (n == 2 && (*args)[0].type.isMatrix()) {
+    if (p.type.base == BaseType::Color) {
+      g.error(call.args.back()->loc,
+              "transform() applies to points, vectors and normals, not 'color'");
+      return std::nullopt;
+    }
+    return RValue::num(p.type,
+                       g.transformByMatrix((*args)[0].elems, p.value, p.type.base, call.loc));
+  }
+  for (size_t k = 0; k + 1 < n; ++k) {
+    if (!(*args)[k].type.isString())
+      return wrong();
+    if (!namesArg(g, (*args)[k], *call.args[k], "transform", "a space name"))
+      return std::nullopt;
+  }
+  if (p.type.base == BaseType::Color) {
+    g.error(call.args.back()->loc,
+            "transform() applies to points, vectors and normals, not 'color'");
+    return std::nullopt;
+  }
+  // Names may be chosen per point: each pair of names runs on its lanes.
+  auto between = [&](const std::string &from, const std::string &to) -> std::optional<RValue> {
+    if (from.empty() || to.empty()) {
+      g.error(call.loc, "transform() needs non-empty space names");
+      return std::nullopt;
+    }
+    if (from == to)
+      return p;
+    if (isProjectionSpace(from)) {
+      g.error(call.args[0]->loc, "the renderer knows '" + from +
+                                     "' only as a destination space");
+      return std::nullopt;
+    }
+    if (isProjectionSpace(to)) {
+      // The camera's projection depends on the image size the front end was
+      // given: a constant matrix, applied with the w divide.
+      // (An unknown space is reported, and its half is the identity.)
+      bool known = true;
+      RValue m = g.namedMatrix(from, to, call.loc, known);
+      return RValue::num(p.type, g.transformByMatrix(m.elems, p.value, p.type.base, call.loc));
+    }
+    if (!knownSpaces(g, {from, to}, call.loc))
+      return p;
+    std::string kind = baseTypeName(p.type.base).str();
+    Value v = g.builder().create<TransformOp>(g.loc(call.loc), p.value.getType(), from, to,
+                                              kind, p.value);
+    return RValue::num(p.type, v);
+  };
+  RValue from = n == 3 ? (*args)[0] : RValue::string("common");
+  const RValue &to = (*args)[n - 2];
+  return g.forEachStringChoice(from, call.loc, [&](const std::string &f) {
+    return g.forEachStringChoice(to, call.loc, [&](const std::string &t) { return between(f, t); });
+  });
+}
+
+} // namespace osl::frontend
