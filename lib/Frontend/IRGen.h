@@ -563,7 +563,8 @@ std::optional<RValue> emitMatrixBuiltin(IRGen &gen, const Expr &call, bool &know
 /// regex_search, regex_match (StringBuiltins.cpp); `known` is false when
 /// `call` is none of them.
 std::optional<RValue> emitStringBuiltin(IRGen &gen, const Expr &call, bool &known);
-/// `type(args...)` for int, float, string and the triples (Builtins.cpp):
+/// `type(args...)` for int, float, string and the triples
+/// (ConstructorBuiltins.cpp):
 /// also what `{args...}` means for a value of such a type.
 std::optional<RValue> emitTypeConstructor(IRGen &gen, OslType type,
                                           const std::vector<ExprPtr> &args, SrcLoc loc);
@@ -606,6 +607,8 @@ bool knownColorTransform(IRGen &gen, const std::string &from, const std::string 
 mlir::Value derivOf(IRGen &gen, SrcLoc l, mlir::Value v, char axis);
 /// spline() and splineinverse() (SplineBuiltins.cpp).
 std::optional<RValue> emitSpline(IRGen &gen, const Expr &call, bool inverse);
+/// sincos() (SincosBuiltin.cpp).
+std::optional<RValue> emitSincos(IRGen &gen, const Expr &call);
 /// getattribute() (AttributeBuiltins.cpp).
 std::optional<RValue> emitGetAttribute(IRGen &gen, const Expr &call);
 

@@ -1,56 +1,18 @@
 //===- Parser.cpp - OSL tokens to a syntax tree ------------------------------===//
-#include "Parser.h"
-
-#include "llvm/ADT/StringMap.h"
-#include "llvm/ADT/StringSwitch.h"
-
-#include <algorithm>
-#include <cerrno>
-#include <cstdlib>
+//
+// Declarations (structs, shaders, functions, parameters and their
+// metadata) and statements; expressions are ExprParser's.
+//
+//===----------------------------------------------------------------------===//
+#include "ExprParser.h"
 
 using namespace osl::frontend;
 
 namespace {
 
-bool isShaderTypeKeyword(llvm::StringRef s) {
-  return s == "shader" || s == "surface" || s == "displacement" || s == "volume" ||
-         s == "light";
-}
-
-/// Type names: the keywords that start a declaration.
-bool lookupTypeName(llvm::StringRef s, BaseType &base) {
-  auto r = llvm::StringSwitch<int>(s)
-               .Case("int", int(BaseType::Int))
-               .Case("float", int(BaseType::Float))
-               .Case("point", int(BaseType::Point))
-               .Case("vector", int(BaseType::Vector))
-               .Case("normal", int(BaseType::Normal))
-               .Case("color", int(BaseType::Color))
-               .Case("string", int(BaseType::String))
-               .Case("void", int(BaseType::Void))
-               .Case("matrix", int(BaseType::Matrix))
-               .Case("closure", int(BaseType::Closure))
-               .Default(-1);
-  if (r < 0)
-    return false;
-  base = BaseType(r);
-  return true;
-}
-
-bool isReserved(llvm::StringRef s) {
-  BaseType b;
-  return lookupTypeName(s, b) ||
-         llvm::StringSwitch<bool>(s)
-             .Cases("if", "else", "for", "while", "do", "break", "continue", true)
-             .Cases("return", "struct", "output", "uniform", "varying", true)
-             .Cases("and", "or", "not", "illuminate", "illuminance", "gather", true)
-             .Default(false);
-}
-
-class Parser {
+class Parser : public ExprParser {
 public:
-  Parser(const std::vector<Token> &toks, Diagnostics &diags)
-      : toks(toks), diags(diags) {}
+  using ExprParser::ExprParser;
 
   bool parseProgram(Program &program) {
     while (!cur().is(TokKind::Eof)) {
@@ -99,103 +61,6 @@ public:
   }
 
 private:
-  // --- tokens ----------------------------------------------------------------
-  const Token &cur() const { return toks[pos]; }
-  const Token &peek(size_t k) const {
-    return toks[std::min(pos + k, toks.size() - 1)];
-  }
-  void advance() {
-    if (!cur().is(TokKind::Eof))
-      ++pos;
-  }
-  bool acceptPunct(llvm::StringRef p) {
-    if (!cur().isPunct(p))
-      return false;
-    advance();
-    return true;
-  }
-  bool acceptIdent(llvm::StringRef s) {
-    if (!cur().isIdent(s))
-      return false;
-    advance();
-    return true;
-  }
-  void error(SrcLoc loc, const llvm::Twine &msg) { diags.error(loc, msg); }
-  void errorExpected(const llvm::Twine &what) {
-    error(cur().loc, "expected " + what + ", found " + describeToken(cur()));
-  }
-  bool expectPunct(llvm::StringRef p, llvm::StringRef context = "") {
-    if (acceptPunct(p))
-      return true;
-    if (context.empty())
-      errorExpected("'" + p + "'");
-    else
-      errorExpected("'" + p + "' " + context);
-    return false;
-  }
-
-  /// Sets the height of a new node from its children; false (after an
-  /// error) if the expression is too deep, e.g. a chain of thousands of
-  /// binary operators.
-  bool finish(Expr &e) {
-    unsigned h = 0;
-    for (const ExprPtr &a : e.args)
-      h = std::max(h, a->height);
-    e.height = h + 1;
-    if (e.height > kMaxNesting * 2) {
-      error(e.loc, "expression is too complex (nested too deeply)");
-      return false;
-    }
-    return true;
-  }
-
-  /// RAII nesting counter.
-  struct Nest {
-    Parser &p;
-    bool ok;
-    Nest(Parser &p) : p(p), ok(++p.depth <= kMaxNesting) {
-      if (!ok)
-        p.error(p.cur().loc, "nesting is too deep");
-    }
-    ~Nest() { --p.depth; }
-  };
-
-  // --- types -------------------------------------------------------------------
-  bool isTypeStart() const {
-    const Token &t = cur();
-    BaseType b;
-    return t.is(TokKind::Ident) &&
-           (lookupTypeName(t.text, b) || structTypes.count(t.text) || t.text == "uniform" ||
-            t.text == "varying");
-  }
-
-  bool parseType(OslType &type) {
-    while (cur().isIdent("uniform") || cur().isIdent("varying"))
-      advance();
-    if (cur().is(TokKind::Ident)) {
-      auto it = structTypes.find(cur().text);
-      if (it != structTypes.end()) {
-        advance();
-        type = OslType::ofStruct(it->second);
-        return true;
-      }
-    }
-    BaseType base;
-    if (!cur().is(TokKind::Ident) || !lookupTypeName(cur().text, base)) {
-      errorExpected("a type name");
-      return false;
-    }
-    advance();
-    if (base == BaseType::Closure) {
-      if (!acceptIdent("color")) {
-        errorExpected("'color' after 'closure'");
-        return false;
-      }
-    }
-    type = OslType(base);
-    return true;
-  }
-
   /// `struct Name { type field [N], ...; ... };` at file scope.
   bool parseStruct(Program &program) {
     advance(); // struct
@@ -492,85 +357,14 @@ private:
       advance();
       return std::make_unique<Stmt>(StmtKind::Empty, loc);
     }
-    if (t.isIdent("if")) {
-      advance();
-      auto s = std::make_unique<Stmt>(StmtKind::If, loc);
-      if (!expectPunct("(", "after 'if'"))
-        return nullptr;
-      if (!(s->expr = parseExpression()))
-        return nullptr;
-      if (!expectPunct(")", "after the 'if' condition"))
-        return nullptr;
-      if (!(s->thenStmt = parseStatement()))
-        return nullptr;
-      if (acceptIdent("else"))
-        if (!(s->elseStmt = parseStatement()))
-          return nullptr;
-      return s;
-    }
-    if (t.isIdent("while")) {
-      advance();
-      auto s = std::make_unique<Stmt>(StmtKind::While, loc);
-      if (!expectPunct("(", "after 'while'"))
-        return nullptr;
-      if (!(s->expr = parseExpression()))
-        return nullptr;
-      if (!expectPunct(")", "after the 'while' condition"))
-        return nullptr;
-      if (!(s->thenStmt = parseStatement()))
-        return nullptr;
-      return s;
-    }
-    if (t.isIdent("do")) {
-      advance();
-      auto s = std::make_unique<Stmt>(StmtKind::DoWhile, loc);
-      if (!(s->thenStmt = parseStatement()))
-        return nullptr;
-      if (!acceptIdent("while")) {
-        errorExpected("'while' after the body of 'do'");
-        return nullptr;
-      }
-      if (!expectPunct("(", "after 'while'"))
-        return nullptr;
-      if (!(s->expr = parseExpression()))
-        return nullptr;
-      if (!expectPunct(")", "after the 'while' condition") ||
-          !expectPunct(";", "after 'do ... while (...)'"))
-        return nullptr;
-      return s;
-    }
-    if (t.isIdent("for")) {
-      advance();
-      auto s = std::make_unique<Stmt>(StmtKind::For, loc);
-      if (!expectPunct("(", "after 'for'"))
-        return nullptr;
-      if (cur().isPunct(";")) {
-        advance();
-      } else if (isTypeStart()) {
-        if (!(s->init = parseDeclaration()))
-          return nullptr;
-      } else {
-        auto e = std::make_unique<Stmt>(StmtKind::ExprStmt, cur().loc);
-        if (!(e->expr = parseExpression()))
-          return nullptr;
-        if (!expectPunct(";", "after the 'for' initializer"))
-          return nullptr;
-        s->init = std::move(e);
-      }
-      if (!cur().isPunct(";"))
-        if (!(s->expr = parseExpression()))
-          return nullptr;
-      if (!expectPunct(";", "after the 'for' condition"))
-        return nullptr;
-      if (!cur().isPunct(")"))
-        if (!(s->step = parseExpression()))
-          return nullptr;
-      if (!expectPunct(")", "after the 'for' step"))
-        return nullptr;
-      if (!(s->thenStmt = parseStatement()))
-        return nullptr;
-      return s;
-    }
+    if (t.isIdent("if"))
+      return parseIf(loc);
+    if (t.isIdent("while"))
+      return parseWhile(loc);
+    if (t.isIdent("do"))
+      return parseDoWhile(loc);
+    if (t.isIdent("for"))
+      return parseFor(loc);
     if (t.isIdent("break") || t.isIdent("continue")) {
       auto s = std::make_unique<Stmt>(
           t.text == "break" ? StmtKind::Break : StmtKind::Continue, loc);
@@ -602,23 +396,8 @@ private:
       error(loc, "'" + t.text + "' is not supported");
       return nullptr;
     }
-    if (isTypeStart()) {
-      // A nested function definition: `type name (`.
-      size_t save = pos;
-      OslType type;
-      if (!parseType(type))
-        return nullptr;
-      if (cur().is(TokKind::Ident) && !isReserved(cur().text) && peek(1).isPunct("(")) {
-        auto s = std::make_unique<Stmt>(StmtKind::FuncDef, loc);
-        if (!(s->func = parseFunctionRest(type)))
-          return nullptr;
-        if (!s->func->body) // a prototype declares nothing that runs
-          return std::make_unique<Stmt>(StmtKind::Block, loc);
-        return s;
-      }
-      pos = save;
-      return parseDeclaration();
-    }
+    if (isTypeStart())
+      return parseDeclarationOrFunction(loc);
     // `Name name ...`: a declaration with an unknown type (e.g. a struct).
     if (t.is(TokKind::Ident) && !isReserved(t.text) && peek(1).is(TokKind::Ident) &&
         !isReserved(peek(1).text)) {
@@ -631,6 +410,111 @@ private:
     if (!expectPunct(";", "after expression"))
       return nullptr;
     return s;
+  }
+
+  /// `if (cond) stmt [else stmt]`, at `if`.
+  StmtPtr parseIf(SrcLoc loc) {
+    advance();
+    auto s = std::make_unique<Stmt>(StmtKind::If, loc);
+    if (!expectPunct("(", "after 'if'"))
+      return nullptr;
+    if (!(s->expr = parseExpression()))
+      return nullptr;
+    if (!expectPunct(")", "after the 'if' condition"))
+      return nullptr;
+    if (!(s->thenStmt = parseStatement()))
+      return nullptr;
+    if (acceptIdent("else"))
+      if (!(s->elseStmt = parseStatement()))
+        return nullptr;
+    return s;
+  }
+
+  /// `while (cond) stmt`, at `while`.
+  StmtPtr parseWhile(SrcLoc loc) {
+    advance();
+    auto s = std::make_unique<Stmt>(StmtKind::While, loc);
+    if (!expectPunct("(", "after 'while'"))
+      return nullptr;
+    if (!(s->expr = parseExpression()))
+      return nullptr;
+    if (!expectPunct(")", "after the 'while' condition"))
+      return nullptr;
+    if (!(s->thenStmt = parseStatement()))
+      return nullptr;
+    return s;
+  }
+
+  /// `do stmt while (cond);`, at `do`.
+  StmtPtr parseDoWhile(SrcLoc loc) {
+    advance();
+    auto s = std::make_unique<Stmt>(StmtKind::DoWhile, loc);
+    if (!(s->thenStmt = parseStatement()))
+      return nullptr;
+    if (!acceptIdent("while")) {
+      errorExpected("'while' after the body of 'do'");
+      return nullptr;
+    }
+    if (!expectPunct("(", "after 'while'"))
+      return nullptr;
+    if (!(s->expr = parseExpression()))
+      return nullptr;
+    if (!expectPunct(")", "after the 'while' condition") ||
+        !expectPunct(";", "after 'do ... while (...)'"))
+      return nullptr;
+    return s;
+  }
+
+  /// `for (init; cond; step) stmt`, at `for`.
+  StmtPtr parseFor(SrcLoc loc) {
+    advance();
+    auto s = std::make_unique<Stmt>(StmtKind::For, loc);
+    if (!expectPunct("(", "after 'for'"))
+      return nullptr;
+    if (cur().isPunct(";")) {
+      advance();
+    } else if (isTypeStart()) {
+      if (!(s->init = parseDeclaration()))
+        return nullptr;
+    } else {
+      auto e = std::make_unique<Stmt>(StmtKind::ExprStmt, cur().loc);
+      if (!(e->expr = parseExpression()))
+        return nullptr;
+      if (!expectPunct(";", "after the 'for' initializer"))
+        return nullptr;
+      s->init = std::move(e);
+    }
+    if (!cur().isPunct(";"))
+      if (!(s->expr = parseExpression()))
+        return nullptr;
+    if (!expectPunct(";", "after the 'for' condition"))
+      return nullptr;
+    if (!cur().isPunct(")"))
+      if (!(s->step = parseExpression()))
+        return nullptr;
+    if (!expectPunct(")", "after the 'for' step"))
+      return nullptr;
+    if (!(s->thenStmt = parseStatement()))
+      return nullptr;
+    return s;
+  }
+
+  /// A declaration, or a nested function's definition (`type name (`).
+  StmtPtr parseDeclarationOrFunction(SrcLoc loc) {
+    size_t save = pos;
+    OslType type;
+    if (!parseType(type))
+      return nullptr;
+    if (cur().is(TokKind::Ident) && !isReserved(cur().text) && peek(1).isPunct("(")) {
+      auto s = std::make_unique<Stmt>(StmtKind::FuncDef, loc);
+      if (!(s->func = parseFunctionRest(type)))
+        return nullptr;
+      if (!s->func->body) // a prototype declares nothing that runs
+        return std::make_unique<Stmt>(StmtKind::Block, loc);
+      return s;
+    }
+    pos = save;
+    return parseDeclaration();
   }
 
   /// `type name [= init] (, name [= init])* ;`
@@ -669,411 +553,6 @@ private:
       return nullptr;
     }
   }
-
-  /// An expression or `{ a, b, ... }`; `{ }` only where `emptyAllowed`
-  /// (a shader parameter's default, as oslc allows it).
-  ExprPtr parseInitializer(bool emptyAllowed = false) {
-    if (!cur().isPunct("{"))
-      return parseAssignment();
-    auto list = std::make_unique<Expr>(ExprKind::InitList, cur().loc);
-    advance();
-    if (acceptPunct("}")) {
-      if (!emptyAllowed) {
-        error(list->loc, "Empty compound initializers '{ }' only allowed for shader parameters.");
-        return nullptr;
-      }
-      return list;
-    }
-    while (true) {
-      ExprPtr e = parseAssignment();
-      if (!e)
-        return nullptr;
-      list->args.push_back(std::move(e));
-      if (acceptPunct(",")) {
-        if (acceptPunct("}"))
-          return finish(*list) ? std::move(list) : nullptr;
-        continue;
-      }
-      if (acceptPunct("}"))
-        return finish(*list) ? std::move(list) : nullptr;
-      errorExpected("',' or '}' in initializer list");
-      return nullptr;
-    }
-  }
-
-  // --- expressions -------------------------------------------------------------
-  ExprPtr parseExpression() {
-    ExprPtr e = parseAssignment();
-    if (!e || !cur().isPunct(","))
-      return e;
-    auto comma = std::make_unique<Expr>(ExprKind::Comma, cur().loc);
-    comma->begin = e->begin;
-    comma->args.push_back(std::move(e));
-    while (acceptPunct(",")) {
-      ExprPtr next = parseAssignment();
-      if (!next)
-        return nullptr;
-      comma->args.push_back(std::move(next));
-    }
-    return finish(*comma) ? std::move(comma) : nullptr;
-  }
-
-  static bool isAssignOp(const Token &t) {
-    static const char *ops[] = {"=", "+=", "-=", "*=", "/=", "%=",
-                                "&=", "|=", "^=", "<<=", ">>="};
-    if (t.kind != TokKind::Punct)
-      return false;
-    for (const char *op : ops)
-      if (t.text == op)
-        return true;
-    return false;
-  }
-
-  ExprPtr parseAssignment() {
-    Nest nest(*this);
-    if (!nest.ok)
-      return nullptr;
-    ExprPtr lhs = parseTernary();
-    if (!lhs)
-      return nullptr;
-    if (!isAssignOp(cur()))
-      return lhs;
-    const Token &op = cur();
-    if (lhs->kind != ExprKind::Ident && lhs->kind != ExprKind::Index &&
-        lhs->kind != ExprKind::Member) {
-      error(op.loc, "the left side of '" + op.text + "' is not assignable");
-      return nullptr;
-    }
-    auto e = std::make_unique<Expr>(ExprKind::Assign, op.loc);
-    e->begin = lhs->begin;
-    e->name = op.text;
-    advance();
-    ExprPtr rhs = parseAssignment();
-    if (!rhs)
-      return nullptr;
-    e->args.push_back(std::move(lhs));
-    e->args.push_back(std::move(rhs));
-    if (!finish(*e))
-      return nullptr;
-    return e;
-  }
-
-  ExprPtr parseTernary() {
-    ExprPtr cond = parseBinary(1);
-    if (!cond || !cur().isPunct("?"))
-      return cond;
-    Nest nest(*this);
-    if (!nest.ok)
-      return nullptr;
-    auto e = std::make_unique<Expr>(ExprKind::Ternary, cur().loc);
-    e->begin = cond->begin;
-    advance();
-    ExprPtr a = parseAssignment();
-    if (!a)
-      return nullptr;
-    if (!expectPunct(":", "in conditional expression"))
-      return nullptr;
-    ExprPtr b = parseTernary();
-    if (!b)
-      return nullptr;
-    e->args.push_back(std::move(cond));
-    e->args.push_back(std::move(a));
-    e->args.push_back(std::move(b));
-    if (!finish(*e))
-      return nullptr;
-    return e;
-  }
-
-  /// The binary operator at the cursor and its precedence (0: none).
-  int binaryPrecedence(std::string &op) const {
-    const Token &t = cur();
-    if (t.is(TokKind::Ident)) {
-      if (t.text == "or") { op = "||"; return 1; }
-      if (t.text == "and") { op = "&&"; return 2; }
-      return 0;
-    }
-    if (t.kind != TokKind::Punct)
-      return 0;
-    static const std::pair<const char *, int> table[] = {
-        {"||", 1}, {"&&", 2}, {"|", 3},  {"^", 4},  {"&", 5},  {"==", 6},
-        {"!=", 6}, {"<", 7},  {"<=", 7}, {">", 7},  {">=", 7}, {"<<", 8},
-        {">>", 8}, {"+", 9},  {"-", 9},  {"*", 10}, {"/", 10}, {"%", 10}};
-    for (auto &[o, prec] : table)
-      if (t.text == o) {
-        op = o;
-        return prec;
-      }
-    return 0;
-  }
-
-  ExprPtr parseBinary(int minPrec) {
-    ExprPtr lhs = parseUnary();
-    if (!lhs)
-      return nullptr;
-    while (true) {
-      std::string op;
-      int prec = binaryPrecedence(op);
-      if (prec == 0 || prec < minPrec)
-        return lhs;
-      SrcLoc loc = cur().loc;
-      advance();
-      Nest nest(*this);
-      if (!nest.ok)
-        return nullptr;
-      ExprPtr rhs = parseBinary(prec + 1);
-      if (!rhs)
-        return nullptr;
-      auto e = std::make_unique<Expr>(ExprKind::Binary, loc);
-      e->begin = lhs->begin;
-      e->name = op;
-      e->args.push_back(std::move(lhs));
-      e->args.push_back(std::move(rhs));
-      if (!finish(*e))
-        return nullptr;
-      lhs = std::move(e);
-    }
-  }
-
-  ExprPtr parseUnary() {
-    Nest nest(*this);
-    if (!nest.ok)
-      return nullptr;
-    const Token &t = cur();
-    SrcLoc loc = t.loc;
-    if (t.isPunct("-") || t.isPunct("+") || t.isPunct("!") || t.isPunct("~") ||
-        t.isIdent("not")) {
-      std::string op = t.isIdent("not") ? "!" : t.text;
-      advance();
-      ExprPtr operand = parseUnary();
-      if (!operand)
-        return nullptr;
-      auto e = std::make_unique<Expr>(ExprKind::Unary, loc);
-      e->name = op;
-      e->args.push_back(std::move(operand));
-      if (!finish(*e))
-        return nullptr;
-      return e;
-    }
-    if (t.isPunct("++") || t.isPunct("--")) {
-      std::string op = t.text;
-      advance();
-      ExprPtr operand = parseUnary();
-      if (!operand)
-        return nullptr;
-      if (operand->kind != ExprKind::Ident && operand->kind != ExprKind::Index &&
-          operand->kind != ExprKind::Member) {
-        error(loc, "the operand of '" + op + "' is not assignable");
-        return nullptr;
-      }
-      auto e = std::make_unique<Expr>(ExprKind::IncDec, loc);
-      e->name = op;
-      e->prefix = true;
-      e->args.push_back(std::move(operand));
-      if (!finish(*e))
-        return nullptr;
-      return e;
-    }
-    // A cast: '(' type ')' unary.
-    BaseType base;
-    if (t.isPunct("(") && peek(1).is(TokKind::Ident) &&
-        lookupTypeName(peek(1).text, base) && peek(2).isPunct(")")) {
-      advance();
-      advance();
-      advance();
-      ExprPtr operand = parseUnary();
-      if (!operand)
-        return nullptr;
-      auto e = std::make_unique<Expr>(ExprKind::Cast, loc);
-      e->castType = OslType(base);
-      e->args.push_back(std::move(operand));
-      if (!finish(*e))
-        return nullptr;
-      return e;
-    }
-    return parsePostfix();
-  }
-
-  ExprPtr parsePostfix() {
-    ExprPtr e = parsePrimary();
-    if (!e)
-      return nullptr;
-    while (true) {
-      const Token &t = cur();
-      if (t.isPunct("[") && !peek(1).isPunct("[")) { // `[[` starts metadata
-        SrcLoc loc = t.loc;
-        advance();
-        ExprPtr index = parseExpression();
-        if (!index)
-          return nullptr;
-        if (!expectPunct("]", "after array index"))
-          return nullptr;
-        auto ix = std::make_unique<Expr>(ExprKind::Index, loc);
-        ix->begin = e->begin;
-        ix->args.push_back(std::move(e));
-        ix->args.push_back(std::move(index));
-        if (!finish(*ix))
-          return nullptr;
-        e = std::move(ix);
-      } else if (t.isPunct(".")) {
-        SrcLoc loc = t.loc;
-        advance();
-        if (!cur().is(TokKind::Ident)) {
-          errorExpected("a component name after '.'");
-          return nullptr;
-        }
-        auto m = std::make_unique<Expr>(ExprKind::Member, loc);
-        m->begin = e->begin;
-        m->name = cur().text;
-        advance();
-        m->args.push_back(std::move(e));
-        if (!finish(*m))
-          return nullptr;
-        e = std::move(m);
-      } else if (t.isPunct("++") || t.isPunct("--")) {
-        if (e->kind != ExprKind::Ident && e->kind != ExprKind::Index &&
-            e->kind != ExprKind::Member) {
-          error(t.loc, "the operand of '" + t.text + "' is not assignable");
-          return nullptr;
-        }
-        auto inc = std::make_unique<Expr>(ExprKind::IncDec, t.loc);
-        inc->begin = e->begin;
-        inc->name = t.text;
-        inc->prefix = false;
-        advance();
-        inc->args.push_back(std::move(e));
-        if (!finish(*inc))
-          return nullptr;
-        e = std::move(inc);
-      } else if (t.isPunct("(")) {
-        error(t.loc, "only named functions can be called");
-        return nullptr;
-      } else {
-        return e;
-      }
-    }
-  }
-
-  bool parseCallArgs(Expr &call) {
-    advance(); // '('
-    if (acceptPunct(")"))
-      return true;
-    while (true) {
-      ExprPtr a = parseAssignment();
-      if (!a)
-        return false;
-      call.args.push_back(std::move(a));
-      if (acceptPunct(","))
-        continue;
-      if (acceptPunct(")"))
-        return finish(call);
-      errorExpected("',' or ')' in argument list of '" + call.name + "'");
-      return false;
-    }
-  }
-
-  ExprPtr parsePrimary() {
-    const Token &t = cur();
-    SrcLoc loc = t.loc;
-    switch (t.kind) {
-    case TokKind::Int: {
-      auto e = std::make_unique<Expr>(ExprKind::IntLit, loc);
-      unsigned long long v;
-      if (llvm::StringRef(t.text).getAsInteger(0, v) || v > 0xffffffffull) {
-        error(loc, "integer literal '" + t.text + "' is too large for an int");
-        return nullptr;
-      }
-      e->intValue = (long long)(int32_t)(uint32_t)v;
-      // oslc takes 2147483648 (it wraps, so that -2147483648 can be written)
-      // and rejects larger decimal literals; hex literals are bit patterns.
-      if (v > 0x80000000ull && !llvm::StringRef(t.text).starts_with_insensitive("0x")) {
-        error(loc, "integer overflow, value must be between -2147483648 and 2147483647");
-        return nullptr;
-      }
-      advance();
-      return e;
-    }
-    case TokKind::Float: {
-      auto e = std::make_unique<Expr>(ExprKind::FloatLit, loc);
-      std::string text = t.text;
-      if (!text.empty() && (text.back() == 'f' || text.back() == 'F'))
-        text.pop_back();
-      e->floatValue = std::strtod(text.c_str(), nullptr);
-      advance();
-      return e;
-    }
-    case TokKind::String: {
-      auto e = std::make_unique<Expr>(ExprKind::StringLit, loc);
-      while (cur().is(TokKind::String)) { // adjacent literals concatenate
-        e->name += cur().text;
-        advance();
-      }
-      return e;
-    }
-    case TokKind::Punct:
-      if (t.isPunct("(")) {
-        advance();
-        ExprPtr e = parseExpression();
-        if (!e)
-          return nullptr;
-        SrcLoc close = cur().loc;
-        if (!expectPunct(")", "to close '('"))
-          return nullptr;
-        // (a, b, c) reads like a triple but is the comma operator: oslc warns.
-        if (e->kind == ExprKind::Comma &&
-            !diags.warning(close, "Comma operator inside parenthesis is probably an error -- "
-                                  "it is not a vector/color."))
-          return nullptr;
-        return e;
-      }
-      if (t.isPunct("{"))
-        return parseInitializer(); // typed by its context
-      errorExpected("an expression");
-      return nullptr;
-    case TokKind::Eof:
-      errorExpected("an expression");
-      return nullptr;
-    case TokKind::Ident:
-      break;
-    }
-    BaseType base;
-    if (lookupTypeName(t.text, base)) {
-      if (!peek(1).isPunct("(") || base == BaseType::Void || base == BaseType::Closure) {
-        error(loc, "unexpected type name '" + t.text + "' in expression");
-        return nullptr;
-      }
-      auto e = std::make_unique<Expr>(ExprKind::Call, loc);
-      e->name = t.text;
-      e->isCtor = true;
-      e->castType = OslType(base);
-      advance();
-      if (!parseCallArgs(*e))
-        return nullptr;
-      return e;
-    }
-    if (isReserved(t.text)) {
-      error(loc, "unexpected '" + t.text + "' in expression");
-      return nullptr;
-    }
-    if (peek(1).isPunct("(")) {
-      auto e = std::make_unique<Expr>(ExprKind::Call, loc);
-      e->name = t.text;
-      advance();
-      if (!parseCallArgs(*e))
-        return nullptr;
-      return e;
-    }
-    auto e = std::make_unique<Expr>(ExprKind::Ident, loc);
-    e->name = t.text;
-    advance();
-    return e;
-  }
-
-  const std::vector<Token> &toks;
-  Diagnostics &diags;
-  size_t pos = 0;
-  unsigned depth = 0;
-  /// Structs defined so far: their names are type names from then on.
-  llvm::StringMap<const StructDecl *> structTypes;
 };
 
 } // namespace

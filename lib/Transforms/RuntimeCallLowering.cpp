@@ -1,0 +1,423 @@
+//===- RuntimeCallLowering.cpp - osl ops that call the runtime -------------===//
+//
+// Each writes its operands' lanes to a stack block of rows, calls its
+// runtime entry point (OslRuntime/StringCall.h, PrintCall.h, MessageCall.h,
+// TextureCall.h, LaneStats.h) for the active lanes, and reads its results
+// back from rows.
+//
+//===----------------------------------------------------------------------===//
+#include "VectorLowering.h"
+
+#include "OslRuntime/PrintCall.h"
+#include "OslRuntime/StringCall.h"
+#include "OslRuntime/TextureCall.h"
+#include "OslTransforms/ConstantTable.h"
+
+#include "mlir/Dialect/Arith/IR/Arith.h"
+#include "mlir/Dialect/Func/IR/FuncOps.h"
+
+using namespace mlir;
+using namespace mlir::osl;
+using namespace mlir::osl::lowering;
+
+namespace {
+
+/// osl.string_constant: the handle the runtime's intern table gives the
+/// text (looked up once per batch).
+struct StringConstantLowering : public OslPattern<StringConstantOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(StringConstantOp op, OpAdaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_string_intern",
+                                                 rewriter.getI32Type(), {ptr});
+    Value text = constantStringAddress(rewriter, loc, op.getValue());
+    rewriter.replaceOpWithNewOp<LLVM::CallOp>(op, callee, ValueRange{text});
+    return success();
+  }
+};
+
+/// osl.count_lanes: the number of set lanes goes to the runtime's lane
+/// statistics (osl_rt_count_lanes, OslRuntime/LaneStats.h).
+struct CountLanesLowering : public OslPattern<CountLanesOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(CountLanesOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    Type i32 = rewriter.getI32Type();
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_count_lanes",
+                                                 LLVM::LLVMVoidType::get(getContext()),
+                                                 {i32});
+    Value bits = maskBits(rewriter, loc, adaptor.getMask());
+    Value count = rewriter.create<LLVM::CtPopOp>(loc, i32, bits);
+    rewriter.create<LLVM::CallOp>(loc, callee, ValueRange{count});
+    rewriter.eraseOp(op);
+    return success();
+  }
+};
+
+/// osl.string_call: the operands' lanes go to a block of 32-bit rows
+/// (OslRuntime/StringCall.h), osl_rt_string_call runs the active lanes and
+/// the result row is read back. Uniform operands and result: one lane.
+struct StringCallLowering : public OslPattern<StringCallOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(StringCallOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    bool varying = isVarying(op.getType());
+    int64_t lanes = varying ? width : 1;
+    StringRef kinds = op.getKinds();
+    auto [block, resultRow] = operandRows(rewriter, loc, op, op.getArgs(), adaptor.getArgs(),
+                                          kinds, width, varying, /*extraRows=*/1);
+    Value mask = varying ? activeLanes(rewriter, loc, op, width)
+                         : rewriter.create<arith::ConstantIntOp>(loc, 1, 1).getResult();
+    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
+    Type i32 = rewriter.getI32Type();
+    LLVM::LLVMFuncOp callee =
+        runtimeDeclaration(rewriter, op, "osl_rt_string_call",
+                           LLVM::LLVMVoidType::get(rewriter.getContext()),
+                           {ptr, i32, ptr, ptr, i32, i32});
+    SmallVector<Value> args = {
+        constantStringAddress(rewriter, loc, callSiteText(loc, op.getCallee())),
+        i32Constant(rewriter, loc, ::osl::stringFunctionCode(op.getCallee())),
+        constantStringAddress(rewriter, loc, kinds),
+        block,
+        i32Constant(rewriter, loc, lanes),
+        maskBits(rewriter, loc, mask)};
+    rewriter.create<LLVM::CallOp>(loc, callee, args);
+
+    Type base = getUniformType(op.getType());
+    Type laneType = varying ? Type(VectorType::get({lanes}, base)) : base;
+    auto load = rewriter.create<LLVM::LoadOp>(
+        loc, laneType, rowAddress(rewriter, loc, block, resultRow, lanes), 4);
+    load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+    rewriter.replaceOp(op, load.getResult());
+    return success();
+  }
+};
+
+/// osl.print: every active point prints, so the operands always take W
+/// lanes; osl_rt_print formats each (OslRuntime/PrintCall.h).
+struct PrintLowering : public OslPattern<PrintOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(PrintOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    StringRef kinds = op.getKinds();
+    Value block = operandRows(rewriter, loc, op, op.getArgs(), adaptor.getArgs(), kinds,
+                              width, /*varying=*/true, /*extraRows=*/0)
+                      .first;
+    Value mask = sideEffectLanes(rewriter, loc, op, adaptor.getMask(), width);
+    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
+    Type i32 = rewriter.getI32Type();
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(
+        rewriter, op, "osl_rt_print", LLVM::LLVMVoidType::get(rewriter.getContext()),
+        {ptr, i32, ptr, ptr, i32, i32});
+    SmallVector<Value> args = {
+        constantStringAddress(rewriter, loc, callSiteText(loc, op.getStream())),
+        i32Constant(rewriter, loc, ::osl::printStreamCode(op.getStream())),
+        constantStringAddress(rewriter, loc, kinds),
+        block,
+        i32Constant(rewriter, loc, width),
+        maskBits(rewriter, loc, mask)};
+    rewriter.create<LLVM::CallOp>(loc, callee, args);
+    rewriter.eraseOp(op);
+    return success();
+  }
+};
+
+/// osl.set_message and osl.get_message: the value's rows go to
+/// osl_rt_setmessage / osl_rt_getmessage (OslRuntime/MessageCall.h), which
+/// keep the batch's messages; getmessage reads the rows back.
+template <typename OpTy>
+struct MessageLowering : public OslPattern<OpTy> {
+  using OslPattern<OpTy>::OslPattern;
+  LogicalResult matchAndRewrite(OpTy op, typename OpTy::Adaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    constexpr bool isGet = std::is_same_v<OpTy, GetMessageOp>;
+    Location loc = op.getLoc();
+    int64_t width = this->width;
+    ValueRange original, converted;
+    if constexpr (isGet)
+      original = op.getCurrent(), converted = adaptor.getCurrent();
+    else
+      original = op.getValues(), converted = adaptor.getValues();
+    auto [rowBlock, foundRow] = operandRows(rewriter, loc, op, original, converted,
+                                            op.getKinds(), width, /*varying=*/true,
+                                            /*extraRows=*/isGet ? 1 : 0);
+    // A plain local: C++17 lambdas cannot capture structured bindings.
+    Value block = rowBlock;
+    Value mask = sideEffectLanes(rewriter, loc, op, adaptor.getMask(), width);
+    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
+    Type i32 = rewriter.getI32Type();
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(
+        rewriter, op, isGet ? "osl_rt_getmessage" : "osl_rt_setmessage",
+        LLVM::LLVMVoidType::get(rewriter.getContext()), {ptr, ptr, ptr, ptr, ptr, i32, i32});
+    SmallVector<Value> args = {constantStringAddress(rewriter, loc, callSiteLine(loc)),
+                               constantStringAddress(rewriter, loc, op.getName()),
+                               constantStringAddress(rewriter, loc, op.getTypeName()),
+                               constantStringAddress(rewriter, loc, op.getKinds()),
+                               block,
+                               i32Constant(rewriter, loc, width),
+                               maskBits(rewriter, loc, mask)};
+    rewriter.create<LLVM::CallOp>(loc, callee, args);
+    if constexpr (!isGet) {
+      rewriter.eraseOp(op);
+      return success();
+    } else {
+      auto loadRow = [&](int64_t row, Type element) {
+        auto load = rewriter.create<LLVM::LoadOp>(
+            loc, VectorType::get({width}, element),
+            rowAddress(rewriter, loc, block, row, width), 4);
+        load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+        return load.getResult();
+      };
+      SmallVector<Value> results = {loadRow(foundRow, i32)};
+      Lanes packer{rewriter, loc, width};
+      int64_t row = 0;
+      for (auto [k, value] : llvm::enumerate(op.getValues())) {
+        Type resultType = this->convert(value.getType());
+        char kind = op.getKinds()[k];
+        Type element = kind == 'f' || kind == 't' ? Type(rewriter.getF32Type()) : i32;
+        SmallVector<Value> rows;
+        for (int32_t r = 0; r < ::osl::stringOperandRows(kind); ++r)
+          rows.push_back(loadRow(row++, element));
+        results.push_back(packer.pack(rows, resultType));
+      }
+      rewriter.replaceOp(op, results);
+      return success();
+    }
+  }
+};
+
+/// osl.texture: the per-point values go to a block of rows on the stack
+/// (OslRuntime/TextureCall.h), osl_rt_texture looks the lanes up, and the
+/// results are read back. The options OpenImageIO takes once per call are
+/// compile-time candidates picked by a uniform index.
+struct TextureLowering : public OslPattern<TextureOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(TextureOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    for (Value c : op.getChoices())
+      if (isVarying(c.getType()))
+        return op.emitError("texture options chosen per point must be split into lane "
+                            "groups first (osl-lane-group-filter)");
+    bool varying = isVarying(op.getResult().getType());
+    int64_t lanes = varying ? width : 1;
+    MLIRContext *ctx = rewriter.getContext();
+    auto ptr = LLVM::LLVMPointerType::get(ctx);
+    Type f32 = rewriter.getF32Type(), i32 = rewriter.getI32Type();
+    SmallVector<Type> params = {ptr, ptr, ptr, i32, i32, i32, i32, i32,
+                                i32, i32, i32, ptr, i32, i32};
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_texture",
+                                                 LLVM::LLVMVoidType::get(ctx), params);
+    Value block = entryBlockRows(rewriter, loc, op, ::osl::kTextureRows * lanes);
+    Lanes unpacker{rewriter, loc, width};
+    auto storeRow = [&](int64_t row, Value original, Value converted) {
+      Value v = unpacker.unpack(converted, original.getType(), varying)[0];
+      rewriter.create<LLVM::StoreOp>(loc, v, rowAddress(rewriter, loc, block, row, lanes), 4);
+    };
+    for (auto [i, v] : llvm::enumerate(op.getCoords()))
+      storeRow(::osl::kTextureCoordRow + i, v, adaptor.getCoords()[i]);
+    for (auto [i, v] : llvm::enumerate(op.getDerivs()))
+      storeRow(::osl::kTextureDerivRow + i, v, adaptor.getDerivs()[i]);
+    for (auto [i, v] : llvm::enumerate(op.getFloatOptions()))
+      storeRow(::osl::kTextureOptionRow + i, v, adaptor.getFloatOptions()[i]);
+    storeRow(::osl::kTextureFirstChannelRow, op.getFirstchannel(), adaptor.getFirstchannel());
+    if (op.getFileHandle())
+      storeRow(::osl::kTextureFileRow, op.getFileHandle(), adaptor.getFileHandle());
+
+    // The uniform options: a string's address, or OpenImageIO's code for it.
+    auto candidates = [&](int which) { return cast<ArrayAttr>(op.getCandidates()[which]); };
+    auto pick = [&](int which, auto valueOf) {
+      Value index = adaptor.getChoices()[which];
+      ArrayAttr names = candidates(which);
+      Value picked = valueOf(cast<StringAttr>(names[0]).getValue());
+      for (unsigned k = 1; k < names.size(); ++k) {
+        Value isK = rewriter.create<arith::CmpIOp>(
+            loc, arith::CmpIPredicate::eq, index,
+            rewriter.create<arith::ConstantIntOp>(loc, k, 32));
+        picked = rewriter.create<LLVM::SelectOp>(
+            loc, isK, valueOf(cast<StringAttr>(names[k]).getValue()), picked);
+      }
+      return picked;
+    };
+    auto stringAddress = [&](StringRef s) { return constantStringAddress(rewriter, loc, s); };
+    auto wrapCode = [&](StringRef s) -> Value {
+      return rewriter.create<arith::ConstantIntOp>(loc, ::osl::textureWrapCode(s), 32);
+    };
+    auto interpCode = [&](StringRef s) -> Value {
+      return rewriter.create<arith::ConstantIntOp>(loc, ::osl::textureInterpCode(s), 32);
+    };
+    int32_t kind = op.getKind() == "2d" ? ::osl::kTexture2D
+                   : op.getKind() == "3d" ? ::osl::kTexture3D
+                                          : ::osl::kTextureEnvironment;
+    int32_t flags = (op.getHasMissingColor() ? ::osl::kTextureHasMissingColor : 0) |
+                    (op.getHasMissingAlpha() ? ::osl::kTextureHasMissingAlpha : 0) |
+                    (op.getWantsErrorMessage() ? ::osl::kTextureWantsErrorMessage : 0);
+    auto i32Const = [&](int64_t v) {
+      return rewriter.create<arith::ConstantIntOp>(loc, v, 32).getResult();
+    };
+    Value mask = op.getMask() ? adaptor.getMask()
+                 : varying    ? activeLanes(rewriter, loc, op, width)
+                              : rewriter.create<arith::CmpIOp>(loc, arith::CmpIPredicate::sgt,
+                                                               kernelArg(op, 2), i32Const(0))
+                                    .getResult();
+    if (varying && !isa<VectorType>(mask.getType()))
+      mask = lane::broadcast(rewriter, loc, mask, width);
+    SmallVector<Value> args = {stringAddress(callSiteText(loc, "texture()")),
+                               op.getFileHandle()
+                                   ? rewriter.create<LLVM::ZeroOp>(loc, ptr).getResult()
+                                   : pick(0, stringAddress),
+                               pick(5, stringAddress),
+                               adaptor.getSubimage(),
+                               i32Const(kind),
+                               i32Const(op.getNchannels()),
+                               pick(1, wrapCode),
+                               pick(2, wrapCode),
+                               pick(3, wrapCode),
+                               pick(4, interpCode),
+                               i32Const(flags),
+                               block,
+                               i32Const(lanes),
+                               maskBits(rewriter, loc, mask)};
+    rewriter.create<LLVM::CallOp>(loc, callee, args);
+
+    auto loadRow = [&](int64_t row, Type element) {
+      Type laneType = varying ? Type(VectorType::get({lanes}, element)) : element;
+      auto load = rewriter.create<LLVM::LoadOp>(
+          loc, laneType, rowAddress(rewriter, loc, block, row, lanes), 4);
+      load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+      return load.getResult();
+    };
+    // A 2D lookup's channels and alpha have derivatives: osl-derivatives
+    // finds their slopes in the rows after the call (kTextureDsRow...).
+    auto loadResultRow = [&](int64_t row) {
+      Value v = loadRow(row, f32);
+      if (op.getKind() == "2d") {
+        Operation *load = v.getDefiningOp();
+        load->removeAttr(kNoDerivativeAttr);
+        load->setAttr(kTextureResultRowAttr, rewriter.getI64IntegerAttr(row));
+      }
+      return v;
+    };
+    SmallVector<Value> channels;
+    for (uint32_t c = 0; c < op.getNchannels(); ++c)
+      channels.push_back(loadResultRow(::osl::kTextureResultRow + c));
+    Value result = unpacker.pack(channels, convert(op.getResult().getType()));
+    // Without "errormessage" the row is not written: the message is "".
+    Value error = op.getWantsErrorMessage()
+                      ? loadRow(::osl::kTextureErrorRow, i32)
+                      : rewriter.create<arith::ConstantOp>(
+                                    loc, rewriter.getZeroAttr(
+                                             convert(op.getErrorMessage().getType())))
+                            .getResult();
+    rewriter.replaceOp(op, {result, loadResultRow(::osl::kTextureAlphaRow), error});
+    return success();
+  }
+};
+
+/// gettextureinfo: a uniform runtime call that writes its answer to the
+/// stack; about files named at run time, one call for the batch that
+/// answers per point (rows of W values).
+struct GetTextureInfoLowering : public OslPattern<GetTextureInfoOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(GetTextureInfoOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    if (op.getFileHandle())
+      return lowerPerPoint(op, adaptor, rewriter);
+    Location loc = op.getLoc();
+    MLIRContext *ctx = rewriter.getContext();
+    auto ptr = LLVM::LLVMPointerType::get(ctx);
+    Type i32 = rewriter.getI32Type();
+    Type element = op.getFloats() ? Type(rewriter.getF32Type()) : i32;
+    int64_t count = op.getValues().size();
+    Value data = entryBlockRows(rewriter, loc, op, count);
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_gettextureinfo", i32,
+                                                 {ptr, ptr, i32, i32, ptr});
+    auto i32Const = [&](int64_t v) {
+      return rewriter.create<arith::ConstantIntOp>(loc, v, 32).getResult();
+    };
+    Value found = rewriter
+                      .create<LLVM::CallOp>(loc, callee,
+                                            ValueRange{constantStringAddress(rewriter, loc, op.getFile()),
+                                                       constantStringAddress(rewriter, loc, op.getName()),
+                                                       i32Const(op.getFloats()    ? ::osl::kTextureInfoFloat
+                                                                : op.getStrings() ? ::osl::kTextureInfoString
+                                                                                  : ::osl::kTextureInfoInt),
+                                                       i32Const(count), data})
+                      .getResult();
+    SmallVector<Value> results = {found};
+    for (int64_t k = 0; k < count; ++k) {
+      Value addr = rewriter.create<LLVM::GEPOp>(loc, ptr, element, data,
+                                                ArrayRef<LLVM::GEPArg>{int32_t(k)});
+      auto load = rewriter.create<LLVM::LoadOp>(loc, element, addr, 4);
+      load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+      results.push_back(load);
+    }
+    rewriter.replaceOp(op, results);
+    return success();
+  }
+
+  LogicalResult lowerPerPoint(GetTextureInfoOp op, OpAdaptor adaptor,
+                              ConversionPatternRewriter &rewriter) const {
+    Location loc = op.getLoc();
+    MLIRContext *ctx = rewriter.getContext();
+    auto ptr = LLVM::LLVMPointerType::get(ctx);
+    Type i32 = rewriter.getI32Type();
+    Type element = op.getFloats() ? Type(rewriter.getF32Type()) : i32;
+    bool varying = isVarying(op.getFound().getType());
+    int64_t lanes = varying ? width : 1;
+    int64_t count = op.getValues().size();
+    // Rows: the handles, whether found, then the values.
+    Value block = entryBlockRows(rewriter, loc, op, (2 + count) * lanes);
+    Lanes unpacker{rewriter, loc, width};
+    Value handles = unpacker.unpack(adaptor.getFileHandle(), op.getFileHandle().getType(),
+                                    varying)[0];
+    rewriter.create<LLVM::StoreOp>(loc, handles, rowAddress(rewriter, loc, block, 0, lanes), 4);
+    auto i32Const = [&](int64_t v) {
+      return rewriter.create<arith::ConstantIntOp>(loc, v, 32).getResult();
+    };
+    LLVM::LLVMFuncOp callee =
+        runtimeDeclaration(rewriter, op, "osl_rt_gettextureinfo_lanes",
+                           LLVM::LLVMVoidType::get(ctx), {ptr, ptr, i32, i32, ptr, ptr, i32, i32});
+    // The batch's points (lanes past its end name nothing).
+    Value mask = varying ? activeLanes(rewriter, loc, op, width)
+                         : rewriter.create<arith::CmpIOp>(loc, arith::CmpIPredicate::sgt,
+                                                          kernelArg(op, 2), i32Const(0))
+                               .getResult();
+    rewriter.create<LLVM::CallOp>(
+        loc, callee,
+        ValueRange{rowAddress(rewriter, loc, block, 0, lanes),
+                   constantStringAddress(rewriter, loc, op.getName()),
+                   i32Const(op.getFloats()    ? ::osl::kTextureInfoFloat
+                            : op.getStrings() ? ::osl::kTextureInfoString
+                                              : ::osl::kTextureInfoInt),
+                   i32Const(count), rowAddress(rewriter, loc, block, 2, lanes),
+                   rowAddress(rewriter, loc, block, 1, lanes), i32Const(lanes),
+                   maskBits(rewriter, loc, mask)});
+    auto loadRow = [&](int64_t row, Type type) {
+      Type laneType = varying ? Type(VectorType::get({lanes}, type)) : type;
+      auto load = rewriter.create<LLVM::LoadOp>(loc, laneType,
+                                                rowAddress(rewriter, loc, block, row, lanes), 4);
+      load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+      return load.getResult();
+    };
+    SmallVector<Value> results = {loadRow(1, i32)};
+    for (int64_t k = 0; k < count; ++k)
+      results.push_back(loadRow(2 + k, element));
+    rewriter.replaceOp(op, results);
+    return success();
+  }
+};
+
+} // namespace
+
+void mlir::osl::lowering::populateRuntimeCallPatterns(const VaryingTypeConverter &converter,
+                                                      RewritePatternSet &patterns) {
+  patterns.add<CountLanesLowering, MessageLowering<SetMessageOp>, MessageLowering<GetMessageOp>,
+               TextureLowering, GetTextureInfoLowering, StringConstantLowering,
+               StringCallLowering, PrintLowering>(converter, patterns.getContext());
+}

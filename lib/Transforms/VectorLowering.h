@@ -1,0 +1,139 @@
+//===- VectorLowering.h - Shared pieces of osl-convert-to-vector -*- C++ -*-===//
+//
+// The type converter (varying values as vectors of W lanes, triples as
+// vector<3 x W>), the lane packing helpers, the pattern base, and the
+// helpers of the patterns that call the runtime (stack blocks of rows,
+// lane masks as bits, call sites), shared by ConvertToVector.cpp and
+// RuntimeCallLowering.cpp.
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLTRANSFORMS_VECTORLOWERING_H
+#define OSLTRANSFORMS_VECTORLOWERING_H
+
+#include "OslDialect/OslDialect.h"
+#include "OslTransforms/LaneMath.h"
+
+#include "mlir/Dialect/LLVMIR/LLVMDialect.h"
+#include "mlir/Dialect/Vector/IR/VectorOps.h"
+#include "mlir/Transforms/DialectConversion.h"
+
+#include <string>
+#include <utility>
+
+namespace mlir::osl::lowering {
+
+class VaryingTypeConverter : public TypeConverter {
+public:
+  explicit VaryingTypeConverter(int64_t width) : width(width) {
+    addConversion([](Type t) { return t; });
+    // A closure is an i32 handle into the closure arena (ClosureCall.h).
+    addConversion([](ClosureType t) -> Type { return IntegerType::get(t.getContext(), 32); });
+    addConversion([width](VaryingType t) -> Type {
+      Type e = t.getElementType();
+      if (isTriple(e))
+        return VectorType::get({3, width}, Float32Type::get(t.getContext()));
+      if (isa<ClosureType>(e))
+        e = IntegerType::get(t.getContext(), 32);
+      return VectorType::get({width}, e);
+    });
+    auto cast = [](OpBuilder &b, Type type, ValueRange inputs,
+                   Location loc) -> std::optional<Value> {
+      return b.create<UnrealizedConversionCastOp>(loc, type, inputs).getResult(0);
+    };
+    addSourceMaterialization(cast);
+    addTargetMaterialization(cast);
+    addArgumentMaterialization(cast);
+  }
+  int64_t width;
+};
+
+/// Splits converted values into per-component lane values and back.
+struct Lanes {
+  OpBuilder &b;
+  Location loc;
+  int64_t width;
+
+  /// Components of `value` (converted) whose osl type is `oslType`, made
+  /// varying (broadcast) when `varying` is set.
+  SmallVector<Value> unpack(Value value, Type oslType, bool varying) {
+    SmallVector<Value> comps;
+    if (isTriple(getUniformType(oslType)))
+      for (int64_t i = 0; i < 3; ++i)
+        comps.push_back(b.create<vector::ExtractOp>(loc, value, ArrayRef<int64_t>{i}));
+    else
+      comps.push_back(value);
+    if (varying && !isVarying(oslType))
+      for (Value &c : comps)
+        c = lane::broadcast(b, loc, c, width);
+    return comps;
+  }
+
+  /// unpack() for each operand of an op.
+  SmallVector<SmallVector<Value>> unpackAll(ValueRange converted,
+                                            ValueRange original, bool varying) {
+    SmallVector<SmallVector<Value>> all;
+    for (auto [c, o] : llvm::zip(converted, original))
+      all.push_back(unpack(c, o.getType(), varying));
+    return all;
+  }
+
+  Value pack(ArrayRef<Value> comps, Type convertedType) {
+    if (comps.size() == 1)
+      return comps.front();
+    Value acc = lane::constant(b, loc, convertedType, 0);
+    for (auto [i, c] : llvm::enumerate(comps))
+      acc = b.create<vector::InsertOp>(loc, c, acc, ArrayRef<int64_t>{int64_t(i)});
+    return acc;
+  }
+};
+
+using LaneFn = Value (*)(OpBuilder &, Location, ValueRange);
+
+/// Base for osl patterns: access to the width and lane helpers.
+template <typename OpTy>
+struct OslPattern : public OpConversionPattern<OpTy> {
+  OslPattern(const VaryingTypeConverter &converter, MLIRContext *ctx)
+      : OpConversionPattern<OpTy>(converter, ctx), width(converter.width) {}
+  Type convert(Type t) const { return this->getTypeConverter()->convertType(t); }
+  int64_t width;
+};
+
+/// The kernel's arguments: globals, outputs, nactive.
+Value kernelArg(Operation *op, unsigned i);
+/// Lanes [0, nactive): lane index < nactive.
+Value activeLanes(OpBuilder &b, Location loc, Operation *op, int64_t width);
+/// Address of row `row` of a structure-of-arrays block of W-float rows.
+Value rowAddress(OpBuilder &b, Location loc, Value base, int64_t row, int64_t width);
+/// Declares runtime function `name` in the module once.
+LLVM::LLVMFuncOp runtimeDeclaration(OpBuilder &b, Operation *op, StringRef name, Type result,
+                                    ArrayRef<Type> params);
+/// A stack block of `count` 32-bit values in the function's entry block,
+/// so a call inside a loop reuses it.
+Value entryBlockRows(OpBuilder &b, Location loc, Operation *op, int64_t count);
+/// A lane mask (i1 or vector<W x i1>) as the bits of an i32, lane i at bit i.
+Value maskBits(OpBuilder &b, Location loc, Value mask);
+/// A call's file:line:col for run-time errors, or `fallback`.
+std::string callSiteText(Location loc, StringRef fallback);
+/// "file:line" of a call, as OSL names the places of messages.
+std::string callSiteLine(Location loc);
+Value i32Constant(OpBuilder &b, Location loc, int64_t v);
+/// Stores the lanes of `original`'s operands (converted: `converted`) as
+/// rows of `lanes` 32-bit values in a stack block with `extraRows` more rows
+/// after them (OslRuntime/StringCall.h's layout); returns the block and
+/// the index of the first extra row.
+std::pair<Value, int64_t> operandRows(OpBuilder &b, Location loc, Operation *op,
+                                      ValueRange original, ValueRange converted,
+                                      StringRef kinds, int64_t width, bool varying,
+                                      int64_t extraRows);
+/// The active points of a side-effecting op: the batch's, and its mask's.
+Value sideEffectLanes(OpBuilder &b, Location loc, Operation *op, Value inner, int64_t width);
+
+/// The patterns of the ops that call the runtime: string constants and
+/// calls, printing, messages, lane counting, texture lookups and
+/// gettextureinfo (RuntimeCallLowering.cpp).
+void populateRuntimeCallPatterns(const VaryingTypeConverter &converter,
+                                 RewritePatternSet &patterns);
+
+} // namespace mlir::osl::lowering
+
+#endif // OSLTRANSFORMS_VECTORLOWERING_H
