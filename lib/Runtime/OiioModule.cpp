@@ -182,6 +182,22 @@ bool readWithOiio(const std::string &path, ImageData &image, std::string &error)
 
 } // namespace image
 
+/// Calls fn(file, lanes) once per file the lanes of `laneMask` name by
+/// string handle (handles[lane]), with the lanes that name it.
+template <typename Fn>
+void forEachFileNamed(const int32_t *handles, int32_t width, uint32_t laneMask, Fn fn) {
+  for (uint32_t left = laneMask; left;) {
+    int32_t handle = handles[__builtin_ctz(left)];
+    uint32_t same = 0;
+    for (int32_t lane = 0; lane < width; ++lane)
+      if ((left >> lane & 1u) && handles[lane] == handle)
+        same |= 1u << lane;
+    std::string name = stringText(handle);
+    fn(name.c_str(), same);
+    left &= ~same;
+  }
+}
+
 } // namespace osl
 
 extern "C" void osl_rt_texture(const char *where, const char *file, const char *subimageName,
@@ -198,17 +214,10 @@ extern "C" void osl_rt_texture(const char *where, const char *file, const char *
     // Names computed at run time: the lanes naming one file at a time.
     const int32_t *handles =
         reinterpret_cast<const int32_t *>(rows + size_t(osl::kTextureFileRow) * size_t(width));
-    for (uint32_t left = laneMask; left;) {
-      int32_t handle = handles[__builtin_ctz(left)];
-      uint32_t same = 0;
-      for (int32_t lane = 0; lane < width; ++lane)
-        if ((left >> lane & 1u) && handles[lane] == handle)
-          same |= 1u << lane;
-      std::string name = osl::stringText(handle);
-      api->texture(where, name.c_str(), subimageName, subimage, kind, nchannels, swrap, twrap,
-                   rwrap, interp, flags, rows, width, same);
-      left &= ~same;
-    }
+    osl::forEachFileNamed(handles, width, laneMask, [&](const char *name, uint32_t lanes) {
+      api->texture(where, name, subimageName, subimage, kind, nchannels, swrap, twrap, rwrap,
+                   interp, flags, rows, width, lanes);
+    });
     return;
   }
   osl::reportUnreachable(where, error);
@@ -242,20 +251,15 @@ extern "C" void osl_rt_gettextureinfo_lanes(const int32_t *handles, const char *
   // Every value is 4 bytes (int, float or string handle).
   auto *values = static_cast<int32_t *>(data);
   std::vector<int32_t> answer(size_t(std::max(count, 0)));
-  uint32_t done = ~laneMask;
-  for (int32_t lane = 0; lane < width; ++lane) {
-    if (done >> lane & 1u)
-      continue;
-    std::string file = osl::stringText(handles[lane]);
-    int32_t known = osl_rt_gettextureinfo(file.c_str(), name, kind, count, answer.data());
-    for (int32_t other = lane; other < width; ++other) {
-      if ((done >> other & 1u) || handles[other] != handles[lane])
+  osl::forEachFileNamed(handles, width, laneMask, [&](const char *file, uint32_t lanes) {
+    int32_t known = osl_rt_gettextureinfo(file, name, kind, count, answer.data());
+    for (int32_t lane = 0; lane < width; ++lane) {
+      if (!(lanes >> lane & 1u))
         continue;
-      done |= 1u << other;
-      found[other] = known;
+      found[lane] = known;
       if (known)
         for (int32_t k = 0; k < count; ++k)
-          values[size_t(k) * size_t(width) + size_t(other)] = answer[size_t(k)];
+          values[size_t(k) * size_t(width) + size_t(lane)] = answer[size_t(k)];
     }
-  }
+  });
 }
