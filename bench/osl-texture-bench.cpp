@@ -11,6 +11,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslCompiler/ShaderCompiler.h"
+#include "OslAbi/EntryPoints.h"
 #include "OslRuntime/TextureCall.h"
 #include "OslRuntime/ThreadPool.h"
 

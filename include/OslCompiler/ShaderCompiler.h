@@ -13,7 +13,7 @@
 
 #include "OslCompiler/ShaderGroup.h"
 #include "OslFrontend/Frontend.h"
-#include "OslRuntime/GlobalsLayout.h"
+#include "OslAbi/GlobalsLayout.h"
 #include "OslRuntime/Grid.h"
 #include "OslRuntime/Jit.h"
 #include "OslRuntime/Stats.h"

@@ -505,7 +505,7 @@ def Osl_StringConstantOp : Osl_Op<"string_constant", [Pure]> {
   let summary = "the run-time handle (i32) of a compile-time string";
   let description = [{
     Strings computed at run time are i32 handles into the runtime's intern
-    table (OslRuntime/StringCall.h); equal strings have equal handles. This
+    table (OslAbi/Strings.h); equal strings have equal handles. This
     op interns a compile-time string where it meets such strings.
   }];
   let arguments = (ins StrAttr:$value);
@@ -536,7 +536,7 @@ def Osl_PrintOp : Osl_Op<"print", [AttrSizedOperandSegments,
   let summary = "printf, fprintf, warning or error, once per active point";
   let description = [{
     Formats `args` with OSL's format rules for every active point and sends
-    the text to `stream` (kPrintStreams, OslRuntime/PrintCall.h): printf's
+    the text to `stream` (kPrintStreams, OslAbi/Print.h): printf's
     standard output, fprintf's file (the first operand names it), or the
     run's warnings and errors. `kinds` has one letter per operand, as
     osl.string_call's (an array or matrix is passed element by element,
@@ -610,7 +610,7 @@ def Osl_ClosureEmptyOp : Osl_Op<"closure_empty", [Pure]> {
 def Osl_ClosureComponentOp : Osl_Op<"closure_component", [Pure]> {
   let summary = "a closure of OSL's standard library with weight 1";
   let description = [{
-    `name` is one of the closures of kClosures (OslRuntime/ClosureCall.h).
+    `name` is one of the closures of kClosures (OslAbi/Closures.h).
     The operands are its positional parameters then every keyword parameter
     of its signature, in that order (the front end fills absent keywords
     with 0 or ""): triples for `n` and `c`, f32 for `f`, i32 for `i` and

@@ -11,7 +11,7 @@ def Osl_ClosureType : TypeDef<Osl_Dialect, "Closure"> {
   let description = [{
     `!osl.closure` is a closure color; `!osl.varying<!osl.closure>` one per
     point. Lowered to an i32 handle into the runtime's closure arena
-    (OslRuntime/ClosureCall.h), 0 being the empty closure.
+    (OslAbi/Closures.h), 0 being the empty closure.
   }];
 }
 

@@ -12,7 +12,7 @@
 #ifndef OSLRUNTIME_CLOSURE_H
 #define OSLRUNTIME_CLOSURE_H
 
-#include "OslRuntime/ClosureCall.h"
+#include "OslAbi/Closures.h"
 
 #include <array>
 #include <cstdint>

@@ -8,7 +8,7 @@
 #ifndef OSLRUNTIME_GRID_H
 #define OSLRUNTIME_GRID_H
 
-#include "OslRuntime/GlobalsLayout.h"
+#include "OslAbi/GlobalsLayout.h"
 #include "OslRuntime/PrintCall.h"
 
 #include <string>

@@ -11,13 +11,9 @@
 #ifndef OSLRUNTIME_LANESTATS_H
 #define OSLRUNTIME_LANESTATS_H
 
-#include <cstdint>
+#include "OslAbi/EntryPoints.h"
 
-extern "C" {
-/// Adds one executed masked block with `activeLanes` lanes set. Safe to
-/// call from several threads.
-void osl_rt_count_lanes(int32_t activeLanes);
-}
+#include <cstdint>
 
 namespace osl {
 

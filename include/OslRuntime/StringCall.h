@@ -1,145 +1,26 @@
-//===- StringCall.h - Strings computed at run time: the ABI ------*- C++ -*-===//
+//===- StringCall.h - Strings computed at run time: the host side -*- C++ -*-===//
 //
-// A string computed at run time is an i32 handle into one process-wide,
-// thread-safe, append-only intern table (like OpenImageIO's ustring): equal
-// strings have equal handles, so == and != compare handles, and a handle
-// stays valid for the life of the process. Handle 0 is "".
-//
-// Kernels call one entry point per osl.string_call and batch: each operand
-// is one row of W 32-bit values (an int, a handle, or a float's bits; a
-// triple takes three rows), followed by the result row. The compiler
-// (osl-convert-to-vector, the dialect's verifier) and the runtime both read
-// this header.
+// The runtime's side of string handles (OslAbi/Strings.h): the intern
+// table's text and the errors string calls reported while shading.
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLRUNTIME_STRINGCALL_H
 #define OSLRUNTIME_STRINGCALL_H
 
+#include "OslAbi/Strings.h"
+
 #include <cstdint>
-#include <iterator>
 #include <string>
-#include <string_view>
-#include <vector>
 
 namespace osl {
 
-/// The string functions, with their operand and result kinds: s a string
-/// handle, i an int, f a float, t a triple, `*` any number (possibly none)
-/// of the previous kind, `?` an optional last operand, `.` any number of
-/// any kinds (format's values).
-struct StringFunction {
-  const char *name;
-  const char *operands;
-  char result;
-};
-
-inline constexpr StringFunction kStringFunctions[] = {
-    {"concat", "s*", 's'},        {"format", "s.", 's'},       {"strlen", "s", 'i'},
-    {"hash", "s", 'i'},           {"startswith", "ss", 'i'},   {"endswith", "ss", 'i'},
-    {"getchar", "si", 'i'},       {"substr", "sii?", 's'},     {"stoi", "s", 'i'},
-    {"stof", "s", 'f'},           {"regex_search", "ss", 'i'}, {"regex_match", "ss", 'i'},
-    // split(str, results[N], sep, maxsplit) is these two, named so that no
-    // shader can call them: how many pieces fill results (at most N), and
-    // piece k.
-    {"split:count", "ssii", 'i'}, {"split:piece", "ssii", 's'},
-    // regex_search / regex_match(subject, results[N], regex) fill results
-    // with entry k of each: (subject, regex, full match?, k, the entry's
-    // old value) -> its new value.
-    {"regex:result", "ssiii", 'i'},
-    // Dictionaries (never folded when the shader is compiled: node ids
-    // belong to the process that runs it). dict_find(node, query) is
-    // "dict_find:node"; dict_value is "dict_value:found" (node, name, what
-    // is wanted: 0 int, 1 float, 2 string, N >= 3 that many floats) and the
-    // value itself, float k of it for "dict_value:float".
-    {"dict_find", "ss", 'i'},     {"dict_find:node", "is", 'i'},
-    {"dict_next", "i", 'i'},      {"dict_value:found", "isi", 'i'},
-    {"dict_value:int", "is", 'i'}, {"dict_value:float", "isi", 'f'},
-    {"dict_value:string", "is", 's'},
-};
-
-/// Whether string function `name` reads a dictionary (see above).
-constexpr bool isDictionaryFunction(std::string_view name) {
-  return name.substr(0, 5) == "dict_";
-}
-
-/// The index of a string function in kStringFunctions, or -1.
-constexpr int32_t stringFunctionCode(std::string_view name) {
-  for (int32_t i = 0; i < int32_t(std::size(kStringFunctions)); ++i)
-    if (name == kStringFunctions[i].name)
-      return i;
-  return -1;
-}
-
-/// Do `kinds` (one letter per operand: s, i, f, t) fit the operand pattern
-/// of function `code`?
-constexpr bool stringOperandsMatch(int32_t code, std::string_view kinds) {
-  std::string_view pattern = kStringFunctions[code].operands;
-  size_t k = 0;
-  for (size_t p = 0; p < pattern.size(); ++p) {
-    char want = pattern[p];
-    bool last = p + 1 == pattern.size();
-    char next = last ? 0 : pattern[p + 1];
-    if (want == '.') { // any kinds to the end
-      for (; k < kinds.size(); ++k)
-        if (kinds[k] != 's' && kinds[k] != 'i' && kinds[k] != 'f' && kinds[k] != 't')
-          return false;
-      return true;
-    }
-    if (next == '*') {
-      while (k < kinds.size() && kinds[k] == want)
-        ++k;
-      ++p;
-      continue;
-    }
-    if (next == '?') {
-      if (k < kinds.size() && kinds[k] == want)
-        ++k;
-      ++p;
-      continue;
-    }
-    if (k >= kinds.size() || kinds[k] != want)
-      return false;
-    ++k;
-  }
-  return k == kinds.size();
-}
-
-/// The rows one operand of kind `kind` takes.
-constexpr int32_t stringOperandRows(char kind) { return kind == 't' ? 3 : 1; }
-
 /// The text of a string handle ("" for one never issued).
 std::string stringText(int32_t handle);
-
-/// Why `pattern` is not a valid regular expression (std::regex,
-/// ECMAScript), or "" when it is.
-std::string regexError(const std::string &pattern);
-
-/// Why format string `format` does not fit `valueKinds` (the kinds of the
-/// values after it), or "" when it does.
-std::string formatError(std::string_view format, std::string_view valueKinds);
-
-/// `format` with its k-th conversion written counts[k] times, separated by
-/// spaces: how OSL prints an array's elements or a matrix's 16 values
-/// under one conversion.
-std::string repeatConversions(std::string_view format, const std::vector<int> &counts);
 
 /// How many errors string calls have reported at run time (each once per
 /// call site and cause), for a tool's exit status.
 int stringErrors();
 
 } // namespace osl
-
-/// The handle of `text` (NUL-terminated), interned on first use.
-extern "C" int32_t osl_rt_string_intern(const char *text);
-
-/// Calls string function `function` (an index into kStringFunctions) for
-/// the lanes set in `laneMask` (bit i = lane i) of a batch of `width`
-/// lanes. `kinds` names the operands' kinds (s, i, f, t; NUL-terminated);
-/// `rows` holds their rows then the result row, W 32-bit values each.
-/// Lanes not in the mask get 0. An error (a bad regular expression or
-/// format) is reported once at `where`, the call's file:line:col, and its
-/// lanes get OSL's 0 or "".
-extern "C" void osl_rt_string_call(const char *where, int32_t function, const char *kinds,
-                                   int32_t *rows, int32_t width, uint32_t laneMask);
 
 #endif // OSLRUNTIME_STRINGCALL_H

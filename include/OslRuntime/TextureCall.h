@@ -1,66 +1,15 @@
-//===- TextureCall.h - The batched texture lookup ABI ------------*- C++ -*-===//
+//===- TextureCall.h - Textures: the host side -------------------*- C++ -*-===//
 //
-// Compiled kernels look textures up through osl_rt_texture: one call per
-// osl.texture and batch (per lane group when an option OpenImageIO takes
-// once per call differs between lanes). Per-point values travel as rows of
-// W floats in one block, as the shader globals do; the options that must be
-// uniform are arguments. The compiler (osl-convert-to-vector) and the
-// runtime both read this header.
+// The runtime's settings and counts around osl_rt_texture (the lookup's
+// rows and codes are OslAbi/Texture.h).
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLRUNTIME_TEXTURECALL_H
 #define OSLRUNTIME_TEXTURECALL_H
 
-#include <cstdint>
-#include <string_view>
+#include "OslAbi/Texture.h"
 
 namespace osl {
-
-/// Row indices in a lookup's block of rows of W floats.
-enum TextureRow : int32_t {
-  kTextureCoordRow = 0,   ///< 3 rows: s, t (2D) or the point's (R's) x, y, z
-  kTextureDerivRow = 3,   ///< 9 rows: ds/dx, dt/dx, ds/dy, dt/dy (2D); dP/dx,
-                          ///< dP/dy, dP/dz (3D); dR/dx, dR/dy (environment)
-  kTextureOptionRow = 12, ///< 11 rows: sblur, tblur, rblur, swidth, twidth,
-                          ///< rwidth, fill, missingalpha, missingcolor r, g, b
-  kTextureResultRow = 23, ///< 3 rows: the channels asked for
-  kTextureAlphaRow = 26,  ///< the channel after them (alpha)
-  kTextureErrorRow = 27,  ///< with kTextureWantsErrorMessage: a string handle
-  kTextureFirstChannelRow = 28, ///< the first channel, an int per point
-  kTextureDsRow = 29,     ///< 4 rows: d(result)/ds of each result row (2D)
-  kTextureDtRow = 33,     ///< 4 rows: d(result)/dt of each result row (2D)
-  kTextureFileRow = 37,   ///< with a null `file`: each lane's file name, a
-                          ///< string handle (a name computed at run time)
-  kTextureRows = 38,
-};
-
-enum TextureKind : int32_t { kTexture2D = 0, kTexture3D = 1, kTextureEnvironment = 2 };
-
-enum TextureFlags : int32_t {
-  kTextureHasMissingColor = 1, ///< missingcolor given: a missing file is no error
-  kTextureHasMissingAlpha = 2,
-  /// "errormessage" given: a failed lookup's error goes to the error row (no
-  /// report), and "" where a lookup succeeds.
-  kTextureWantsErrorMessage = 4,
-};
-
-/// OpenImageIO's wrap modes by name (its Tex::Wrap values); unknown names
-/// are its default, as OpenImageIO decodes them.
-constexpr int32_t textureWrapCode(std::string_view name) {
-  return name == "black"                   ? 1
-         : name == "clamp"                 ? 2
-         : name == "periodic"              ? 3
-         : name == "mirror"                ? 4
-         : name == "periodic_pow2"         ? 5
-         : name == "periodic_sharedborder" ? 6
-                                           : 0;
-}
-
-/// OSL's interp names as OpenImageIO's Tex::InterpMode values; unknown
-/// names keep the default, smart bicubic.
-constexpr int32_t textureInterpCode(std::string_view name) {
-  return name == "closest" ? 0 : name == "linear" ? 1 : name == "cubic" ? 2 : 3;
-}
 
 /// Sets the shared texture cache's size (the default is OpenImageIO's).
 void setTextureCacheMegabytes(float megabytes);
@@ -69,44 +18,6 @@ void setTextureCacheMegabytes(float megabytes);
 /// tool's exit status.
 int textureFileErrors();
 
-/// What gettextureinfo() answers with (its `kind` operand).
-enum TextureInfoKind : int32_t {
-  kTextureInfoInt = 0,
-  kTextureInfoFloat = 1,
-  kTextureInfoString = 2, // i32 handles of the runtime's string table
-};
-
 } // namespace osl
-
-/// One lookup for the lanes set in `laneMask` (bit i = lane i) of a batch
-/// of `width` lanes; reads and writes `rows` (kTextureRows x width floats).
-/// A null `file` means each lane names its own in kTextureFileRow (lanes
-/// naming the same file are looked up together).
-/// A file that cannot be read is reported once, at `where` (the call's
-/// file:line:col), unless missingcolor or errormessage is given; its lanes
-/// get missingcolor, or zeros.
-extern "C" void osl_rt_texture(const char *where, const char *file,
-                               const char *subimageName,
-                               int32_t subimage, int32_t kind,
-                               int32_t nchannels,
-                               int32_t swrap, int32_t twrap, int32_t rwrap,
-                               int32_t interp, int32_t flags, float *rows,
-                               int32_t width, uint32_t laneMask);
-
-/// gettextureinfo(): writes `count` values of `kind` answering `name`
-/// about `file` to `data`; returns 1 if the texture system knew the
-/// answer, else 0 (and `data` is unchanged).
-extern "C" int32_t osl_rt_gettextureinfo(const char *file, const char *name,
-                                         int32_t kind, int32_t count,
-                                         void *data);
-
-/// gettextureinfo() about files named at run time, for the points set in
-/// `laneMask` of `width`: point i asks about the file whose string handle
-/// is handles[i], writes its `count` values to data[k * width + i] (k =
-/// 0..count-1; unchanged where unknown) and 1 or 0 to found[i]. Points
-/// naming the same file ask once.
-extern "C" void osl_rt_gettextureinfo_lanes(const int32_t *handles, const char *name,
-                                            int32_t kind, int32_t count, void *data,
-                                            int32_t *found, int32_t width, uint32_t laneMask);
 
 #endif // OSLRUNTIME_TEXTURECALL_H

@@ -35,7 +35,7 @@ inline constexpr const char *kDualRuleSignFlip = "sign_flip";
 /// results): osl-derivatives gives them no derivative.
 inline constexpr const char *kNoDerivativeAttr = "osl.no_derivative";
 /// On the load of a 2D texture lookup's result row (its index in the
-/// lookup's block, OslRuntime/TextureCall.h): osl-derivatives makes its
+/// lookup's block, OslAbi/Texture.h): osl-derivatives makes its
 /// derivative from the slopes the texture system wrote beside it.
 inline constexpr const char *kTextureResultRowAttr = "osl.texture_result_row";
 /// Marks the arithmetic steps of one library function built from several

@@ -143,7 +143,7 @@ def ConvertToVector : Pass<"osl-convert-to-vector", "::mlir::ModuleOp"> {
     Varying values become vector<W x T> (triples vector<3 x W x f32>),
     uniform values stay scalar. The shader becomes the batch kernel
     `void @osl_batch(ptr globals, ptr outputs, i32 nactive)` of
-    OslRuntime/GlobalsLayout.h; library calls become arith/math/vector ops.
+    OslAbi/GlobalsLayout.h; library calls become arith/math/vector ops.
   }];
   let options = [Option<"referenceMode", "reference", "bool", "false",
                         "every value is uniform (osl-uniform-reference): keep their "

@@ -1,16 +1,11 @@
 //===- ShaderCompiler.cpp - OSL source to a callable batch kernel ---------===//
 #include "OslCompiler/ShaderCompiler.h"
-#include "OslRuntime/ClosureCall.h"
 #include "OslCompiler/KernelCache.h"
 #include "GroupInputs.h"
 #include "OptimizationWarnings.h"
 
 #include "OslDialect/OslDialect.h"
-#include "OslRuntime/LaneStats.h"
-#include "OslRuntime/MessageCall.h"
-#include "OslRuntime/PrintCall.h"
-#include "OslRuntime/StringCall.h"
-#include "OslRuntime/TextureCall.h"
+#include "OslAbi/EntryPoints.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
@@ -204,23 +199,12 @@ bool ShaderCompiler::translate() {
   return true;
 }
 
-/// The runtime entry points kernels call.
+/// The runtime entry points kernels call, bound by name from the ABI's list.
 bool ShaderCompiler::defineRuntimeSymbols(Jit &target) {
-  if (llvm::Error e = target.defineSymbols(
-          {{"osl_rt_texture", reinterpret_cast<void *>(&osl_rt_texture)},
-           {"osl_rt_gettextureinfo", reinterpret_cast<void *>(&osl_rt_gettextureinfo)},
-           {"osl_rt_gettextureinfo_lanes",
-            reinterpret_cast<void *>(&osl_rt_gettextureinfo_lanes)},
-           {"osl_rt_string_intern", reinterpret_cast<void *>(&osl_rt_string_intern)},
-           {"osl_rt_string_call", reinterpret_cast<void *>(&osl_rt_string_call)},
-           {"osl_rt_print", reinterpret_cast<void *>(&osl_rt_print)},
-           {"osl_rt_count_lanes", reinterpret_cast<void *>(&osl_rt_count_lanes)},
-           {"osl_rt_message_reset", reinterpret_cast<void *>(&osl_rt_message_reset)},
-           {"osl_rt_setmessage", reinterpret_cast<void *>(&osl_rt_setmessage)},
-           {"osl_rt_getmessage", reinterpret_cast<void *>(&osl_rt_getmessage)},
-           {"osl_rt_closure_component", reinterpret_cast<void *>(&osl_rt_closure_component)},
-           {"osl_rt_closure_mul", reinterpret_cast<void *>(&osl_rt_closure_mul)},
-           {"osl_rt_closure_add", reinterpret_cast<void *>(&osl_rt_closure_add)}})) {
+  std::vector<std::pair<llvm::StringRef, void *>> symbols;
+  ::osl::abi::forEachEntryPointAddress(
+      [&](const char *name, void *address) { symbols.emplace_back(name, address); });
+  if (llvm::Error e = target.defineSymbols(symbols)) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return false;
   }

@@ -7,10 +7,10 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
-#include "OslRuntime/ClosureCall.h"
-#include "OslRuntime/GlobalsLayout.h"
-#include "OslRuntime/PrintCall.h"
-#include "OslRuntime/StringCall.h"
+#include "OslAbi/Closures.h"
+#include "OslAbi/GlobalsLayout.h"
+#include "OslAbi/Print.h"
+#include "OslAbi/Strings.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/Builders.h"

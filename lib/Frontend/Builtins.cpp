@@ -11,8 +11,8 @@
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
-#include "OslRuntime/ClosureCall.h"
-#include "OslRuntime/StringCall.h"
+#include "OslAbi/Closures.h"
+#include "OslAbi/Strings.h"
 #include "OslTransforms/ColorBuilder.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"

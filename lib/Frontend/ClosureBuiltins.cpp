@@ -1,6 +1,6 @@
 //===- ClosureBuiltins.cpp - Closure calls and closure arithmetic ---------===//
 //
-// Every closure of OSL 1.13's standard library (OslRuntime/ClosureCall.h)
+// Every closure of OSL 1.13's standard library (OslAbi/Closures.h)
 // becomes one osl.closure_component with its positional parameters then
 // all its keyword parameters (absent ones 0 or ""); the stdosl.h overloads
 // that forward to another signature (microfacet with one alpha,
@@ -9,7 +9,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
-#include "OslRuntime/ClosureCall.h"
+#include "OslAbi/Closures.h"
 
 #include <map>
 

@@ -9,7 +9,7 @@
 
 #include <functional>
 
-#include "OslRuntime/GlobalsLayout.h"
+#include "OslAbi/GlobalsLayout.h"
 #include "OslTransforms/GroupNames.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"

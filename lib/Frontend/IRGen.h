@@ -57,7 +57,7 @@ struct RValue {
   /// A string chosen per point (see above).
   bool isStringChoice() const { return type.isString() && !choices.empty(); }
   /// A string computed at run time (format, concat, substr...): `value` is
-  /// its i32 handle in the runtime's intern table (OslRuntime/StringCall.h).
+  /// its i32 handle in the runtime's intern table (OslAbi/Strings.h).
   bool isRuntimeString() const { return type.isString() && value && choices.empty(); }
   /// A string known when the shader is compiled (one string, no choice).
   bool isKnownString() const { return type.isString() && !value; }

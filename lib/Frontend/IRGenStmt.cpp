@@ -1,6 +1,6 @@
 //===- IRGenStmt.cpp - Statements and structured control flow -------------===//
 #include "IRGen.h"
-#include "OslRuntime/PrintCall.h"
+#include "OslAbi/Print.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "llvm/ADT/STLExtras.h"

@@ -10,13 +10,14 @@
 // A format string or regular expression known when the shader is compiled
 // is checked then, so its errors point at the call. A call whose operands
 // are all known then (concat of string parameters, format of constants) is
-// folded by running the runtime's own implementation, so its result is a
-// compile-time string that can name a texture, a noise or a space.
+// folded by running the string functions the runtime runs (OslStrings), so
+// its result is a compile-time string that can name a texture, a noise or a
+// space.
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
-#include "OslRuntime/PrintCall.h"
-#include "OslRuntime/StringCall.h"
+#include "OslAbi/Print.h"
+#include "OslStrings/StringFunctions.h"
 
 #include "llvm/ADT/StringSwitch.h"
 
@@ -78,8 +79,9 @@ private:
   bool addFormatValue(size_t k);
   bool checkConstantOperands();
   /// The operands' 32-bit rows when every operand is known now.
-  std::optional<std::vector<int32_t>> knownRows();
-  RValue fold(std::vector<int32_t> rows, int32_t code);
+  /// The operands' values when all are known now (no triples).
+  std::optional<std::vector<::osl::StringValue>> knownValues();
+  RValue fold(const std::vector<::osl::StringValue> &values, int32_t code);
   /// The operands as IR values (strings as handles).
   SmallVector<Value> materialize();
 
@@ -141,49 +143,48 @@ bool StringCall::addFormatValue(size_t k) {
   return true;
 }
 
-std::optional<std::vector<int32_t>> StringCall::knownRows() {
-  std::vector<int32_t> rows;
+std::optional<std::vector<::osl::StringValue>> StringCall::knownValues() {
+  std::vector<::osl::StringValue> values;
   for (auto [v, kind] : llvm::zip(operands, kinds)) {
+    ::osl::StringValue &known = values.emplace_back();
+    known.kind = kind;
     if (kind == 's') {
       if (!v.isKnownString())
         return std::nullopt;
-      rows.push_back(osl_rt_string_intern(v.str.c_str()));
+      known.s = v.str; // `operands` outlives the fold
     } else if (kind == 'i') {
       auto k = IRGen::getConstInt(v.value);
       if (!k)
         return std::nullopt;
-      rows.push_back(int32_t(*k));
+      known.i = int32_t(*k);
     } else if (kind == 'f') {
       auto k = IRGen::getConstScalar(v.value);
       if (!k)
         return std::nullopt;
-      float f = float(*k);
-      int32_t bits;
-      std::memcpy(&bits, &f, sizeof bits);
-      rows.push_back(bits);
+      known.f[0] = float(*k);
     } else {
       return std::nullopt; // triples are not folded
     }
   }
-  return rows;
+  return values;
 }
 
-/// Runs the call now, on one lane. Its errors (format, regex) were
-/// reported by checkConstantOperands, so it cannot fail here.
-RValue StringCall::fold(std::vector<int32_t> rows, int32_t code) {
-  rows.push_back(0); // the result row
-  osl_rt_string_call(call.name.c_str(), code, kinds.c_str(), rows.data(), 1, 1);
-  int32_t result = rows.back();
+/// Runs the call now, with the string functions the runtime runs. Its
+/// errors (format, regex) were reported by checkConstantOperands, so it
+/// cannot fail here.
+RValue StringCall::fold(const std::vector<::osl::StringValue> &values, int32_t code) {
+  std::string error;
+  ::osl::StringResult result = ::osl::evalStringFunction(code, values, error);
   switch (::osl::kStringFunctions[code].result) {
   case 's':
-    return RValue::string(::osl::stringText(result));
+    return RValue::string(result.text);
   case 'f': {
     float f;
-    std::memcpy(&f, &result, sizeof f);
+    std::memcpy(&f, &result.bits, sizeof f);
     return RValue::num(OslType(BaseType::Float), g.constFloat(f, call.loc));
   }
   default:
-    return RValue::num(OslType(BaseType::Int), g.constInt(result, call.loc));
+    return RValue::num(OslType(BaseType::Int), g.constInt(result.bits, call.loc));
   }
 }
 
@@ -353,8 +354,8 @@ std::optional<RValue> StringCall::emit() {
     return std::nullopt;
   // (A dictionary is read when the shader runs: its node ids belong to that
   // process.)
-  if (auto rows = knownRows(); rows && !::osl::isDictionaryFunction(name))
-    return fold(std::move(*rows), code);
+  if (auto values = knownValues(); values && !::osl::isDictionaryFunction(name))
+    return fold(*values, code);
 
   OpBuilder &b = g.builder();
   char result = ::osl::kStringFunctions[code].result;

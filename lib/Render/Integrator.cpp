@@ -4,7 +4,7 @@
 #include "OslRender/Renderer.h"
 #include "OslRender/Sampler.h"
 #include "OslRuntime/Closure.h"
-#include "OslRuntime/GlobalsLayout.h"
+#include "OslAbi/GlobalsLayout.h"
 #include "OslRuntime/Progress.h"
 #include "OslRuntime/ThreadPool.h"
 

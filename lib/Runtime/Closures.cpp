@@ -1,4 +1,5 @@
 //===- Closures.cpp - The closure arena and the kernels' entry points -----===//
+#include "OslAbi/EntryPoints.h"
 #include "OslRuntime/Closure.h"
 
 using namespace osl;

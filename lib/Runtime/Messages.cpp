@@ -7,7 +7,7 @@
 // in OSL's words.
 //
 //===----------------------------------------------------------------------===//
-#include "OslRuntime/MessageCall.h"
+#include "OslAbi/EntryPoints.h"
 #include "OslRuntime/PrintCall.h"
 #include "OslRuntime/StringCall.h"
 

@@ -8,6 +8,7 @@
 #include "OiioModule.h"
 #include "ImageFormats.h"
 
+#include "OslAbi/EntryPoints.h"
 #include "OslRuntime/PrintCall.h"
 #include "OslRuntime/StringCall.h"
 

@@ -11,6 +11,7 @@
 #ifndef OSLRUNTIME_OIIOMODULE_H
 #define OSLRUNTIME_OIIOMODULE_H
 
+#include "OslAbi/EntryPoints.h"
 #include "OslRuntime/ImageOutput.h"
 #include "OslRuntime/TextureCall.h"
 

@@ -5,15 +5,15 @@
 // values stay scalar. Each lane-wise op is lowered component by component
 // through LaneMath, which builds the same arith ops for scalars and
 // vectors. The shader function becomes the batch kernel of
-// OslRuntime/GlobalsLayout.h.
+// OslAbi/GlobalsLayout.h.
 //
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
-#include "OslRuntime/GlobalsLayout.h"
-#include "OslRuntime/ClosureCall.h"
-#include "OslRuntime/PrintCall.h"
-#include "OslRuntime/StringCall.h"
-#include "OslRuntime/TextureCall.h"
+#include "OslAbi/GlobalsLayout.h"
+#include "OslAbi/Closures.h"
+#include "OslAbi/Print.h"
+#include "OslAbi/Strings.h"
+#include "OslAbi/Texture.h"
 #include "OslTransforms/ColorBuilder.h"
 #include "OslTransforms/ConstantTable.h"
 #include "OslTransforms/GaborBuilder.h"
@@ -571,10 +571,10 @@ struct SplineFamilyLowering : public OslPattern<Op> {
 //===----------------------------------------------------------------------===//
 
 /// Stores `operands` (converted, with their osl types) as 32-bit rows of a
-/// block for a closure entry point, calls `entry` with the block, and reads
+/// block for a closure entry point, calls `callee` with the block, and reads
 /// the result row of handles back. Uniform ops run one lane.
 Value callClosureEntry(ConversionPatternRewriter &rewriter, Operation *op, int64_t width,
-                       StringRef entry, ArrayRef<Value> leading, ValueRange converted,
+                       LLVM::LLVMFuncOp callee, ArrayRef<Value> leading, ValueRange converted,
                        ValueRange original) {
   Location loc = op->getLoc();
   bool varying = isVarying(op->getResult(0).getType());
@@ -589,13 +589,7 @@ Value callClosureEntry(ConversionPatternRewriter &rewriter, Operation *op, int64
     rewriter.create<LLVM::StoreOp>(loc, comp, rowAddress(rewriter, loc, block, i, lanes), 4);
   Value mask = varying ? activeLanes(rewriter, loc, op, width)
                        : rewriter.create<arith::ConstantIntOp>(loc, 1, 1).getResult();
-  MLIRContext *ctx = rewriter.getContext();
   Type i32 = rewriter.getI32Type();
-  auto ptr = LLVM::LLVMPointerType::get(ctx);
-  SmallVector<Type> params(leading.size(), i32);
-  params.append({ptr, i32, i32});
-  LLVM::LLVMFuncOp callee =
-      runtimeDeclaration(rewriter, op, entry, LLVM::LLVMVoidType::get(ctx), params);
   SmallVector<Value> args(leading.begin(), leading.end());
   args.append({block, rewriter.create<arith::ConstantIntOp>(loc, lanes, 32),
                maskBits(rewriter, loc, mask)});
@@ -623,7 +617,9 @@ struct ClosureComponentLowering : public OslPattern<ClosureComponentOp> {
                                 ConversionPatternRewriter &rewriter) const override {
     Value id = rewriter.create<arith::ConstantIntOp>(op.getLoc(),
                                                      ::osl::closureId(op.getName()), 32);
-    rewriter.replaceOp(op, callClosureEntry(rewriter, op, width, "osl_rt_closure_component",
+    rewriter.replaceOp(op, callClosureEntry(rewriter, op, width,
+                                            runtimeDeclaration(rewriter, op,
+                                                               entry::osl_rt_closure_component),
                                             {id}, adaptor.getArgs(), op.getArgs()));
     return success();
   }
@@ -632,15 +628,17 @@ struct ClosureComponentLowering : public OslPattern<ClosureComponentOp> {
 /// osl.closure_mul and osl.closure_add: their entry point on the operands' rows.
 template <typename Op>
 struct ClosureArithLowering : public OslPattern<Op> {
-  ClosureArithLowering(const VaryingTypeConverter &converter, MLIRContext *ctx, StringRef entry)
-      : OslPattern<Op>(converter, ctx), entry(entry) {}
+  using OslPattern<Op>::OslPattern;
   LogicalResult matchAndRewrite(Op op, typename Op::Adaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
-    rewriter.replaceOp(op, callClosureEntry(rewriter, op, this->width, entry, {},
+    LLVM::LLVMFuncOp callee =
+        std::is_same_v<Op, ClosureMulOp>
+            ? runtimeDeclaration(rewriter, op, entry::osl_rt_closure_mul)
+            : runtimeDeclaration(rewriter, op, entry::osl_rt_closure_add);
+    rewriter.replaceOp(op, callClosureEntry(rewriter, op, this->width, callee, {},
                                             adaptor.getOperands(), op->getOperands()));
     return success();
   }
-  StringRef entry;
 };
 
 void populateLaneOpPatterns(const VaryingTypeConverter &converter,
@@ -663,8 +661,8 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter,
   LANE(PowOp, pow); LANE(FmodOp, fmod); LANE(StepOp, step); LANE(MixOp, mix);
   LANE(ClampOp, clamp); LANE(SmoothStepOp, smoothstep); LANE(SelectOp, select);
 #undef LANE
-  patterns.add<ClosureArithLowering<ClosureMulOp>>(converter, ctx, "osl_rt_closure_mul");
-  patterns.add<ClosureArithLowering<ClosureAddOp>>(converter, ctx, "osl_rt_closure_add");
+  patterns.add<ClosureArithLowering<ClosureMulOp>, ClosureArithLowering<ClosureAddOp>>(converter,
+                                                                                     ctx);
   patterns.add<ClosureEmptyLowering, ClosureComponentLowering>(converter, ctx);
   populateRuntimeCallPatterns(converter, patterns);
   patterns.add<GlobalLowering, BatchMaskLowering, AnyLowering, BroadcastLowering,
@@ -742,12 +740,12 @@ struct ConvertToVectorPass
   /// A kernel that passes messages starts each batch without any.
   void resetMessagesOnEntry(func::FuncOp kernel) {
     ModuleOp module = getOperation();
-    if (!module.lookupSymbol("osl_rt_setmessage") && !module.lookupSymbol("osl_rt_getmessage"))
+    if (!module.lookupSymbol(entry::osl_rt_setmessage.name) &&
+        !module.lookupSymbol(entry::osl_rt_getmessage.name))
       return;
     OpBuilder b(&getContext());
     b.setInsertionPointToStart(&kernel.getBody().front());
-    LLVM::LLVMFuncOp reset = runtimeDeclaration(b, kernel, "osl_rt_message_reset",
-                                                LLVM::LLVMVoidType::get(&getContext()), {});
+    LLVM::LLVMFuncOp reset = runtimeDeclaration(b, kernel, entry::osl_rt_message_reset);
     b.create<LLVM::CallOp>(kernel.getLoc(), reset, ValueRange{});
   }
 };

@@ -10,8 +10,8 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
-#include "OslRuntime/GlobalsLayout.h"
-#include "OslRuntime/TextureCall.h"
+#include "OslAbi/GlobalsLayout.h"
+#include "OslAbi/Texture.h"
 #include "OslTransforms/LaneMath.h"
 #include "OslTransforms/Passes.h"
 

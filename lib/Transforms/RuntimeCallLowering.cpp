@@ -1,16 +1,16 @@
 //===- RuntimeCallLowering.cpp - osl ops that call the runtime -------------===//
 //
 // Each writes its operands' lanes to a stack block of rows, calls its
-// runtime entry point (OslRuntime/StringCall.h, PrintCall.h, MessageCall.h,
-// TextureCall.h, LaneStats.h) for the active lanes, and reads its results
-// back from rows.
+// runtime entry point (OslAbi/EntryPoints.h; the tables are OslAbi/Strings.h,
+// Print.h and Texture.h) for the active lanes, and reads its results back
+// from rows.
 //
 //===----------------------------------------------------------------------===//
 #include "VectorLowering.h"
 
-#include "OslRuntime/PrintCall.h"
-#include "OslRuntime/StringCall.h"
-#include "OslRuntime/TextureCall.h"
+#include "OslAbi/Print.h"
+#include "OslAbi/Strings.h"
+#include "OslAbi/Texture.h"
 #include "OslTransforms/ConstantTable.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
@@ -29,9 +29,7 @@ struct StringConstantLowering : public OslPattern<StringConstantOp> {
   LogicalResult matchAndRewrite(StringConstantOp op, OpAdaptor,
                                 ConversionPatternRewriter &rewriter) const override {
     Location loc = op.getLoc();
-    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
-    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_string_intern",
-                                                 rewriter.getI32Type(), {ptr});
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, entry::osl_rt_string_intern);
     Value text = constantStringAddress(rewriter, loc, op.getValue());
     rewriter.replaceOpWithNewOp<LLVM::CallOp>(op, callee, ValueRange{text});
     return success();
@@ -39,16 +37,14 @@ struct StringConstantLowering : public OslPattern<StringConstantOp> {
 };
 
 /// osl.count_lanes: the number of set lanes goes to the runtime's lane
-/// statistics (osl_rt_count_lanes, OslRuntime/LaneStats.h).
+/// statistics (osl_rt_count_lanes, OslAbi/EntryPoints.h).
 struct CountLanesLowering : public OslPattern<CountLanesOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(CountLanesOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
     Location loc = op.getLoc();
     Type i32 = rewriter.getI32Type();
-    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_count_lanes",
-                                                 LLVM::LLVMVoidType::get(getContext()),
-                                                 {i32});
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, entry::osl_rt_count_lanes);
     Value bits = maskBits(rewriter, loc, adaptor.getMask());
     Value count = rewriter.create<LLVM::CtPopOp>(loc, i32, bits);
     rewriter.create<LLVM::CallOp>(loc, callee, ValueRange{count});
@@ -58,7 +54,7 @@ struct CountLanesLowering : public OslPattern<CountLanesOp> {
 };
 
 /// osl.string_call: the operands' lanes go to a block of 32-bit rows
-/// (OslRuntime/StringCall.h), osl_rt_string_call runs the active lanes and
+/// (OslAbi/Strings.h), osl_rt_string_call runs the active lanes and
 /// the result row is read back. Uniform operands and result: one lane.
 struct StringCallLowering : public OslPattern<StringCallOp> {
   using OslPattern::OslPattern;
@@ -72,12 +68,8 @@ struct StringCallLowering : public OslPattern<StringCallOp> {
                                           kinds, width, varying, /*extraRows=*/1);
     Value mask = varying ? activeLanes(rewriter, loc, op, width)
                          : rewriter.create<arith::ConstantIntOp>(loc, 1, 1).getResult();
-    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
-    Type i32 = rewriter.getI32Type();
     LLVM::LLVMFuncOp callee =
-        runtimeDeclaration(rewriter, op, "osl_rt_string_call",
-                           LLVM::LLVMVoidType::get(rewriter.getContext()),
-                           {ptr, i32, ptr, ptr, i32, i32});
+        runtimeDeclaration(rewriter, op, entry::osl_rt_string_call);
     SmallVector<Value> args = {
         constantStringAddress(rewriter, loc, callSiteText(loc, op.getCallee())),
         i32Constant(rewriter, loc, ::osl::stringFunctionCode(op.getCallee())),
@@ -98,7 +90,7 @@ struct StringCallLowering : public OslPattern<StringCallOp> {
 };
 
 /// osl.print: every active point prints, so the operands always take W
-/// lanes; osl_rt_print formats each (OslRuntime/PrintCall.h).
+/// lanes; osl_rt_print formats each (OslAbi/Print.h).
 struct PrintLowering : public OslPattern<PrintOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(PrintOp op, OpAdaptor adaptor,
@@ -109,11 +101,7 @@ struct PrintLowering : public OslPattern<PrintOp> {
                               width, /*varying=*/true, /*extraRows=*/0)
                       .first;
     Value mask = sideEffectLanes(rewriter, loc, op, adaptor.getMask(), width);
-    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
-    Type i32 = rewriter.getI32Type();
-    LLVM::LLVMFuncOp callee = runtimeDeclaration(
-        rewriter, op, "osl_rt_print", LLVM::LLVMVoidType::get(rewriter.getContext()),
-        {ptr, i32, ptr, ptr, i32, i32});
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, entry::osl_rt_print);
     SmallVector<Value> args = {
         constantStringAddress(rewriter, loc, callSiteText(loc, op.getStream())),
         i32Constant(rewriter, loc, ::osl::printStreamCode(op.getStream())),
@@ -128,7 +116,7 @@ struct PrintLowering : public OslPattern<PrintOp> {
 };
 
 /// osl.set_message and osl.get_message: the value's rows go to
-/// osl_rt_setmessage / osl_rt_getmessage (OslRuntime/MessageCall.h), which
+/// osl_rt_setmessage / osl_rt_getmessage (OslAbi/EntryPoints.h), which
 /// keep the batch's messages; getmessage reads the rows back.
 template <typename OpTy>
 struct MessageLowering : public OslPattern<OpTy> {
@@ -149,11 +137,9 @@ struct MessageLowering : public OslPattern<OpTy> {
     // A plain local: C++17 lambdas cannot capture structured bindings.
     Value block = rowBlock;
     Value mask = sideEffectLanes(rewriter, loc, op, adaptor.getMask(), width);
-    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
     Type i32 = rewriter.getI32Type();
-    LLVM::LLVMFuncOp callee = runtimeDeclaration(
-        rewriter, op, isGet ? "osl_rt_getmessage" : "osl_rt_setmessage",
-        LLVM::LLVMVoidType::get(rewriter.getContext()), {ptr, ptr, ptr, ptr, ptr, i32, i32});
+    LLVM::LLVMFuncOp callee = isGet ? runtimeDeclaration(rewriter, op, entry::osl_rt_getmessage)
+              : runtimeDeclaration(rewriter, op, entry::osl_rt_setmessage);
     SmallVector<Value> args = {constantStringAddress(rewriter, loc, callSiteLine(loc)),
                                constantStringAddress(rewriter, loc, op.getName()),
                                constantStringAddress(rewriter, loc, op.getTypeName()),
@@ -192,7 +178,7 @@ struct MessageLowering : public OslPattern<OpTy> {
 };
 
 /// osl.texture: the per-point values go to a block of rows on the stack
-/// (OslRuntime/TextureCall.h), osl_rt_texture looks the lanes up, and the
+/// (OslAbi/Texture.h), osl_rt_texture looks the lanes up, and the
 /// results are read back. The options OpenImageIO takes once per call are
 /// compile-time candidates picked by a uniform index.
 struct TextureLowering : public OslPattern<TextureOp> {
@@ -209,10 +195,7 @@ struct TextureLowering : public OslPattern<TextureOp> {
     MLIRContext *ctx = rewriter.getContext();
     auto ptr = LLVM::LLVMPointerType::get(ctx);
     Type f32 = rewriter.getF32Type(), i32 = rewriter.getI32Type();
-    SmallVector<Type> params = {ptr, ptr, ptr, i32, i32, i32, i32, i32,
-                                i32, i32, i32, ptr, i32, i32};
-    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_texture",
-                                                 LLVM::LLVMVoidType::get(ctx), params);
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, entry::osl_rt_texture);
     Value block = entryBlockRows(rewriter, loc, op, ::osl::kTextureRows * lanes);
     Lanes unpacker{rewriter, loc, width};
     auto storeRow = [&](int64_t row, Value original, Value converted) {
@@ -335,8 +318,7 @@ struct GetTextureInfoLowering : public OslPattern<GetTextureInfoOp> {
     Type element = op.getFloats() ? Type(rewriter.getF32Type()) : i32;
     int64_t count = op.getValues().size();
     Value data = entryBlockRows(rewriter, loc, op, count);
-    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, "osl_rt_gettextureinfo", i32,
-                                                 {ptr, ptr, i32, i32, ptr});
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, entry::osl_rt_gettextureinfo);
     auto i32Const = [&](int64_t v) {
       return rewriter.create<arith::ConstantIntOp>(loc, v, 32).getResult();
     };
@@ -364,8 +346,6 @@ struct GetTextureInfoLowering : public OslPattern<GetTextureInfoOp> {
   LogicalResult lowerPerPoint(GetTextureInfoOp op, OpAdaptor adaptor,
                               ConversionPatternRewriter &rewriter) const {
     Location loc = op.getLoc();
-    MLIRContext *ctx = rewriter.getContext();
-    auto ptr = LLVM::LLVMPointerType::get(ctx);
     Type i32 = rewriter.getI32Type();
     Type element = op.getFloats() ? Type(rewriter.getF32Type()) : i32;
     bool varying = isVarying(op.getFound().getType());
@@ -381,8 +361,7 @@ struct GetTextureInfoLowering : public OslPattern<GetTextureInfoOp> {
       return rewriter.create<arith::ConstantIntOp>(loc, v, 32).getResult();
     };
     LLVM::LLVMFuncOp callee =
-        runtimeDeclaration(rewriter, op, "osl_rt_gettextureinfo_lanes",
-                           LLVM::LLVMVoidType::get(ctx), {ptr, ptr, i32, i32, ptr, ptr, i32, i32});
+        runtimeDeclaration(rewriter, op, entry::osl_rt_gettextureinfo_lanes);
     // The batch's points (lanes past its end name nothing).
     Value mask = varying ? activeLanes(rewriter, loc, op, width)
                          : rewriter.create<arith::CmpIOp>(loc, arith::CmpIPredicate::sgt,

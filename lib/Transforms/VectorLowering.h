@@ -10,6 +10,7 @@
 #ifndef OSLTRANSFORMS_VECTORLOWERING_H
 #define OSLTRANSFORMS_VECTORLOWERING_H
 
+#include "OslAbi/EntryPoints.h"
 #include "OslDialect/OslDialect.h"
 #include "OslTransforms/LaneMath.h"
 
@@ -18,15 +19,19 @@
 #include "mlir/Transforms/DialectConversion.h"
 
 #include <string>
+#include <type_traits>
 #include <utility>
 
 namespace mlir::osl::lowering {
+
+/// The runtime entry points (osl_rt_texture, ...), named as in C.
+namespace entry = ::osl::abi::entry;
 
 class VaryingTypeConverter : public TypeConverter {
 public:
   explicit VaryingTypeConverter(int64_t width) : width(width) {
     addConversion([](Type t) { return t; });
-    // A closure is an i32 handle into the closure arena (ClosureCall.h).
+    // A closure is an i32 handle into the closure arena (OslAbi/Closures.h).
     addConversion([](ClosureType t) -> Type { return IntegerType::get(t.getContext(), 32); });
     addConversion([width](VaryingType t) -> Type {
       Type e = t.getElementType();
@@ -104,9 +109,37 @@ Value kernelArg(Operation *op, unsigned i);
 Value activeLanes(OpBuilder &b, Location loc, Operation *op, int64_t width);
 /// Address of row `row` of a structure-of-arrays block of W-float rows.
 Value rowAddress(OpBuilder &b, Location loc, Value base, int64_t row, int64_t width);
+/// The LLVM type of a C type of the kernel ABI (OslAbi/EntryPoints.h).
+template <typename T> Type abiType(MLIRContext *ctx) {
+  if constexpr (std::is_pointer_v<T>)
+    return LLVM::LLVMPointerType::get(ctx);
+  else if constexpr (std::is_same_v<T, float>)
+    return Float32Type::get(ctx);
+  else if constexpr (std::is_same_v<T, void>)
+    return LLVM::LLVMVoidType::get(ctx);
+  else {
+    static_assert(std::is_integral_v<T>, "the kernel ABI passes pointers, ints and floats");
+    return IntegerType::get(ctx, unsigned(sizeof(T) * 8));
+  }
+}
+
+template <typename Result, typename... Params>
+LLVM::LLVMFunctionType abiFunctionType(MLIRContext *ctx, Result (*)(Params...)) {
+  return LLVM::LLVMFunctionType::get(abiType<Result>(ctx), {abiType<Params>(ctx)...});
+}
+
 /// Declares runtime function `name` in the module once.
-LLVM::LLVMFuncOp runtimeDeclaration(OpBuilder &b, Operation *op, StringRef name, Type result,
-                                    ArrayRef<Type> params);
+LLVM::LLVMFuncOp runtimeDeclaration(OpBuilder &b, Operation *op, StringRef name,
+                                    LLVM::LLVMFunctionType type);
+
+/// Declares runtime entry point `entry` in the module once, with the LLVM
+/// type of its C declaration.
+template <typename Fn>
+LLVM::LLVMFuncOp runtimeDeclaration(OpBuilder &b, Operation *op,
+                                    ::osl::abi::EntryPoint<Fn> entry) {
+  return runtimeDeclaration(b, op, entry.name,
+                            abiFunctionType(b.getContext(), static_cast<Fn *>(nullptr)));
+}
 /// A stack block of `count` 32-bit values in the function's entry block,
 /// so a call inside a loop reuses it.
 Value entryBlockRows(OpBuilder &b, Location loc, Operation *op, int64_t count);
@@ -119,7 +152,7 @@ std::string callSiteLine(Location loc);
 Value i32Constant(OpBuilder &b, Location loc, int64_t v);
 /// Stores the lanes of `original`'s operands (converted: `converted`) as
 /// rows of `lanes` 32-bit values in a stack block with `extraRows` more rows
-/// after them (OslRuntime/StringCall.h's layout); returns the block and
+/// after them (OslAbi/Strings.h's layout); returns the block and
 /// the index of the first extra row.
 std::pair<Value, int64_t> operandRows(OpBuilder &b, Location loc, Operation *op,
                                       ValueRange original, ValueRange converted,

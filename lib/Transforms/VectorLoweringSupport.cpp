@@ -1,7 +1,7 @@
 //===- VectorLoweringSupport.cpp - Helpers of osl-convert-to-vector -------===//
 #include "VectorLowering.h"
 
-#include "OslRuntime/StringCall.h"
+#include "OslAbi/Strings.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Func/IR/FuncOps.h"
@@ -35,14 +35,13 @@ Value rowAddress(OpBuilder &b, Location loc, Value base, int64_t row,
 
 /// Declares runtime function `name` in the module once.
 LLVM::LLVMFuncOp runtimeDeclaration(OpBuilder &b, Operation *op, StringRef name,
-                                    Type result, ArrayRef<Type> params) {
+                                    LLVM::LLVMFunctionType type) {
   auto module = op->getParentOfType<ModuleOp>();
   if (auto f = module.lookupSymbol<LLVM::LLVMFuncOp>(name))
     return f;
   OpBuilder::InsertionGuard guard(b);
   b.setInsertionPointToStart(module.getBody());
-  return b.create<LLVM::LLVMFuncOp>(op->getLoc(), name,
-                                    LLVM::LLVMFunctionType::get(result, params));
+  return b.create<LLVM::LLVMFuncOp>(op->getLoc(), name, type);
 }
 
 /// A stack block of `count` 32-bit values in the function's entry block,
@@ -80,7 +79,7 @@ std::string callSiteText(Location loc, StringRef fallback) {
 
 /// Stores the lanes of `original`'s operands (converted: `converted`) as
 /// rows of `lanes` 32-bit values in a stack block with `extraRows` more rows
-/// after them (OslRuntime/StringCall.h's layout); returns the block and
+/// after them (OslAbi/Strings.h's layout); returns the block and
 /// the index of the first extra row.
 std::pair<Value, int64_t> operandRows(OpBuilder &b, Location loc, Operation *op,
                                       ValueRange original, ValueRange converted,

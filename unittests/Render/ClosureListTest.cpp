@@ -8,7 +8,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslCompiler/ShaderCompiler.h"
 #include "OslRuntime/Closure.h"
-#include "OslRuntime/GlobalsLayout.h"
+#include "OslAbi/GlobalsLayout.h"
 #include "OslRuntime/StringCall.h"
 
 #include "llvm/Support/raw_ostream.h"

@@ -5,7 +5,9 @@
 // concurrent use.
 //
 //===----------------------------------------------------------------------===//
+#include "OslAbi/EntryPoints.h"
 #include "OslRuntime/StringCall.h"
+#include "OslStrings/StringFunctions.h"
 
 #include <gtest/gtest.h>
 
@@ -99,6 +101,41 @@ TEST(Strings, FormatErrorsAreFoundBeforeRunning) {
   EXPECT_NE(osl::formatError("%d %d", "i"), "");
   EXPECT_NE(osl::formatError("%d", "s"), "");
   EXPECT_NE(osl::formatError("50%", ""), "");
+}
+
+/// The pure functions the front end folds with give what the runtime gives
+/// on handles, with no intern table.
+TEST(Strings, PureFunctionsMatchTheRuntime) {
+  auto value = [](char kind, std::string_view s, int32_t i = 0) {
+    osl::StringValue v;
+    v.kind = kind;
+    v.s = s;
+    v.i = i;
+    return v;
+  };
+  std::string error;
+  osl::StringResult r = osl::evalStringFunction(
+      osl::stringFunctionCode("substr"), {value('s', "tile_12.tx"), value('i', "", -5)}, error);
+  EXPECT_EQ(r.text, "12.tx");
+  EXPECT_EQ(error, "");
+  EXPECT_EQ(textOf(callOne("substr", "si", {handle("tile_12.tx"), -5})), r.text);
+  osl::StringValue n = value('f', "");
+  n.f[0] = 0.5f;
+  r = osl::evalStringFunction(osl::stringFunctionCode("format"),
+                              {value('s', "%s_%g"), value('s', "a"), n}, error);
+  EXPECT_EQ(r.text, "a_0.5");
+  r = osl::evalStringFunction(osl::stringFunctionCode("hash"), {value('s', "tile")}, error);
+  EXPECT_EQ(r.bits, callOne("hash", "s", {handle("tile")}));
+  // regex_search(subject, results, regex): entry 2 is where group 1 begins.
+  r = osl::evalStringFunction(osl::stringFunctionCode("regex:result"),
+                              {value('s', "tile_12"), value('s', "_([0-9]+)"), value('i', "", 0),
+                               value('i', "", 2), value('i', "", -7)},
+                              error);
+  EXPECT_EQ(r.bits, 5);
+  r = osl::evalStringFunction(osl::stringFunctionCode("regex_match"),
+                              {value('s', "a"), value('s', "(a")}, error);
+  EXPECT_NE(error, "");
+  EXPECT_EQ(r.bits, 0);
 }
 
 TEST(Strings, OnlyMaskedLanesRun) {

@@ -2,12 +2,12 @@
 //
 // One batch of W shading points stores every shader global as rows of W
 // floats: a triple takes three consecutive rows (x, y, z), a float one row.
-// The compiler (osl-convert-to-vector) and the runtime both read this table,
-// so a global's row index is defined once, here.
+// The compiler (the front end, osl-convert-to-vector) and the runtime both
+// read this table, so a global's row index is defined once, here.
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLRUNTIME_GLOBALSLAYOUT_H
-#define OSLRUNTIME_GLOBALSLAYOUT_H
+#ifndef OSLABI_GLOBALSLAYOUT_H
+#define OSLABI_GLOBALSLAYOUT_H
 
 #include <cstdint>
 #include <string_view>
@@ -55,4 +55,4 @@ using BatchKernel = void (*)(const float *globals, float *outputs,
 
 } // namespace osl
 
-#endif // OSLRUNTIME_GLOBALSLAYOUT_H
+#endif // OSLABI_GLOBALSLAYOUT_H

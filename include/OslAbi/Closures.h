@@ -1,20 +1,21 @@
-//===- ClosureCall.h - Closures: the table and the kernel ABI ----*- C++ -*-===//
+//===- Closures.h - The closure table kernels and runtime share --*- C++ -*-===//
 //
 // A closure value is an i32 handle into the shading thread's closure arena
 // (OslRuntime/Closure.h): 0 is the empty closure, any other handle names a
 // node that is a primitive (one closure of OSL's standard library with its
 // parameters and a weight of 1), a product with a color weight, or a sum.
-// Kernels build nodes through three entry points, one call per op and
-// batch, each taking rows of W 32-bit values (floats' bits, ints, string or
-// closure handles; a triple takes three rows) followed by the result row.
+// Kernels build nodes through three entry points (EntryPoints.h), one call
+// per op and batch, each taking rows of W 32-bit values (floats' bits, ints,
+// string or closure handles; a triple takes three rows) followed by the
+// result row.
 //
 // The front end (signatures), the dialect's verifier (operand kinds), the
 // compiler (row counts) and the runtime (parameter layout) all read the
 // table below.
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLRUNTIME_CLOSURECALL_H
-#define OSLRUNTIME_CLOSURECALL_H
+#ifndef OSLABI_CLOSURES_H
+#define OSLABI_CLOSURES_H
 
 #include <cstdint>
 #include <iterator>
@@ -137,15 +138,4 @@ inline constexpr int32_t kMaxClosureParams = 16;
 
 } // namespace osl
 
-/// Makes a primitive node of closure `id` for the lanes set in `laneMask`:
-/// `rows` holds its parameters' rows (closureParamKinds order) then the
-/// result row of handles. Other lanes get 0.
-extern "C" void osl_rt_closure_component(int32_t id, int32_t *rows, int32_t width,
-                                         uint32_t laneMask);
-/// closure * color: rows are the closure's handles, the weight's r, g, b
-/// (float bits), then the result.
-extern "C" void osl_rt_closure_mul(int32_t *rows, int32_t width, uint32_t laneMask);
-/// closure + closure: rows are the two handles, then the result.
-extern "C" void osl_rt_closure_add(int32_t *rows, int32_t width, uint32_t laneMask);
-
-#endif // OSLRUNTIME_CLOSURECALL_H
+#endif // OSLABI_CLOSURES_H
