@@ -11,7 +11,7 @@ install(DIRECTORY ${PROJECT_BINARY_DIR}/include/
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.inc")
 
 # add_mlir_library installs its own targets; these are plain CMake ones.
-install(TARGETS OslRuntime OslImageIO OslClosures OslReference
+install(TARGETS OslRuntime OslImageIO OslClosures OslStrings OslReference
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS OslOiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 foreach(tool osl-opt osl-run osl-assemble osl-imgdiff)

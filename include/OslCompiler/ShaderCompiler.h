@@ -64,18 +64,17 @@ struct CompileOptions {
   /// The working RGB space of the color functions (OSL's "colorspace").
   std::string colorSpace = "Rec709";
   /// LLVM passes before codegen (Jit.h). The kernel pipeline by default:
-  /// its passes take a fifth of O3's time on marble (4.4 against 23 ms in a
-  /// fresh process) and it shades as fast. (Its NaN
-  /// payloads could differ between widths, as the differential tester
+  /// a fraction of O3's compile time, and it shades as fast (bench/). (Its
+  /// NaN payloads could differ between widths, as the differential tester
   /// found on seed 5017; outputs now store one canonical NaN.)
   LlvmPipeline llvmPipeline = LlvmPipeline::Kernel;
-  /// Masked blocks count their active lanes (OslRuntime/LaneStats.h).
+  /// Masked blocks count their active lanes (osl_rt_count_lanes, OslAbi/EntryPoints.h).
   bool countLanes = false;
   /// Verify the IR after every lowering pass too (osl-run --verify-each;
   /// the differential tester turns it on). Off, the osl-level passes are
   /// still verified one by one (their verifiers report shader errors) and
-  /// the lowering once at its end: verifying after each lowering pass was
-  /// about 40% of the MLIR passes' time for marble (2.3 of 6 ms).
+  /// the lowering once at its end: verifying after each lowering pass is a
+  /// large part of the MLIR passes' time.
   bool verifyEachPass = false;
   /// The outputs the renderer reads (testshade's -o names) of a single
   /// shader: isconnected() answers 2 for them. (A group's are

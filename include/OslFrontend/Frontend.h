@@ -9,7 +9,7 @@
 #ifndef OSLFRONTEND_FRONTEND_H
 #define OSLFRONTEND_FRONTEND_H
 
-#include "OslTransforms/NamedSpaces.h"
+#include "OslLanes/NamedSpaces.h"
 
 #include "mlir/IR/BuiltinOps.h"
 #include "mlir/IR/MLIRContext.h"

@@ -2,7 +2,7 @@
 #include "GroupInputs.h"
 
 #include "OslDialect/OslDialect.h"
-#include "OslTransforms/GroupNames.h"
+#include "OslDialect/GroupNames.h"
 
 #include "mlir/IR/Builders.h"
 #include "llvm/ADT/StringMap.h"

@@ -8,8 +8,8 @@
 //===----------------------------------------------------------------------===//
 #include "OslCompiler/MathKernel.h"
 
-#include "OslTransforms/LaneMath.h"
-#include "OslTransforms/NoiseBuilder.h"
+#include "OslLanes/LaneMath.h"
+#include "OslLanes/NoiseBuilder.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/IR/Builders.h"

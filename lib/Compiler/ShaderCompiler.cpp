@@ -152,12 +152,13 @@ bool ShaderCompiler::lower() {
   // The osl-level passes are verified after each one: their verifiers
   // report the shader's errors. The lowering (most of the passes' time) is
   // verified once at its end unless asked (CompileOptions::verifyEachPass).
+  mlir::osl::OslToLLVMPipelineOptions pipeline{options.width, options.reference,
+                                               options.countLanes, options.math};
   mlir::PassManager oslLevel(&context);
-  mlir::osl::buildOslLevelPipeline(oslLevel, options.reference, options.countLanes);
+  mlir::osl::buildOslLevelPipeline(oslLevel, pipeline);
   mlir::PassManager lowering(&context);
   lowering.enableVerifier(options.verifyEachPass);
-  mlir::osl::buildLoweringPipeline(lowering, options.width, options.reference,
-                                   options.math);
+  mlir::osl::buildLoweringPipeline(lowering, pipeline);
   // Pass failures report through the context's diagnostics, with the
   // shader's file:line:col locations.
   auto handler = printErrors(context, errs);

@@ -13,7 +13,7 @@
 #include "IRGen.h"
 #include "OslAbi/Closures.h"
 #include "OslAbi/Strings.h"
-#include "OslTransforms/ColorBuilder.h"
+#include "OslLanes/ColorBuilder.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/Matchers.h"

@@ -2,7 +2,7 @@
 #include "OslFrontend/Frontend.h"
 
 #include "IRGen.h"
-#include "OslTransforms/ColorBuilder.h"
+#include "OslLanes/ColorBuilder.h"
 #include "Parser.h"
 #include "Preprocessor.h"
 

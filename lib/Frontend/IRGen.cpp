@@ -10,7 +10,7 @@
 #include <functional>
 
 #include "OslAbi/GlobalsLayout.h"
-#include "OslTransforms/GroupNames.h"
+#include "OslDialect/GroupNames.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/BuiltinAttributes.h"

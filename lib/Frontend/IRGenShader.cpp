@@ -8,7 +8,7 @@
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
 
-#include "OslTransforms/GroupNames.h"
+#include "OslDialect/GroupNames.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "llvm/ADT/StringSet.h"

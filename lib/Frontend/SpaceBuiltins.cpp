@@ -7,7 +7,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
-#include "OslTransforms/ColorBuilder.h"
+#include "OslLanes/ColorBuilder.h"
 
 using namespace mlir;
 using namespace mlir::osl;

@@ -12,7 +12,7 @@
 #include "OslDialect/OslDialect.h"
 #include "OslAbi/GlobalsLayout.h"
 #include "OslAbi/Texture.h"
-#include "OslTransforms/LaneMath.h"
+#include "OslLanes/LaneMath.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"

@@ -7,7 +7,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
-#include "OslTransforms/LaneMath.h"
+#include "OslLanes/LaneMath.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/IR/Matchers.h"

@@ -9,8 +9,8 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
-#include "OslTransforms/GroupNames.h"
-#include "OslTransforms/LaneMath.h"
+#include "OslDialect/GroupNames.h"
+#include "OslLanes/LaneMath.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/IR/Builders.h"

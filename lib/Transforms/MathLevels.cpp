@@ -18,7 +18,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "MathLevels.h"
-#include "OslTransforms/LaneMath.h"
+#include "OslLanes/LaneMath.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Conversion/MathToLibm/MathToLibm.h"

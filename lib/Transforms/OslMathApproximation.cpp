@@ -35,7 +35,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "MathLevels.h"
-#include "OslTransforms/LaneMath.h"
+#include "OslLanes/LaneMath.h"
 #include "OslTransforms/Passes.h"
 #include "OslTransforms/PatternRoots.h"
 

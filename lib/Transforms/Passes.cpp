@@ -7,9 +7,16 @@
 using namespace mlir;
 
 namespace {
+/// osl-to-llvm's textual options, one per field of OslToLLVMPipelineOptions.
 struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
-  Option<int> width{*this, "width", llvm::cl::desc("lanes per batch"),
+  Option<int> width{*this, "width", llvm::cl::desc("lanes per batch: 1, 4, 8 or 16"),
                     llvm::cl::init(8)};
+  Option<bool> reference{*this, "reference",
+                         llvm::cl::desc("one point at a time, no masks (width 1)"),
+                         llvm::cl::init(false)};
+  Option<bool> countLanes{*this, "count-lanes",
+                          llvm::cl::desc("masked blocks report their active lanes"),
+                          llvm::cl::init(false)};
   Option<osl::MathLevel> math{
       *this, "math", llvm::cl::desc("how math ops are computed"),
       llvm::cl::init(osl::MathLevel::Default),
@@ -19,16 +26,21 @@ struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
                                   "f64 libm per lane"),
                        clEnumValN(osl::MathLevel::Double, "double",
                                   "everything in f64 (reference)"))};
+
+  osl::OslToLLVMPipelineOptions get() const {
+    return {width, reference, countLanes, math};
+  }
 };
 } // namespace
 
-void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm, int width, bool reference,
-                                       bool countLanes, MathLevel math) {
-  buildOslLevelPipeline(pm, reference, countLanes);
-  buildLoweringPipeline(pm, width, reference, math);
+void mlir::osl::buildOslToLLVMPipeline(OpPassManager &pm,
+                                       const OslToLLVMPipelineOptions &options) {
+  buildOslLevelPipeline(pm, options);
+  buildLoweringPipeline(pm, options);
 }
 
-void mlir::osl::buildOslLevelPipeline(OpPassManager &pm, bool reference, bool countLanes) {
+void mlir::osl::buildOslLevelPipeline(OpPassManager &pm,
+                                      const OslToLLVMPipelineOptions &options) {
   OpPassManager &fn = pm.nest<func::FuncOp>();
   // Instance values are constants already (the front end bound them); the
   // pass folds the remaining parameters to their defaults.
@@ -38,21 +50,22 @@ void mlir::osl::buildOslLevelPipeline(OpPassManager &pm, bool reference, bool co
   // then 0^y is 0).
   fn.addPass(createFoldConstants());
   fn.addPass(createCanonicalizerPass());
-  if (reference)
+  if (options.reference)
     fn.addPass(createUniformReference());
   else
     fn.addPass(createVaryingPropagation());
   InsertMaskStackOptions maskOptions;
-  maskOptions.countLanes = countLanes;
+  maskOptions.countLanes = options.countLanes;
   fn.addPass(createInsertMaskStack(maskOptions));
   fn.addPass(createLaneGroupFilter());
 }
 
-void mlir::osl::buildLoweringPipeline(OpPassManager &pm, int width, bool reference,
-                                      MathLevel math) {
+void mlir::osl::buildLoweringPipeline(OpPassManager &pm,
+                                      const OslToLLVMPipelineOptions &options) {
+  MathLevel math = options.math;
   ConvertToVectorOptions vectorOptions;
-  vectorOptions.width = reference ? 1 : width;
-  vectorOptions.referenceMode = reference;
+  vectorOptions.width = options.reference ? 1 : options.width;
+  vectorOptions.referenceMode = options.reference;
   pm.addPass(createConvertToVector(vectorOptions));
   pm.addPass(createDerivatives());
   ApproximateMathOptions mathOptions;
@@ -72,6 +85,6 @@ void mlir::osl::registerOslPasses() {
   PassPipelineRegistration<OslToLLVMOptions>(
       "osl-to-llvm", "Lower an osl shader to an LLVM-dialect batch kernel",
       [](OpPassManager &pm, const OslToLLVMOptions &options) {
-        buildOslToLLVMPipeline(pm, options.width, false, false, options.math);
+        buildOslToLLVMPipeline(pm, options.get());
       });
 }

@@ -11,7 +11,7 @@
 #include "OslAbi/Print.h"
 #include "OslAbi/Strings.h"
 #include "OslAbi/Texture.h"
-#include "OslTransforms/ConstantTable.h"
+#include "OslLanes/ConstantTable.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Func/IR/FuncOps.h"

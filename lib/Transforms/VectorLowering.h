@@ -12,7 +12,7 @@
 
 #include "OslAbi/EntryPoints.h"
 #include "OslDialect/OslDialect.h"
-#include "OslTransforms/LaneMath.h"
+#include "OslLanes/LaneMath.h"
 
 #include "mlir/Dialect/LLVMIR/LLVMDialect.h"
 #include "mlir/Dialect/Vector/IR/VectorOps.h"

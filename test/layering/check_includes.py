@@ -2,9 +2,10 @@
 """The project's dependency rules, checked on every #include "..." line.
 
 Layers, bottom up: OslAbi (the kernel ABI: header-only, standard headers
-only) < OslStrings (pure string functions) < the compiler (Dialect,
-Frontend, Transforms: they may read OslAbi and OslStrings, never the
-runtime) ... and the runtime reads OslAbi, never the compiler. Prints each
+only) < OslStrings (pure string functions) < OslDialect < OslLanes (lane
+builders) < OslFrontend and OslTransforms (side by side: neither includes
+the other) < OslCompiler. The compiler never includes the runtime, and the
+runtime (OslRuntime) reads OslAbi, never the compiler. Prints each
 include that breaks a rule, with file:line, and exits 1 if there is one.
 """
 import argparse
@@ -17,11 +18,14 @@ RULES = [
     (["include/OslAbi"], ["Osl", "mlir/", "llvm/"]),
     (["include/OslStrings", "lib/Strings"], ["OslRuntime/", "OslDialect/", "OslTransforms/",
                                              "OslFrontend/", "OslCompiler/", "mlir/", "llvm/"]),
-    (["include/OslDialect", "lib/Dialect"], ["OslRuntime/", "OslTransforms/", "OslFrontend/",
-                                             "OslCompiler/", "OslRender/"]),
+    (["include/OslDialect", "lib/Dialect"], ["OslRuntime/", "OslLanes/", "OslTransforms/",
+                                             "OslFrontend/", "OslCompiler/", "OslRender/"]),
+    (["include/OslLanes", "lib/Lanes"], ["OslRuntime/", "OslTransforms/", "OslFrontend/",
+                                         "OslCompiler/", "OslRender/"]),
     (["include/OslTransforms", "lib/Transforms"], ["OslRuntime/", "OslFrontend/",
                                                    "OslCompiler/", "OslRender/"]),
-    (["include/OslFrontend", "lib/Frontend"], ["OslRuntime/", "OslCompiler/", "OslRender/"]),
+    (["include/OslFrontend", "lib/Frontend"], ["OslRuntime/", "OslTransforms/", "OslCompiler/",
+                                               "OslRender/"]),
     (["include/OslRuntime", "lib/Runtime"], ["OslDialect/", "OslTransforms/", "OslFrontend/",
                                              "OslCompiler/", "mlir/"]),
 ]

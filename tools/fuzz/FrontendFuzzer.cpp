@@ -35,7 +35,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   if (mlir::failed(mlir::verify(*module)))
     __builtin_trap(); // the front end must only emit valid IR
   mlir::PassManager pm(&context);
-  mlir::osl::buildOslToLLVMPipeline(pm, /*width=*/4);
+  mlir::osl::OslToLLVMPipelineOptions pipeline;
+  pipeline.width = 4;
+  mlir::osl::buildOslToLLVMPipeline(pm, pipeline);
   (void)pm.run(*module);
   return 0;
 }

@@ -8,7 +8,7 @@
 //===----------------------------------------------------------------------===//
 
 #include "OslReference/Noise.h"
-#include "OslTransforms/NoiseBuilder.h"
+#include "OslLanes/NoiseBuilder.h"
 
 #include "mlir/Conversion/ArithToLLVM/ArithToLLVM.h"
 #include "mlir/Conversion/FuncToLLVM/ConvertFuncToLLVMPass.h"

@@ -1,5 +1,5 @@
 //===- LaneMath.cpp - OSL semantics on lane values ------------------------===//
-#include "OslTransforms/LaneMath.h"
+#include "OslLanes/LaneMath.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Math/IR/Math.h"

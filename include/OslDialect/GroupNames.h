@@ -4,8 +4,8 @@
 // (which marks inputs) and osl-link-group (which resolves them).
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLTRANSFORMS_GROUPNAMES_H
-#define OSLTRANSFORMS_GROUPNAMES_H
+#ifndef OSLDIALECT_GROUPNAMES_H
+#define OSLDIALECT_GROUPNAMES_H
 
 #include "llvm/ADT/StringRef.h"
 
@@ -34,4 +34,4 @@ inline constexpr const char *kNotConnectableAttr = "osl.not_connectable";
 
 } // namespace mlir::osl
 
-#endif // OSLTRANSFORMS_GROUPNAMES_H
+#endif // OSLDIALECT_GROUPNAMES_H

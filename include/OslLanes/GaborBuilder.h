@@ -9,8 +9,8 @@
 // computed exactly as OSL does, so every width gives the same result.
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLTRANSFORMS_GABORBUILDER_H
-#define OSLTRANSFORMS_GABORBUILDER_H
+#ifndef OSLLANES_GABORBUILDER_H
+#define OSLLANES_GABORBUILDER_H
 
 #include "mlir/IR/Builders.h"
 #include "mlir/IR/Location.h"
@@ -55,4 +55,4 @@ std::array<Value, 3> buildGaborTriple(OpBuilder &b, Location loc,
 
 } // namespace mlir::osl
 
-#endif // OSLTRANSFORMS_GABORBUILDER_H
+#endif // OSLLANES_GABORBUILDER_H

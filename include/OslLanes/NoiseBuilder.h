@@ -7,8 +7,8 @@
 // bit-identical to it at every width: no FMA, no fast-math flags.
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLTRANSFORMS_NOISEBUILDER_H
-#define OSLTRANSFORMS_NOISEBUILDER_H
+#ifndef OSLLANES_NOISEBUILDER_H
+#define OSLLANES_NOISEBUILDER_H
 
 #include "mlir/IR/Builders.h"
 #include "mlir/IR/Location.h"
@@ -67,4 +67,4 @@ std::optional<NoiseKind> parseNoiseName(llvm::StringRef name);
 
 } // namespace mlir::osl
 
-#endif // OSLTRANSFORMS_NOISEBUILDER_H
+#endif // OSLLANES_NOISEBUILDER_H

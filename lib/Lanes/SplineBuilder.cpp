@@ -12,8 +12,8 @@
 // lane runs the 32 iterations and keeps its value once it has converged.
 //
 //===----------------------------------------------------------------------===//
-#include "OslTransforms/LaneMath.h"
-#include "OslTransforms/LibraryBuilders.h"
+#include "OslLanes/LaneMath.h"
+#include "OslLanes/LibraryBuilders.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/SCF/IR/SCF.h"

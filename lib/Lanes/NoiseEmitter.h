@@ -8,8 +8,8 @@
 #ifndef OSLTRANSFORMS_NOISEEMITTER_H
 #define OSLTRANSFORMS_NOISEEMITTER_H
 
-#include "OslTransforms/NoiseBuilder.h"
-#include "OslTransforms/LaneMath.h"
+#include "OslLanes/NoiseBuilder.h"
+#include "OslLanes/LaneMath.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Math/IR/Math.h"

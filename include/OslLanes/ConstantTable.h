@@ -7,8 +7,8 @@
 // calls take constant strings (texture file names) the same way.
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLTRANSFORMS_CONSTANTTABLE_H
-#define OSLTRANSFORMS_CONSTANTTABLE_H
+#ifndef OSLLANES_CONSTANTTABLE_H
+#define OSLLANES_CONSTANTTABLE_H
 
 #include "mlir/Dialect/LLVMIR/LLVMDialect.h"
 #include "mlir/IR/Builders.h"
@@ -33,4 +33,4 @@ Value lookupConstantTable(OpBuilder &b, Location loc, LLVM::GlobalOp table,
 
 } // namespace mlir::osl
 
-#endif // OSLTRANSFORMS_CONSTANTTABLE_H
+#endif // OSLLANES_CONSTANTTABLE_H

@@ -1,6 +1,6 @@
 //===- ConstantTable.cpp - Per-lane reads of constant tables --------------===//
-#include "OslTransforms/ConstantTable.h"
-#include "OslTransforms/LaneMath.h"
+#include "OslLanes/ConstantTable.h"
+#include "OslLanes/LaneMath.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/BuiltinOps.h"

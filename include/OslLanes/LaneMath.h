@@ -7,8 +7,8 @@
 // division, clamped asin, log of 0...) live here and nowhere else.
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLTRANSFORMS_LANEMATH_H
-#define OSLTRANSFORMS_LANEMATH_H
+#ifndef OSLLANES_LANEMATH_H
+#define OSLLANES_LANEMATH_H
 
 #include "mlir/IR/Builders.h"
 #include "mlir/IR/Value.h"
@@ -133,4 +133,4 @@ Value convert(OpBuilder &b, Location loc, Value x, Type toElement);
 
 } // namespace mlir::osl::lane
 
-#endif // OSLTRANSFORMS_LANEMATH_H
+#endif // OSLLANES_LANEMATH_H

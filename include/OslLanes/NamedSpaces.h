@@ -7,10 +7,10 @@
 // option, resolves them (into matrix arithmetic).
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLTRANSFORMS_NAMEDSPACES_H
-#define OSLTRANSFORMS_NAMEDSPACES_H
+#ifndef OSLLANES_NAMEDSPACES_H
+#define OSLLANES_NAMEDSPACES_H
 
-#include "OslTransforms/LibraryBuilders.h"
+#include "OslLanes/LibraryBuilders.h"
 
 namespace mlir::osl {
 
@@ -33,4 +33,4 @@ std::optional<Matrix44> namedSpaceTransform(StringRef from, StringRef to,
 
 } // namespace mlir::osl
 
-#endif // OSLTRANSFORMS_NAMEDSPACES_H
+#endif // OSLLANES_NAMEDSPACES_H

@@ -13,11 +13,11 @@
 // renderer builds these entries in float; so does cameraFromCommon.
 //
 //===----------------------------------------------------------------------===//
-#include "OslTransforms/LibraryBuilders.h"
-#include "OslTransforms/NamedSpaces.h"
+#include "OslLanes/LibraryBuilders.h"
+#include "OslLanes/NamedSpaces.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
-#include "OslTransforms/LaneMath.h"
+#include "OslLanes/LaneMath.h"
 
 #include <cmath>
 

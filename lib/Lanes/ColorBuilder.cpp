@@ -7,9 +7,9 @@
 // at 5 nm steps, and blackbody's table of nonlinearly spaced temperatures.
 //
 //===----------------------------------------------------------------------===//
-#include "OslTransforms/ColorBuilder.h"
-#include "OslTransforms/ConstantTable.h"
-#include "OslTransforms/LaneMath.h"
+#include "OslLanes/ColorBuilder.h"
+#include "OslLanes/ConstantTable.h"
+#include "OslLanes/LaneMath.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/SCF/IR/SCF.h"

@@ -31,8 +31,8 @@
 //
 //===----------------------------------------------------------------------===//
 
-#include "OslTransforms/GaborBuilder.h"
-#include "OslTransforms/NoiseBuilder.h"
+#include "OslLanes/GaborBuilder.h"
+#include "OslLanes/NoiseBuilder.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Math/IR/Math.h"

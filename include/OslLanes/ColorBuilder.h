@@ -6,8 +6,8 @@
 // edge behaviour.
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLTRANSFORMS_COLORBUILDER_H
-#define OSLTRANSFORMS_COLORBUILDER_H
+#ifndef OSLLANES_COLORBUILDER_H
+#define OSLLANES_COLORBUILDER_H
 
 #include "mlir/IR/Builders.h"
 #include "mlir/Support/LogicalResult.h"
@@ -52,4 +52,4 @@ Value buildLuminance(OpBuilder &b, Location loc, const ColorSystem &cs,
 
 } // namespace mlir::osl
 
-#endif // OSLTRANSFORMS_COLORBUILDER_H
+#endif // OSLLANES_COLORBUILDER_H

@@ -4,8 +4,8 @@
 // vector<W x f32>) so one lowering serves uniform and varying operands.
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLTRANSFORMS_LIBRARYBUILDERS_H
-#define OSLTRANSFORMS_LIBRARYBUILDERS_H
+#ifndef OSLLANES_LIBRARYBUILDERS_H
+#define OSLLANES_LIBRARYBUILDERS_H
 
 #include "mlir/IR/Builders.h"
 #include "mlir/Support/LogicalResult.h"
@@ -44,4 +44,4 @@ FailureOr<Value> buildSplineInverse(OpBuilder &b, Location loc, StringRef basis,
 
 } // namespace mlir::osl
 
-#endif // OSLTRANSFORMS_LIBRARYBUILDERS_H
+#endif // OSLLANES_LIBRARYBUILDERS_H
