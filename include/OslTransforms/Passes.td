@@ -137,24 +137,6 @@ def UniformReference : Pass<"osl-uniform-reference", "::mlir::func::FuncOp"> {
   }];
 }
 
-def ConvertToVector : Pass<"osl-convert-to-vector", "::mlir::ModuleOp"> {
-  let summary = "Lower the osl dialect to vector code of a chosen width";
-  let description = [{
-    Varying values become vector<W x T> (triples vector<3 x W x f32>),
-    uniform values stay scalar. The shader becomes the batch kernel
-    `void @osl_batch(ptr globals, ptr outputs, i32 nactive)` of
-    OslAbi/GlobalsLayout.h; library calls become arith/math/vector ops.
-  }];
-  let options = [Option<"referenceMode", "reference", "bool", "false",
-                        "every value is uniform (osl-uniform-reference): keep their "
-                        "derivatives">,
-                 Option<"width", "width", "int", "8",
-                        "lanes per batch: 1, 4, 8 or 16">];
-  let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::math::MathDialect",
-                           "::mlir::vector::VectorDialect", "::mlir::scf::SCFDialect",
-                           "::mlir::LLVM::LLVMDialect"];
-}
-
 def Derivatives : Pass<"osl-derivatives", "::mlir::ModuleOp"> {
   let summary = "Resolve osl.lane_deriv by forward-mode differentiation";
   let description = [{
@@ -239,17 +221,6 @@ def ContractFma : Pass<"osl-contract-fma", "::mlir::ModuleOp"> {
     contraction may decide differently for scalars and vectors).
   }];
   let dependentDialects = ["::mlir::math::MathDialect", "::mlir::arith::ArithDialect"];
-}
-
-def LowerToLLVM : Pass<"osl-lower-to-llvm", "::mlir::ModuleOp"> {
-  let summary = "Lower vector/arith/math/scf code to the LLVM dialect";
-  let description = [{
-    Math functions become polynomial approximations that stay in vector
-    registers (no per-lane libm calls), then everything becomes LLVM.
-  }];
-  let dependentDialects = ["::mlir::LLVM::LLVMDialect", "::mlir::cf::ControlFlowDialect",
-                           "::mlir::arith::ArithDialect", "::mlir::math::MathDialect",
-                           "::mlir::vector::VectorDialect"];
 }
 
 #endif // OSL_TRANSFORMS_PASSES_TD

@@ -10,6 +10,7 @@
 
 #include "OslLanes/LaneMath.h"
 #include "OslLanes/NoiseBuilder.h"
+#include "OslConversion/Passes.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/IR/Builders.h"

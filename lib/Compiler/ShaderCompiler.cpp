@@ -6,7 +6,7 @@
 
 #include "OslDialect/OslDialect.h"
 #include "OslAbi/EntryPoints.h"
-#include "OslTransforms/Passes.h"
+#include "OslPipeline/Pipeline.h"
 
 #include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
 #include "mlir/IR/Diagnostics.h"

@@ -37,7 +37,7 @@
 #include "MathLevels.h"
 #include "OslLanes/LaneMath.h"
 #include "OslTransforms/Passes.h"
-#include "OslTransforms/PatternRoots.h"
+#include "OslSupport/PatternRoots.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Math/IR/Math.h"

@@ -3,9 +3,10 @@
 
 Layers, bottom up: OslAbi (the kernel ABI: header-only, standard headers
 only) < OslStrings (pure string functions) < OslDialect < OslLanes (lane
-builders) < OslFrontend and OslTransforms (side by side: neither includes
-the other) < OslCompiler. The compiler never includes the runtime, and the
-runtime (OslRuntime) reads OslAbi, never the compiler. Prints each
+builders) < OslFrontend, OslTransforms and OslConversion (side by side:
+none includes another) < OslPipeline < OslCompiler; OslSupport (pattern
+helpers) depends on MLIR only. The compiler never includes the runtime, and
+the runtime (OslRuntime) reads OslAbi, never the compiler. Prints each
 include that breaks a rule, with file:line, and exits 1 if there is one.
 """
 import argparse
@@ -22,10 +23,21 @@ RULES = [
                                              "OslFrontend/", "OslCompiler/", "OslRender/"]),
     (["include/OslLanes", "lib/Lanes"], ["OslRuntime/", "OslTransforms/", "OslFrontend/",
                                          "OslCompiler/", "OslRender/"]),
+    (["include/OslSupport", "lib/Support"], ["OslAbi/", "OslStrings/", "OslDialect/",
+                                             "OslLanes/", "OslTransforms/", "OslConversion/",
+                                             "OslPipeline/", "OslFrontend/", "OslRuntime/",
+                                             "OslCompiler/", "OslRender/"]),
     (["include/OslTransforms", "lib/Transforms"], ["OslRuntime/", "OslFrontend/",
+                                                   "OslConversion/", "OslPipeline/",
                                                    "OslCompiler/", "OslRender/"]),
-    (["include/OslFrontend", "lib/Frontend"], ["OslRuntime/", "OslTransforms/", "OslCompiler/",
+    (["include/OslConversion", "lib/Conversion"], ["OslRuntime/", "OslFrontend/",
+                                                   "OslTransforms/", "OslPipeline/",
+                                                   "OslCompiler/", "OslRender/"]),
+    (["include/OslPipeline", "lib/Pipeline"], ["OslRuntime/", "OslFrontend/", "OslCompiler/",
                                                "OslRender/"]),
+    (["include/OslFrontend", "lib/Frontend"], ["OslRuntime/", "OslTransforms/",
+                                               "OslConversion/", "OslPipeline/",
+                                               "OslCompiler/", "OslRender/"]),
     (["include/OslRuntime", "lib/Runtime"], ["OslDialect/", "OslTransforms/", "OslFrontend/",
                                              "OslCompiler/", "mlir/"]),
 ]

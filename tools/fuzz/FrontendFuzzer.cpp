@@ -8,7 +8,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslFrontend/Frontend.h"
-#include "OslTransforms/Passes.h"
+#include "OslPipeline/Pipeline.h"
 
 #include "mlir/IR/Diagnostics.h"
 #include "mlir/IR/Verifier.h"

@@ -5,7 +5,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
-#include "OslTransforms/Passes.h"
+#include "OslPipeline/Pipeline.h"
 
 #include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
 #include "mlir/IR/DialectRegistry.h"

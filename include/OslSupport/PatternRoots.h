@@ -6,8 +6,8 @@
 // root first.
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLTRANSFORMS_PATTERNROOTS_H
-#define OSLTRANSFORMS_PATTERNROOTS_H
+#ifndef OSLSUPPORT_PATTERNROOTS_H
+#define OSLSUPPORT_PATTERNROOTS_H
 
 #include "mlir/IR/PatternMatch.h"
 
@@ -19,4 +19,4 @@ bool hasPatternRoot(Operation *root, RewritePatternSet &patterns);
 
 } // namespace mlir::osl
 
-#endif // OSLTRANSFORMS_PATTERNROOTS_H
+#endif // OSLSUPPORT_PATTERNROOTS_H

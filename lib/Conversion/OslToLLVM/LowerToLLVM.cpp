@@ -6,8 +6,8 @@
 // to LLVM in one full conversion.
 //
 //===----------------------------------------------------------------------===//
-#include "OslTransforms/Passes.h"
-#include "OslTransforms/PatternRoots.h"
+#include "OslConversion/Passes.h"
+#include "OslSupport/PatternRoots.h"
 
 #include "mlir/Conversion/ArithToLLVM/ArithToLLVM.h"
 #include "mlir/Conversion/ControlFlowToLLVM/ControlFlowToLLVM.h"
@@ -29,7 +29,7 @@
 
 namespace mlir::osl {
 #define GEN_PASS_DEF_LOWERTOLLVM
-#include "OslTransforms/Passes.h.inc"
+#include "OslConversion/Passes.h.inc"
 } // namespace mlir::osl
 
 using namespace mlir;

@@ -1,4 +1,4 @@
-//===- RuntimeCallLowering.cpp - osl ops that call the runtime -------------===//
+//===- RuntimeCalls.cpp - osl ops that call the runtime --------------------===//
 //
 // Each writes its operands' lanes to a stack block of rows, calls its
 // runtime entry point (OslAbi/EntryPoints.h; the tables are OslAbi/Strings.h,
@@ -6,7 +6,7 @@
 // from rows.
 //
 //===----------------------------------------------------------------------===//
-#include "VectorLowering.h"
+#include "OslToVector.h"
 
 #include "OslAbi/Print.h"
 #include "OslAbi/Strings.h"

@@ -1,5 +1,6 @@
-//===- Passes.cpp - Pass registration and the osl-to-llvm pipeline --------===//
-#include "OslTransforms/Passes.h"
+//===- Pipeline.cpp - Pass registration and the osl-to-llvm pipeline ------===//
+#include "OslPipeline/Pipeline.h"
+#include "OslConversion/Passes.h"
 
 #include "mlir/Pass/PassRegistry.h"
 #include "mlir/Transforms/Passes.h"
@@ -82,6 +83,7 @@ void mlir::osl::buildLoweringPipeline(OpPassManager &pm,
 
 void mlir::osl::registerOslPasses() {
   registerOslTransformsPasses();
+  registerOslConversionPasses();
   PassPipelineRegistration<OslToLLVMOptions>(
       "osl-to-llvm", "Lower an osl shader to an LLVM-dialect batch kernel",
       [](OpPassManager &pm, const OslToLLVMOptions &options) {

@@ -1,5 +1,5 @@
 //===- PatternRoots.cpp - Run a pattern set only where it can match -------===//
-#include "OslTransforms/PatternRoots.h"
+#include "OslSupport/PatternRoots.h"
 
 #include "llvm/ADT/DenseSet.h"
 

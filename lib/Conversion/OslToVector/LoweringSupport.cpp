@@ -1,5 +1,5 @@
-//===- VectorLoweringSupport.cpp - Helpers of osl-convert-to-vector -------===//
-#include "VectorLowering.h"
+//===- LoweringSupport.cpp - Helpers of osl-convert-to-vector -------------===//
+#include "OslToVector.h"
 
 #include "OslAbi/Strings.h"
 

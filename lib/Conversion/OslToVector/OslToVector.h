@@ -1,20 +1,22 @@
-//===- VectorLowering.h - Shared pieces of osl-convert-to-vector -*- C++ -*-===//
+//===- OslToVector.h - osl-convert-to-vector's shared pieces ----*- C++ -*-===//
 //
 // The type converter (varying values as vectors of W lanes, triples as
 // vector<3 x W>), the lane packing helpers, the pattern base, and the
 // helpers of the patterns that call the runtime (stack blocks of rows,
-// lane masks as bits, call sites), shared by ConvertToVector.cpp and
-// RuntimeCallLowering.cpp.
+// lane masks as bits, call sites), and the populate function of each file
+// of patterns.
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLTRANSFORMS_VECTORLOWERING_H
-#define OSLTRANSFORMS_VECTORLOWERING_H
+#ifndef OSLCONVERSION_OSLTOVECTOR_H
+#define OSLCONVERSION_OSLTOVECTOR_H
 
 #include "OslAbi/EntryPoints.h"
 #include "OslDialect/OslDialect.h"
 #include "OslLanes/LaneMath.h"
 
+#include "mlir/Dialect/Func/IR/FuncOps.h"
 #include "mlir/Dialect/LLVMIR/LLVMDialect.h"
+#include "mlir/IR/BuiltinOps.h"
 #include "mlir/Dialect/Vector/IR/VectorOps.h"
 #include "mlir/Transforms/DialectConversion.h"
 
@@ -161,12 +163,40 @@ std::pair<Value, int64_t> operandRows(OpBuilder &b, Location loc, Operation *op,
 /// The active points of a side-effecting op: the batch's, and its mask's.
 Value sideEffectLanes(OpBuilder &b, Location loc, Operation *op, Value inner, int64_t width);
 
-/// The patterns of the ops that call the runtime: string constants and
-/// calls, printing, messages, lane counting, texture lookups and
-/// gettextureinfo (RuntimeCallLowering.cpp).
+//===----------------------------------------------------------------------===//
+// The patterns, one function per file
+//===----------------------------------------------------------------------===//
+
+/// Globals loaded from their rows, outputs stored to theirs (`outputRow`:
+/// each osl.output's first row) (KernelSignature.cpp).
+void populateKernelPatterns(const VaryingTypeConverter &converter, RewritePatternSet &patterns,
+                            const llvm::DenseMap<Operation *, int64_t> &outputRow);
+/// Gives the shader function the batch-kernel signature.
+void makeKernelSignature(func::FuncOp func);
+/// A kernel that passes messages starts each batch without any.
+void resetMessagesOnEntry(ModuleOp module, func::FuncOp kernel);
+
+/// Arithmetic, math, comparisons, conversions, element access, masks and
+/// derivative requests (`referenceMode`: every value is uniform, keep
+/// their derivatives) (LaneOps.cpp).
+void populateLaneOpPatterns(const VaryingTypeConverter &converter, RewritePatternSet &patterns,
+                            bool referenceMode);
+
+/// Geometry, noise, hashes, transforms, colors and splines through their
+/// lane builders (LibraryCalls.cpp).
+void populateLibraryCallPatterns(const VaryingTypeConverter &converter,
+                                 RewritePatternSet &patterns);
+
+/// Closure construction, products and sums (Closures.cpp).
+void populateClosurePatterns(const VaryingTypeConverter &converter,
+                             RewritePatternSet &patterns);
+
+/// The ops that call the runtime: string constants and calls, printing,
+/// messages, lane counting, texture lookups and gettextureinfo
+/// (RuntimeCalls.cpp).
 void populateRuntimeCallPatterns(const VaryingTypeConverter &converter,
                                  RewritePatternSet &patterns);
 
 } // namespace mlir::osl::lowering
 
-#endif // OSLTRANSFORMS_VECTORLOWERING_H
+#endif // OSLCONVERSION_OSLTOVECTOR_H

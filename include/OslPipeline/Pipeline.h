@@ -1,0 +1,52 @@
+//===- Pipeline.h - From front-end output to an LLVM-dialect kernel -*- C++ -*-===//
+//
+// The pass pipeline ShaderCompiler runs and osl-opt registers as
+// osl-to-llvm: the osl-level transforms (OslTransforms), then the
+// conversions (OslConversion).
+//
+//===----------------------------------------------------------------------===//
+#ifndef OSLPIPELINE_PIPELINE_H
+#define OSLPIPELINE_PIPELINE_H
+
+#include "OslTransforms/Passes.h"
+
+#include "mlir/Pass/PassManager.h"
+
+namespace mlir::osl {
+
+/// How the chain from front-end output to the LLVM dialect lowers a shader.
+/// ShaderCompiler fills it from its CompileOptions; osl-opt's
+/// --osl-to-llvm="width=8 reference=false count-lanes=false math=default"
+/// from its options.
+struct OslToLLVMPipelineOptions {
+  /// Lanes per batch: 1, 4, 8 or 16.
+  int width = 8;
+  /// One point at a time with ordinary branches (width 1, no masks), the
+  /// oracle of the differential tester.
+  bool reference = false;
+  /// Masked blocks report their active lanes (osl-run --lane-stats).
+  bool countLanes = false;
+  /// How math ops are computed (osl-approximate-math's level; Double also
+  /// runs osl-evaluate-in-double).
+  MathLevel math = MathLevel::Default;
+};
+
+/// The whole chain.
+void buildOslToLLVMPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &options);
+
+/// Its two halves. The osl-level passes (parameters, uniformity, masks)
+/// are where op verifiers report the shader's own errors (an option that
+/// must be uniform is varying), so a JIT verifies after each of them; the
+/// lowering to the LLVM dialect works on IR ten times larger and can be
+/// verified once at its end.
+void buildOslLevelPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &options);
+void buildLoweringPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &options);
+
+
+/// Registers every pass (transforms and conversions) and the `osl-to-llvm`
+/// pipeline with mlir-opt style tools.
+void registerOslPasses();
+
+} // namespace mlir::osl
+
+#endif // OSLPIPELINE_PIPELINE_H

@@ -1,0 +1,298 @@
+//===- LibraryCalls.cpp - OSL's library functions on lanes ------------------===//
+//
+// Geometry, noise (Gabor included), hashes, space transforms, colors and
+// splines: each expands inline through its lane builder (OslLanes), the same
+// code the front end folds constants with.
+//
+//===----------------------------------------------------------------------===//
+#include "OslToVector.h"
+
+#include "OslAbi/Closures.h"
+#include "OslLanes/ColorBuilder.h"
+#include "OslLanes/ConstantTable.h"
+#include "OslLanes/GaborBuilder.h"
+#include "OslLanes/LaneMath.h"
+#include "OslLanes/LibraryBuilders.h"
+#include "OslLanes/NoiseBuilder.h"
+#include "mlir/Dialect/Arith/IR/Arith.h"
+#include "mlir/Dialect/Math/IR/Math.h"
+#include "mlir/IR/Matchers.h"
+
+using namespace mlir;
+using namespace mlir::osl;
+using namespace mlir::osl::lowering;
+
+namespace {
+
+/// Geometry on triples: dot, length, distance, cross, normalize.
+template <typename OpTy>
+struct GeometryLowering : public OslPattern<OpTy> {
+  using OslPattern<OpTy>::OslPattern;
+
+  /// x*u + y*v + z*w as OSL's library computes it (Imath's dot, compiled
+  /// with contraction): fma(z, w, fma(x, u, y*v)).
+  static Value dot(OpBuilder &b, Location loc, ArrayRef<Value> a, ArrayRef<Value> c) {
+    Value s = b.create<math::FmaOp>(loc, a[0], c[0], lane::mul(b, loc, {a[1], c[1]}));
+    return b.create<math::FmaOp>(loc, a[2], c[2], s);
+  }
+
+  LogicalResult matchAndRewrite(OpTy op, typename OpTy::Adaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    Type resultType = op->getResult(0).getType();
+    bool varying = isVarying(resultType);
+    Lanes lanes{rewriter, loc, this->width};
+    SmallVector<SmallVector<Value>> v =
+        lanes.unpackAll(adaptor.getOperands(), op->getOperands(), varying);
+    auto &b = rewriter;
+    SmallVector<Value> out;
+    if constexpr (std::is_same_v<OpTy, DotOp>) {
+      out = {dot(b, loc, v[0], v[1])};
+    } else if constexpr (std::is_same_v<OpTy, LengthOp>) {
+      out = {lane::sqrt(b, loc, {dot(b, loc, v[0], v[0])})};
+    } else if constexpr (std::is_same_v<OpTy, DistanceOp>) {
+      SmallVector<Value> d;
+      for (int i = 0; i < 3; ++i)
+        d.push_back(lane::sub(b, loc, {v[0][i], v[1][i]}));
+      out = {lane::sqrt(b, loc, {dot(b, loc, d, d)})};
+    } else if constexpr (std::is_same_v<OpTy, CrossOp>) {
+      for (int i = 0; i < 3; ++i) {
+        int j = (i + 1) % 3, k = (i + 2) % 3;
+        out.push_back(lane::sub(b, loc, {lane::mul(b, loc, {v[0][j], v[1][k]}),
+                                         lane::mul(b, loc, {v[0][k], v[1][j]})}));
+      }
+    } else {
+      // normalize as OSL's library: times 1/length where the length is
+      // above 0, else the zero vector.
+      Value len = lane::sqrt(b, loc, {dot(b, loc, v[0], v[0])});
+      Value zero = lane::constantLike(b, loc, len, 0);
+      Value positive = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OGT, len, zero);
+      Value inverse = b.create<arith::DivFOp>(loc, lane::constantLike(b, loc, len, 1), len);
+      for (int i = 0; i < 3; ++i)
+        out.push_back(b.create<arith::SelectOp>(
+            loc, positive, b.create<arith::MulFOp>(loc, v[0][i], inverse), zero));
+    }
+    rewriter.replaceOp(op, lanes.pack(out, this->convert(resultType)));
+    return success();
+  }
+};
+
+/// Gabor noise: the point (and its derivatives and period) made 3D, the
+/// options read as scalars (the verifier keeps them uniform).
+void lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Lanes &lanes, Type resultType,
+                ConversionPatternRewriter &rewriter) {
+  Location loc = op.getLoc();
+  bool varying = isVarying(op.getType());
+  SmallVector<Value> flat;
+  for (auto &c : lanes.unpackAll(adaptor.getCoords(), op.getCoords(), varying))
+    llvm::append_range(flat, c);
+  // A triple point has 3 values, a float domain 1 or 2 (a 4th coordinate
+  // and its period are ignored, as OSL does).
+  size_t ncoords = op.getPeriodic() ? op.getCoords().size() / 2 : op.getCoords().size();
+  bool triple = isTriple(getUniformType(op.getCoords()[0].getType()));
+  size_t pointSize = triple ? 3 : ncoords;
+  size_t domainSize = triple ? (ncoords == 2 ? 4 : 3) : ncoords;
+  Type laneType = flat[0].getType();
+  auto point3 = [&](ArrayRef<Value> v) {
+    std::array<Value, 3> p;
+    for (size_t k = 0; k < 3; ++k)
+      p[k] = k < v.size() ? v[k] : lane::constant(rewriter, loc, laneType, 0.0);
+    return p;
+  };
+  ArrayRef<Value> all(flat);
+  GaborPoint point;
+  point.p = point3(all.take_front(pointSize));
+  if (op.getPeriodic())
+    point.period = point3(all.drop_front(domainSize).take_front(pointSize));
+  if (!op.getDerivs().empty()) {
+    SmallVector<Value> d;
+    for (auto &c : lanes.unpackAll(adaptor.getDerivs(), op.getDerivs(), varying))
+      llvm::append_range(d, c);
+    point.dPdx = point3(ArrayRef<Value>(d).take_front(pointSize));
+    point.dPdy = point3(ArrayRef<Value>(d).drop_front(pointSize));
+  }
+  GaborOptions options;
+  auto scalar = [&](Value converted, Value original) {
+    return converted ? lanes.unpack(converted, original.getType(), false)[0] : Value();
+  };
+  options.anisotropic = scalar(adaptor.getAnisotropic(), op.getAnisotropic());
+  options.bandwidth = scalar(adaptor.getBandwidth(), op.getBandwidth());
+  options.impulses = scalar(adaptor.getImpulses(), op.getImpulses());
+  options.doFilter = scalar(adaptor.getDoFilter(), op.getDoFilter());
+  if (op.getDirection()) {
+    SmallVector<Value> dir = lanes.unpack(adaptor.getDirection(), op.getDirection().getType(), false);
+    options.direction = {dir[0], dir[1], dir[2]};
+  }
+  if (isTriple(getUniformType(op.getType()))) {
+    std::array<Value, 3> r = buildGaborTriple(rewriter, loc, point, options);
+    rewriter.replaceOp(op, lanes.pack(r, resultType));
+  } else {
+    rewriter.replaceOp(op, buildGaborFloat(rewriter, loc, point, options));
+  }
+}
+
+struct HashLowering : public OslPattern<HashOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(HashOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    Lanes lanes{rewriter, loc, width};
+    SmallVector<Value> keys;
+    for (auto &key : lanes.unpackAll(adaptor.getKeys(), op.getKeys(), isVarying(op.getType())))
+      llvm::append_range(keys, key);
+    if (keys.empty() || keys.size() > 5)
+      return op.emitError("hash takes 1 to 5 key components");
+    rewriter.replaceOp(op, buildIntHash(rewriter, loc, keys));
+    return success();
+  }
+};
+
+struct NoiseLowering : public OslPattern<NoiseOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(NoiseOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    if (op.getKind() == "gabor") {
+      Lanes lanes{rewriter, op.getLoc(), width};
+      lowerGabor(op, adaptor, lanes, convert(op.getType()), rewriter);
+      return success();
+    }
+    std::optional<NoiseKind> kind = parseNoiseName(op.getKind());
+    if (!kind)
+      return op.emitError("noise type '") << op.getKind() << "' is not supported yet";
+    Location loc = op.getLoc();
+    bool varying = isVarying(op.getType());
+    Lanes lanes{rewriter, loc, width};
+    SmallVector<Value> coords;
+    for (auto &c : lanes.unpackAll(adaptor.getCoords(), op.getCoords(), varying))
+      llvm::append_range(coords, c);
+    if (op.getPeriodic()) {
+      ArrayRef<Value> all(coords);
+      ArrayRef<Value> points = all.take_front(all.size() / 2);
+      ArrayRef<Value> periods = all.drop_front(all.size() / 2);
+      if (isTriple(getUniformType(op.getType()))) {
+        std::array<Value, 3> r =
+            buildPeriodicNoiseTriple(rewriter, loc, *kind, points, periods);
+        if (!r[0])
+          return op.emitError("periodic '") << op.getKind() << "' noise is not defined";
+        rewriter.replaceOp(op, lanes.pack(r, convert(op.getType())));
+      } else {
+        Value r = buildPeriodicNoiseFloat(rewriter, loc, *kind, points, periods);
+        if (!r)
+          return op.emitError("periodic '") << op.getKind() << "' noise is not defined";
+        rewriter.replaceOp(op, r);
+      }
+      return success();
+    }
+    if (isTriple(getUniformType(op.getType()))) {
+      std::array<Value, 3> r = buildNoiseTriple(rewriter, loc, *kind, coords);
+      rewriter.replaceOp(op, lanes.pack(r, convert(op.getType())));
+    } else {
+      rewriter.replaceOp(op, buildNoiseFloat(rewriter, loc, *kind, coords));
+    }
+    return success();
+  }
+};
+
+struct TransformLowering : public OslPattern<TransformOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(TransformOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    std::optional<Matrix44> m = namedSpaceTransform(op.getFrom(), op.getTo());
+    if (!m)
+      return op.emitError("unknown coordinate space in transform from '")
+             << op.getFrom() << "' to '" << op.getTo() << "'";
+    Lanes lanes{rewriter, op.getLoc(), width};
+    auto p = lanes.unpack(adaptor.getValue(), op.getValue().getType(),
+                          isVarying(op.getType()));
+    std::array<Value, 3> r =
+        buildTransform(rewriter, op.getLoc(), *m, op.getKind(), {p[0], p[1], p[2]});
+    rewriter.replaceOp(op, lanes.pack(r, convert(op.getType())));
+    return success();
+  }
+};
+
+/// transformc, blackbody, wavelength_color and luminance under the op's
+/// working color space.
+template <typename Op>
+struct ColorLowering : public OslPattern<Op> {
+  using OslPattern<Op>::OslPattern;
+  LogicalResult matchAndRewrite(Op op, typename Op::Adaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    const ColorSystem *cs = ColorSystem::get(op.getColorspace());
+    if (!cs)
+      return op.emitError("unknown color space '") << op.getColorspace() << "'";
+    Location loc = op.getLoc();
+    Lanes lanes{rewriter, loc, this->width};
+    SmallVector<Value> in = lanes.unpack(adaptor.getOperands()[0],
+                                         op->getOperand(0).getType(), false);
+    SmallVector<Value> out;
+    if constexpr (std::is_same_v<Op, TransformcOp>) {
+      FailureOr<LaneColor> r =
+          buildTransformc(rewriter, loc, *cs, op.getFrom(), op.getTo(), {in[0], in[1], in[2]});
+      if (failed(r))
+        return op.emitError("unknown color space in transformc from '")
+               << op.getFrom() << "' to '" << op.getTo() << "'";
+      out.assign(r->begin(), r->end());
+    } else if constexpr (std::is_same_v<Op, LuminanceOp>) {
+      out.push_back(buildLuminance(rewriter, loc, *cs, {in[0], in[1], in[2]}));
+    } else {
+      LaneColor r = std::is_same_v<Op, BlackbodyOp>
+                        ? buildBlackbody(rewriter, loc, *cs, in[0])
+                        : buildWavelengthColor(rewriter, loc, *cs, in[0]);
+      out.assign(r.begin(), r.end());
+    }
+    rewriter.replaceOp(op, lanes.pack(out, this->convert(op.getType())));
+    return success();
+  }
+};
+
+/// spline and splineinverse: x (or y) and the count take the result's
+/// shape; knots stay as they are (the builder broadcasts them).
+template <typename Op>
+struct SplineFamilyLowering : public OslPattern<Op> {
+  using OslPattern<Op>::OslPattern;
+  LogicalResult matchAndRewrite(Op op, typename Op::Adaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    bool varying = isVarying(op.getType());
+    Lanes lanes{rewriter, loc, this->width};
+    Value x = lanes.unpack(adaptor.getOperands()[0], op->getOperand(0).getType(), varying)[0];
+    Value count;
+    if (op.getCount()) {
+      APInt known;
+      int64_t len = op.getKnots().size();
+      if (matchPattern(op.getCount(), m_ConstantInt(&known)) &&
+          (known.getSExtValue() < 4 || known.getSExtValue() > len))
+        return op.emitError("knot count ")
+               << known.getSExtValue() << " is out of range (4 to " << len << ")";
+      count = lanes.unpack(adaptor.getCount(), op.getCount().getType(), varying)[0];
+    }
+    SmallVector<SmallVector<Value>> knots =
+        lanes.unpackAll(adaptor.getKnots(), op.getKnots(), false);
+    FailureOr<SmallVector<Value>> r;
+    if constexpr (std::is_same_v<Op, SplineOp>) {
+      r = buildSpline(rewriter, loc, op.getBasis(), x, count, knots);
+    } else {
+      FailureOr<Value> inv = buildSplineInverse(rewriter, loc, op.getBasis(), x, count, knots);
+      if (succeeded(inv))
+        r = SmallVector<Value>{*inv};
+    }
+    if (failed(r))
+      return op.emitError("spline basis '") << op.getBasis() << "' needs at least 4 knots";
+    rewriter.replaceOp(op, lanes.pack(*r, this->convert(op.getType())));
+    return success();
+  }
+};
+
+} // namespace
+
+void mlir::osl::lowering::populateLibraryCallPatterns(const VaryingTypeConverter &converter,
+                                                      RewritePatternSet &patterns) {
+  patterns.add<GeometryLowering<DotOp>, GeometryLowering<LengthOp>,
+               GeometryLowering<DistanceOp>, GeometryLowering<CrossOp>,
+               GeometryLowering<NormalizeOp>, NoiseLowering, HashLowering, TransformLowering,
+               SplineFamilyLowering<SplineOp>, SplineFamilyLowering<SplineInverseOp>,
+               ColorLowering<TransformcOp>, ColorLowering<BlackbodyOp>,
+               ColorLowering<WavelengthColorOp>, ColorLowering<LuminanceOp>>(
+      converter, patterns.getContext());
+}
