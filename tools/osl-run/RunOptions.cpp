@@ -1,11 +1,12 @@
 //===- RunOptions.cpp - osl-run's command line ----------------------------===//
 //
-// testshade's flags, so conformance commands run unchanged: -g X Y, -o NAME
-// FILE, --param NAME VALUE (also --param:type=T NAME VALUE), --center,
-// --vary_udxdy/--vary_vdxdy/--vary_pdxdy, --colorspace NAME, -t N, --iters N.
+// The usage text, and parseRunOptions: each flag goes to its handler
+// (RunFlags.cpp), a name without a dash is a shader, and what the flags say
+// together is checked at the end.
 //
 //===----------------------------------------------------------------------===//
 #include "RunOptions.h"
+#include "RunFlags.h"
 
 #include "OslCompiler/KernelCache.h"
 
@@ -136,39 +137,6 @@ const char *const osl::kUsage =
 
 namespace {
 
-bool parseInt(const char *text, int &out) {
-  char *end = nullptr;
-  long v = std::strtol(text, &end, 10);
-  if (!*text || *end || v < -(1L << 30) || v > (1L << 30))
-    return false;
-  out = int(v);
-  return true;
-}
-
-/// "1 0 0" -> "1,0,0": testshade's typed values may be space-separated.
-std::string numberList(std::string value) {
-  std::string out;
-  bool gap = false;
-  for (char c : value) {
-    if (c == ' ' || c == ',') {
-      gap = !out.empty();
-      continue;
-    }
-    if (gap)
-      out += ',';
-    gap = false;
-    out += c;
-  }
-  return out;
-}
-
-/// testshade names shaders without extension.
-std::string shaderFile(std::string name) {
-  if (!llvm::StringRef(name).ends_with(".osl") && !llvm::sys::fs::is_regular_file(name))
-    name += ".osl";
-  return name;
-}
-
 /// testshade takes its long flags with one dash too (-param, -layer, ...):
 /// the single-dash forms become the double-dash ones osl-run parses.
 std::string testshadeSpelling(std::string a) {
@@ -188,401 +156,55 @@ std::string testshadeSpelling(std::string a) {
 
 } // namespace
 
+namespace {
+
+/// A shader named on its own: a layer too, in case a --layer or a second
+/// shader makes this a group (testshade's form).
+bool addPositionalShader(FlagParser &p, const std::string &a, int &positional) {
+  RunOptions &o = p.o;
+  std::string layer = p.pendingLayer.empty() ? llvm::sys::path::stem(a).str() : p.pendingLayer;
+  // The same shader named twice (testshade runs both): the second layer
+  // takes a name of its own.
+  auto taken = [&](const std::string &name) {
+    return llvm::any_of(o.group.layers, [&](const GroupLayer &l) { return l.name == name; });
+  };
+  if (p.pendingLayer.empty())
+    for (int n = 1; taken(layer); ++n)
+      layer = llvm::sys::path::stem(a).str() + "_" + std::to_string(n);
+  if (!o.group.shader(shaderFile(a), layer, p.error))
+    return false;
+  ++positional;
+  // Per-geometry (lockgeom=0) parameters are loaded as the group runs,
+  // which the group's linking arranges.
+  if (!p.pendingLayer.empty() || positional > 1 || !o.group.layers.back().userdata.empty())
+    o.isGroup = true;
+  p.pendingLayer.clear();
+  if (o.shaderPath.empty())
+    o.shaderPath = shaderFile(a);
+  return true;
+}
+
+} // namespace
+
 bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
                           std::string &error) {
-  auto need = [&](int i, int n, const char *flag) {
-    if (i + n < argc)
-      return true;
-    error = std::string(flag) + " needs " + std::to_string(n) + " argument" +
-            (n > 1 ? "s" : "");
-    return false;
-  };
-  bool render = false;
+  FlagParser p{argc, argv, 0, o, error, "", false, ""};
   for (int i = 1; i < argc; ++i)
-    render |= std::strcmp(argv[i], "--scene") == 0;
-  // testshade's layers: `--layer NAME SHADER` or several positional shaders.
-  std::string pendingLayer;
+    p.render |= std::strcmp(argv[i], "--scene") == 0;
   int positional = 0;
-  for (int i = 1; i < argc; ++i) {
-    std::string a = testshadeSpelling(argv[i]);
-    if (a == "--scene") {
-      if (!need(i, 1, "--scene"))
+  for (p.i = 1; p.i < argc; ++p.i) {
+    p.flag = testshadeSpelling(argv[p.i]);
+    if (FlagHandler handle = findFlag(p.flag)) {
+      if (!handle(p))
         return false;
-      o.scenePath = argv[++i];
-    } else if (render && a == "-o") {
-      if (!need(i, 1, "-o"))
-        return false;
-      o.sceneOutput = argv[++i];
-    } else if (a == "--path") {
-      if (!need(i, 1, "--path"))
-        return false;
-      o.shaderDirs.push_back(argv[++i]);
-    } else if (a == "-r") {
-      if (!need(i, 2, "-r") || !parseInt(argv[i + 1], o.renderX) ||
-          !parseInt(argv[i + 2], o.renderY) || o.renderX < 1 || o.renderY < 1 ||
-          o.renderX > 65536 || o.renderY > 65536) {
-        error = "-r needs two positive integers";
-        return false;
-      }
-      i += 2;
-    } else if (a == "-aa") {
-      if (!need(i, 1, "-aa") || !parseInt(argv[++i], o.aa) || o.aa < 1 || o.aa > 1024) {
-        error = "-aa needs a positive count (N x N paths per pixel)";
-        return false;
-      }
-    } else if (a == "--seed") {
-      if (!need(i, 1, "--seed") || !parseInt(argv[++i], o.seed)) {
-        error = "--seed needs an integer";
-        return false;
-      }
-    } else if (a == "--userdata_isconnected") {
-      o.compile.userdataIsConnected = true;
-    } else if (a == "--inbuffer") {
-      // testshade reads the shader into memory before loading it: osl-run
-      // always compiles from text it has read, so the flag changes nothing.
-    } else if (a == "-v" || a == "--debug") {
-      // testshade's verbosity: osl-run reports what it does with --stats.
-    } else if (a == "--llvm_opt" || a == "--options") {
-      // testshade's LLVM optimization level and ShadingSystem options:
-      // osl-mlir optimizes its own way (-O0/-O1/-O2), so they are taken,
-      // and of the options error_repeats and lazyglobals change what runs;
-      // commands written for testshade run unchanged.
-      if (!need(i, 1, a.c_str()))
-        return false;
-      ++i;
-      if (a == "--options") {
-        llvm::SmallVector<llvm::StringRef> settings;
-        llvm::StringRef(argv[i]).split(settings, ',');
-        for (llvm::StringRef setting : settings) {
-          auto [name, value] = setting.split('=');
-          if (name.trim() == "error_repeats")
-            o.errorRepeats = value.trim() != "0";
-          else if (name.trim() == "lazyglobals")
-            o.group.lazyGlobals = value.trim() != "0";
-          else if (name.trim() == "opt_warnings")
-            o.compile.optimizationWarnings = value.trim() != "0";
-        }
-      }
-    } else if (a == "-g" || a == "--g" || a == "--res") {
-      if (!need(i, 2, "-g"))
-        return false;
-      if (!parseInt(argv[i + 1], o.grid.xres) || !parseInt(argv[i + 2], o.grid.yres) ||
-          o.grid.xres < 1 || o.grid.yres < 1) {
-        error = "-g needs two positive integers";
-        return false;
-      }
-      o.gridGiven = true;
-      i += 2;
-    } else if (a == "--crop") {
-      if (!need(i, 4, "--crop"))
-        return false;
-      for (int k = 0; k < 4; ++k)
-        if (!parseInt(argv[i + 1 + k], o.crop[k]) || o.crop[k] < 0) {
-          error = "--crop needs four integers X0 Y0 X1 Y1 of at least 0";
-          return false;
-        }
-      o.cropGiven = true;
-      i += 4;
-    } else if (a == "-o") {
-      if (!need(i, 2, "-o"))
-        return false;
-      o.outputs.push_back({argv[i + 1], argv[i + 2]});
-      i += 2;
-    } else if (a == "--groupname") {
-      if (!need(i, 1, a.c_str()))
-        return false;
-      o.compile.groupName = argv[++i];
-    } else if (a == "--jbufferMB") {
-      // testshade's message-journal size: nothing here depends on it.
-      if (!need(i, 1, a.c_str()))
-        return false;
-      ++i;
-    } else if (a == "--od" || a == "-d") { // -d: testshade's older spelling
-      if (!need(i, 1, "-od"))
-        return false;
-      o.dataType = argv[++i];
-      if (o.dataType != "float" && o.dataType != "half" && o.dataType != "uint8" &&
-          o.dataType != "uint16") {
-        error = "-od must be float, half, uint8 or uint16 (got '" + o.dataType + "')";
-        return false;
-      }
-    } else if (a == "--layer") {
-      if (!need(i, 1, "--layer"))
-        return false;
-      pendingLayer = argv[++i];
-    } else if (a == "--check") {
-      o.checkOnly = true;
-    } else if (a == "--timeout") {
-      if (!need(i, 1, "--timeout"))
-        return false;
-      char *end = nullptr;
-      long seconds = std::strtol(argv[++i], &end, 10);
-      if (!end || *end || seconds <= 0 || seconds > 1000000) {
-        error = "--timeout needs a whole number of seconds above 0 (got '" +
-                std::string(argv[i]) + "')";
-        return false;
-      }
-      o.timeoutSeconds = int(seconds);
-    } else if (a == "--image-memory") {
-      if (!need(i, 1, "--image-memory"))
-        return false;
-      char *end = nullptr;
-      long mb = std::strtol(argv[++i], &end, 10);
-      if (!end || *end || mb <= 0 || mb > (1L << 30)) {
-        error = "--image-memory needs a whole number of megabytes above 0 (got '" +
-                std::string(argv[i]) + "')";
-        return false;
-      }
-      o.imageMemoryMB = int(mb);
-    } else if (a == "--info") {
-      o.infoOnly = true;
-    } else if (a == "--param" || a.rfind("--param:", 0) == 0) {
-      if (!need(i, 2, "--param"))
-        return false;
-      std::string type, value = argv[i + 2];
-      bool userdata = false;
-      llvm::SmallVector<llvm::StringRef> annotations;
-      llvm::StringRef(a).split(annotations, ':');
-      for (llvm::StringRef note : llvm::ArrayRef(annotations).drop_front()) {
-        auto [key, v] = note.split('=');
-        if (key == "type")
-          type = v.str();
-        else if (key == "lockgeom")
-          userdata = v == "0";
-      }
-      if (!type.empty() && type != "string")
-        value = numberList(value);
-      o.compile.params.push_back({argv[i + 1], value});
-      o.group.param(argv[i + 1], value, userdata);
-      i += 2;
-    } else if (a == "--userdata" || a.rfind("--userdata:", 0) == 0) {
-      if (!need(i, 2, "--userdata"))
-        return false;
-      UserDatum d{argv[i + 1], "", argv[i + 2]};
-      llvm::StringRef note = llvm::StringRef(a).drop_front(strlen("--userdata"));
-      if (note.consume_front(":type="))
-        d.type = note.str();
-      else if (!note.empty()) {
-        error = "unknown annotation in '" + a + "' (expected --userdata:type=T)";
-        return false;
-      } else {
-        // No type: an int, a float or else a string, as the value reads.
-        llvm::StringRef v(d.value);
-        long long n;
-        double x;
-        d.type = !v.getAsInteger(10, n) ? "int" : !v.getAsDouble(x) ? "float" : "string";
-      }
-      static const char *const kTypes[] = {"int",    "float",  "color", "point",
-                                           "vector", "normal", "string"};
-      if (!llvm::is_contained(kTypes, d.type)) {
-        error = "--userdata: unknown type '" + d.type +
-                "' (int, float, color, point, vector, normal or string)";
-        return false;
-      }
-      if (d.type != "string") {
-        d.value = numberList(d.value);
-        llvm::SmallVector<llvm::StringRef> items;
-        llvm::StringRef(d.value).split(items, ',');
-        double x;
-        bool triple = d.type != "int" && d.type != "float";
-        bool ok = items.size() == 1 || (triple && items.size() == 3);
-        for (llvm::StringRef item : items)
-          ok = ok && !item.getAsDouble(x);
-        if (!ok) {
-          error = "--userdata: '" + std::string(argv[i + 2]) + "' is not " +
-                  (triple ? "one or three numbers" : "a number") + " for type " + d.type;
-          return false;
-        }
-      }
-      o.compile.userData.push_back(d);
-      i += 2;
-    } else if (a == "--shader") {
-      if (!need(i, 2, "--shader") ||
-          !o.group.shader(shaderFile(argv[i + 1]), argv[i + 2], error)) {
-        if (error.empty())
-          error = "--shader needs 2 arguments";
-        return false;
-      }
-      o.isGroup = true;
-      i += 2;
-    } else if (a == "--connect") {
-      if (!need(i, 4, "--connect") ||
-          !o.group.connect({argv[i + 1], argv[i + 2], argv[i + 3], argv[i + 4]}, error))
-        return false;
-      o.connectFlags.push_back(o.group.connections.back());
-      i += 4;
-    } else if (a == "--group") {
-      if (!need(i, 1, "--group"))
-        return false;
-      std::string text = argv[++i], dir;
-      // A file of statements, or the statements themselves.
-      if (auto file = llvm::MemoryBuffer::getFile(text, /*IsText=*/true)) {
-        dir = llvm::sys::path::parent_path(text).str();
-        text = (*file)->getBuffer().str();
-      } else if (text.find(';') == std::string::npos) {
-        error = "--group: cannot read '" + text + "': " + file.getError().message() +
-                " (statements end in ';')";
-        return false;
-      }
-      if (!o.group.parseStatements(text, dir, error))
-        return false;
-      o.isGroup = true;
-    } else if (a == "--reparam" || a.rfind("--reparam:", 0) == 0) {
-      // (--reparam:type=T:interactive=1, testshade's typed form: the type is
-      // the parameter's own.)
-      if (!need(i, 3, "--reparam"))
-        return false;
-      o.reparams.push_back({argv[i + 1], argv[i + 2], argv[i + 3]});
-      i += 3;
-    } else if (a == "--entry") {
-      if (!need(i, 1, "--entry"))
-        return false;
-      o.group.entries.push_back(argv[++i]);
-    } else if (a == "-O0" || a == "-O1" || a == "-O2") {
-      o.group.optimization = GroupOptimization(a[2] - '0');
-    } else if (a == "--width" || a.rfind("--width=", 0) == 0) {
-      std::string v = a == "--width" ? (need(i, 1, "--width") ? argv[++i] : "")
-                                     : a.substr(8);
-      if (!parseInt(v.c_str(), o.compile.width) ||
-          (o.compile.width != 1 && o.compile.width != 4 && o.compile.width != 8 &&
-           o.compile.width != 16)) {
-        error = "--width must be 1, 4, 8 or 16";
-        return false;
-      }
-    } else if (a == "-t") {
-      if (!need(i, 1, "-t") || !parseInt(argv[++i], o.grid.threads) ||
-          o.grid.threads < 0) {
-        error = "-t needs a thread count (0 = all cores)";
-        return false;
-      }
-    } else if (a == "--iters") {
-      if (!need(i, 1, "--iters") || !parseInt(argv[++i], o.iters) || o.iters < 1) {
-        error = "--iters needs a positive count";
-        return false;
-      }
-    } else if (a == "--texture-cache-mb") {
-      if (!need(i, 1, "--texture-cache-mb") || !parseInt(argv[++i], o.textureCacheMB) ||
-          o.textureCacheMB < 1) {
-        error = "--texture-cache-mb needs a positive size in MB";
-        return false;
-      }
-    } else if (a == "--math" || a.rfind("--math=", 0) == 0) {
-      if (a == "--math" && !need(i, 1, "--math"))
-        return false;
-      std::string v = a == "--math" ? std::string(argv[++i]) : a.substr(7);
-      auto level = mlir::osl::parseMathLevel(v);
-      if (!level) {
-        error = "--math must be fast, default, precise or double (got '" + v + "')";
-        return false;
-      }
-      o.compile.math = *level;
-    } else if (a == "--center") {
-      o.grid.center = true;
-    } else if (a == "--interpret") {
-      o.compile.reference = true;
-    } else if (a == "--verify-each") {
-      o.compile.verifyEachPass = true;
-    } else if (a == "-I" || (a.size() > 2 && a.rfind("-I", 0) == 0)) {
-      if (a == "-I" && !need(i, 1, "-I"))
-        return false;
-      o.compile.includePaths.push_back(a == "-I" ? std::string(argv[++i]) : a.substr(2));
-    } else if (a == "-Werror") {
-      o.compile.warningsAsErrors = true;
-    } else if (a == "--print") {
-      o.printValues = true;
-    } else if (a == "--keep-going") {
-      o.keepGoing = true;
-    } else if (a == "-w") {
-      o.compile.showWarnings = false;
-    } else if (a == "-D" || a == "-U" || (a.size() > 2 && (a.rfind("-D", 0) == 0 ||
-                                                           a.rfind("-U", 0) == 0))) {
-      // oslc's -D NAME[=VALUE] and -U NAME.
-      std::string flag = a.substr(0, 2);
-      if (a.size() == 2 && !need(i, 1, flag.c_str()))
-        return false;
-      std::string macro = a.size() == 2 ? std::string(argv[++i]) : a.substr(2);
-      o.compile.defines.push_back(flag == "-U" ? "-" + macro : macro);
-    } else if (a == "--raytype") {
-      if (!need(i, 1, "--raytype"))
-        return false;
-      o.compile.rayType = argv[++i];
-    } else if (a == "--batched") {
-      // testshade's: use the batched backend. osl-run always shades in batches.
-    } else if (a == "--groupoutputs") {
-      // testshade's: -o names the group's outputs, which osl-run's always do.
-    } else if (a == "--raytype_opt") {
-      // testshade's: specialise on the ray type. Kernels here always are.
-    } else if (a == "--colorspace") {
-      if (!need(i, 1, "--colorspace"))
-        return false;
-      o.compile.colorSpace = argv[++i];
-    } else if (a == "--vary_udxdy") {
-      o.grid.varyUdxdy = true;
-    } else if (a == "--vary_vdxdy") {
-      o.grid.varyVdxdy = true;
-    } else if (a == "--vary_pdxdy") {
-      o.grid.varyPdxdy = true;
-    } else if (a == "--cache-dir") {
-      if (!need(i, 1, "--cache-dir"))
-        return false;
-      o.compile.cacheDir = argv[++i];
-      if (o.compile.cacheDir.empty()) {
-        error = "--cache-dir needs a directory";
-        return false;
-      }
-      o.cacheDirGiven = true;
-    } else if (a.rfind("--llvm-pipeline=", 0) == 0) {
-      std::string v = a.substr(16);
-      if (v != "kernel" && v != "O3") {
-        error = "--llvm-pipeline must be kernel or O3";
-        return false;
-      }
-      o.compile.llvmPipeline = v == "O3" ? LlvmPipeline::O3 : LlvmPipeline::Kernel;
-    } else if (a == "--lane-stats") {
-      o.compile.countLanes = true;
-    } else if (a == "--no-cache") {
-      o.noCache = true;
-    } else if (a == "--stats") {
-      o.stats = true;
-    } else if (a.rfind("--emit=", 0) == 0) {
-      o.emit = a.substr(7);
-      if (o.emit != "mlir" && o.emit != "lowered" && o.emit != "llvm" && o.emit != "asm") {
-        error = "--emit must be mlir, lowered, llvm or asm";
-        return false;
-      }
-    } else if (a == "-h" || a == "--help") {
-      error = "";
+    } else if (!p.flag.empty() && p.flag[0] == '-') {
+      error = "unknown option '" + p.flag + "'";
       return false;
-    } else if (!a.empty() && a[0] == '-') {
-      error = "unknown option '" + a + "'";
+    } else if (!addPositionalShader(p, p.flag, positional)) {
       return false;
-    } else {
-      // A positional shader is also a layer, in case a --layer or a second
-      // shader makes this a group (testshade's form).
-      std::string layer = pendingLayer.empty()
-                              ? llvm::sys::path::stem(a).str()
-                              : pendingLayer;
-      // The same shader named twice (testshade runs both): the second
-      // layer takes a name of its own.
-      auto taken = [&](const std::string &name) {
-        return llvm::any_of(o.group.layers,
-                            [&](const GroupLayer &l) { return l.name == name; });
-      };
-      if (pendingLayer.empty())
-        for (int n = 1; taken(layer); ++n)
-          layer = llvm::sys::path::stem(a).str() + "_" + std::to_string(n);
-      if (!o.group.shader(shaderFile(a), layer, error))
-        return false;
-      ++positional;
-      // Per-geometry (lockgeom=0) parameters are loaded as the group runs,
-      // which the group's linking arranges.
-      if (!pendingLayer.empty() || positional > 1 || !o.group.layers.back().userdata.empty())
-        o.isGroup = true;
-      pendingLayer.clear();
-      if (o.shaderPath.empty())
-        o.shaderPath = shaderFile(a);
     }
   }
+  bool render = p.render;
   if (o.isGroup && positional > 0)
     o.shaderPath.clear();
   if (render) {
