@@ -102,6 +102,12 @@ public:
   double shadingSeconds = 0;
 
 private:
+  void startPaths(const std::vector<int> &pixels, int s0, int s1);
+  bool intersectPaths();
+  void shadeMisses();
+  void scatter(const ShadeRequest &q, int bounce);
+  void sampleLights(const ShadeRequest &q, Vec3 wo);
+  void accumulate(float *sum);
   void shade(int shader, const std::vector<ShadeRequest> &requests,
              const std::function<void(const ShadeRequest &, int32_t)> &use);
   void setRow(int row, int lane, float v) { globals[size_t(row) * width + lane] = v; }
@@ -171,15 +177,42 @@ void PathWave::shade(int shader, const std::vector<ShadeRequest> &requests,
 }
 
 void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
+  startPaths(pixels, s0, s1);
+  results.resize(paths.size());
+  lightQueries.resize(scene.shaders.size());
+  for (int bounce = 0; intersectPaths(); ++bounce) {
+    shadeMisses();
+    for (size_t s = 0; s < queues.size(); ++s)
+      shade(int(s), queues[s], [&](const ShadeRequest &q, int32_t handle) {
+        ShadingResult &res = results[q.path];
+        res.clear();
+        addClosure(threadClosureArena(), handle, {-q.i, q.n, q.backfacing}, res);
+      });
+    for (auto &q : lightQueries)
+      q.clear();
+    for (size_t s = 0; s < queues.size(); ++s)
+      for (const ShadeRequest &q : queues[s])
+        scatter(q, bounce);
+    for (size_t s = 0; s < lightQueries.size(); ++s)
+      shade(int(s), lightQueries[s], [&](const ShadeRequest &q, int32_t handle) {
+        ShadingResult light;
+        addClosure(threadClosureArena(), handle, {-q.i, q.n, q.backfacing}, light);
+        paths[q.path].radiance += q.contrib * light.emission;
+      });
+  }
+  accumulate(sum);
+}
+
+/// One path per pixel and sample, from testrender's camera: the image
+/// plane at distance 1 spans tan(fov/2) vertically (and by the aspect ratio
+/// horizontally).
+void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   const RenderOptions &opt = r.options;
   const Camera &cam = scene.camera;
-  // testrender's camera: the image plane at distance 1 spans
-  // tan(fov/2) vertically (and by the aspect ratio horizontally).
   Vec3 dir = normalize(cam.lookAt - cam.eye);
   float k = std::tan(cam.fovDegrees * kPi / 360);
   Vec3 cx = normalize(cross(dir, cam.up)) * (float(opt.xres) * k / float(opt.yres));
   Vec3 cy = normalize(cross(cx, dir)) * k;
-
   paths.clear();
   for (int pixel : pixels)
     for (int s = s0; s < s1; ++s) {
@@ -194,130 +227,130 @@ void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
       p.d = normalize(cx * (px - 0.5f) + cy * (0.5f - py) + dir);
       paths.push_back(p);
     }
-  results.resize(paths.size());
-  lightQueries.resize(scene.shaders.size());
+}
 
-  for (int bounce = 0;; ++bounce) {
-    for (auto &q : queues)
-      q.clear();
-    misses.clear();
-    bool any = false;
-    for (int i = 0; i < int(paths.size()); ++i) {
-      Path &p = paths[i];
-      if (!p.alive)
-        continue;
-      any = true;
-      p.hit = intersect(scene, p.o, p.d, p.self);
-      if (p.hit.prim < 0) {
-        p.alive = false;
-        if (scene.background >= 0) {
-          ShadeRequest q;
-          q.path = i;
-          q.i = p.d;
-          q.p = p.d;
-          misses.push_back(q);
-        }
-        continue;
+/// Intersects every live path: hits queue on their shader, escaped paths
+/// on the background. False when no path is alive.
+bool PathWave::intersectPaths() {
+  for (auto &q : queues)
+    q.clear();
+  misses.clear();
+  bool any = false;
+  for (int i = 0; i < int(paths.size()); ++i) {
+    Path &p = paths[i];
+    if (!p.alive)
+      continue;
+    any = true;
+    p.hit = intersect(scene, p.o, p.d, p.self);
+    if (p.hit.prim < 0) {
+      p.alive = false;
+      if (scene.background >= 0) {
+        ShadeRequest q;
+        q.path = i;
+        q.i = p.d;
+        q.p = p.d;
+        misses.push_back(q);
       }
-      int shader = scene.prims[p.hit.prim].shader;
-      if (shader < 0) {
-        p.alive = false;
-        continue;
-      }
-      ShadeRequest q = hitRequest(scene.prims[p.hit.prim], p.o, p.d, p.hit.t);
-      q.path = i;
-      queues[shader].push_back(q);
+      continue;
     }
-    if (!any)
-      break;
-
-    // Escaped paths see the background (not importance sampled, so the
-    // BSDF's sample takes it whole).
-    if (scene.background >= 0)
-      shade(scene.background, misses, [&](const ShadeRequest &q, int32_t handle) {
-        ShadingResult bg;
-        addClosure(threadClosureArena(), handle, {-q.i, Vec3(), false}, bg);
-        paths[q.path].radiance += paths[q.path].throughput * bg.background;
-      });
-
-    for (size_t s = 0; s < queues.size(); ++s)
-      shade(int(s), queues[s], [&](const ShadeRequest &q, int32_t handle) {
-        ShadingResult &res = results[q.path];
-        res.clear();
-        addClosure(threadClosureArena(), handle, {-q.i, q.n, q.backfacing}, res);
-      });
-
-    for (auto &q : lightQueries)
-      q.clear();
-    for (size_t s = 0; s < queues.size(); ++s)
-      for (const ShadeRequest &q : queues[s]) {
-        Path &p = paths[q.path];
-        ShadingResult &res = results[q.path];
-        const Primitive &prim = scene.prims[p.hit.prim];
-        float k = 1;
-        if (prim.isLight && !std::isinf(p.bsdfPdf))
-          k = powerHeuristic(p.bsdfPdf, lightPdf(prim, p.o, q.p));
-        p.radiance += p.throughput * res.emission * k;
-        Vec3 wo = -q.i;
-        if (!res.prepare(wo)) {
-          p.alive = false;
-          continue;
-        }
-        Vec3 bsdfRandom = p.rng.get();
-        for (int l = 0; l < int(scene.prims.size()); ++l) {
-          const Primitive &light = scene.prims[l];
-          if (l == p.hit.prim || !light.isLight || light.shader < 0)
-            continue;
-          Vec3 lr = p.rng.get();
-          LightSample ls = sampleLight(light, q.p, lr.x, lr.y);
-          if (!(ls.pdf > 0))
-            continue;
-          BsdfEval e = res.eval(wo, ls.dir);
-          Vec3 contrib = p.throughput * e.value * (powerHeuristic(ls.pdf, e.pdf) / ls.pdf);
-          if (!(contrib.sum() > 0))
-            continue;
-          Hit shadow = intersect(scene, q.p, ls.dir, p.hit.prim);
-          if (shadow.prim != l)
-            continue;
-          ShadeRequest lq = hitRequest(light, q.p, ls.dir, shadow.t);
-          lq.path = q.path;
-          lq.contrib = contrib;
-          lightQueries[light.shader].push_back(lq);
-        }
-        // The last bounce still samples the lights (as testrender's
-        // max_bounces does) but traces no further.
-        if (bounce >= opt.maxBounces) {
-          p.alive = false;
-          continue;
-        }
-        BsdfSample smp = res.sample(wo, bsdfRandom.x, bsdfRandom.y, bsdfRandom.z);
-        p.throughput *= smp.weight;
-        p.bsdfPdf = smp.pdf;
-        p.o = q.p;
-        p.d = smp.wi;
-        p.self = p.hit.prim;
-        if (!(p.throughput.x > 0) && !(p.throughput.y > 0) && !(p.throughput.z > 0)) {
-          p.alive = false;
-          continue;
-        }
-        if (bounce + 1 >= kRouletteBounce) {
-          float survive = std::min(1.0f, p.throughput.max());
-          if (p.rng.get().x >= survive) {
-            p.alive = false;
-            continue;
-          }
-          p.throughput = p.throughput / survive;
-        }
-      }
-
-    for (size_t s = 0; s < lightQueries.size(); ++s)
-      shade(int(s), lightQueries[s], [&](const ShadeRequest &q, int32_t handle) {
-        ShadingResult light;
-        addClosure(threadClosureArena(), handle, {-q.i, q.n, q.backfacing}, light);
-        paths[q.path].radiance += q.contrib * light.emission;
-      });
+    int shader = scene.prims[p.hit.prim].shader;
+    if (shader < 0) {
+      p.alive = false;
+      continue;
+    }
+    ShadeRequest q = hitRequest(scene.prims[p.hit.prim], p.o, p.d, p.hit.t);
+    q.path = i;
+    queues[shader].push_back(q);
   }
+  return any;
+}
 
+/// Escaped paths see the background (not importance sampled, so the
+/// BSDF's sample takes it whole).
+void PathWave::shadeMisses() {
+  if (scene.background < 0)
+    return;
+  shade(scene.background, misses, [&](const ShadeRequest &q, int32_t handle) {
+    ShadingResult bg;
+    addClosure(threadClosureArena(), handle, {-q.i, Vec3(), false}, bg);
+    paths[q.path].radiance += paths[q.path].throughput * bg.background;
+  });
+}
+
+/// At a shaded hit: its emission, a light sample per light (queued for
+/// the light's shader), then the BSDF's sample continues the path. The
+/// random numbers are drawn in this order for every path.
+void PathWave::scatter(const ShadeRequest &q, int bounce) {
+  Path &p = paths[q.path];
+  ShadingResult &res = results[q.path];
+  const Primitive &prim = scene.prims[p.hit.prim];
+  float k = 1;
+  if (prim.isLight && !std::isinf(p.bsdfPdf))
+    k = powerHeuristic(p.bsdfPdf, lightPdf(prim, p.o, q.p));
+  p.radiance += p.throughput * res.emission * k;
+  Vec3 wo = -q.i;
+  if (!res.prepare(wo)) {
+    p.alive = false;
+    return;
+  }
+  Vec3 bsdfRandom = p.rng.get();
+  sampleLights(q, wo);
+  // The last bounce still samples the lights (as testrender's max_bounces
+  // does) but traces no further.
+  if (bounce >= r.options.maxBounces) {
+    p.alive = false;
+    return;
+  }
+  BsdfSample smp = res.sample(wo, bsdfRandom.x, bsdfRandom.y, bsdfRandom.z);
+  p.throughput *= smp.weight;
+  p.bsdfPdf = smp.pdf;
+  p.o = q.p;
+  p.d = smp.wi;
+  p.self = p.hit.prim;
+  if (!(p.throughput.x > 0) && !(p.throughput.y > 0) && !(p.throughput.z > 0)) {
+    p.alive = false;
+    return;
+  }
+  if (bounce + 1 >= kRouletteBounce) {
+    float survive = std::min(1.0f, p.throughput.max());
+    if (p.rng.get().x >= survive) {
+      p.alive = false;
+      return;
+    }
+    p.throughput = p.throughput / survive;
+  }
+}
+
+/// Next-event estimation: one sample of each light the hit point sees,
+/// weighted against the BSDF's pdf, queued for the light's shader.
+void PathWave::sampleLights(const ShadeRequest &q, Vec3 wo) {
+  Path &p = paths[q.path];
+  ShadingResult &res = results[q.path];
+  for (int l = 0; l < int(scene.prims.size()); ++l) {
+    const Primitive &light = scene.prims[l];
+    if (l == p.hit.prim || !light.isLight || light.shader < 0)
+      continue;
+    Vec3 lr = p.rng.get();
+    LightSample ls = sampleLight(light, q.p, lr.x, lr.y);
+    if (!(ls.pdf > 0))
+      continue;
+    BsdfEval e = res.eval(wo, ls.dir);
+    Vec3 contrib = p.throughput * e.value * (powerHeuristic(ls.pdf, e.pdf) / ls.pdf);
+    if (!(contrib.sum() > 0))
+      continue;
+    Hit shadow = intersect(scene, q.p, ls.dir, p.hit.prim);
+    if (shadow.prim != l)
+      continue;
+    ShadeRequest lq = hitRequest(light, q.p, ls.dir, shadow.t);
+    lq.path = q.path;
+    lq.contrib = contrib;
+    lightQueries[light.shader].push_back(lq);
+  }
+}
+
+/// Adds each path's radiance to its pixel.
+void PathWave::accumulate(float *sum) {
+  const RenderOptions &opt = r.options;
   for (const Path &p : paths) {
     Vec3 c = p.radiance;
     if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)))
