@@ -315,6 +315,12 @@ private:
   /// Declares a shader parameter; with runDefault false (nothing reads it)
   /// a default with effects (exit, printf, a user function) is not run.
   bool emitParam(const Param &p, Scope *scope, bool runDefault);
+  bool emitStructParam(const Param &p, Scope *scope);
+  bool emitStringArrayParam(const Param &p, OslType t, const std::string &value, Scope *scope);
+  std::optional<RValue> paramDefault(const Param &p, OslType &t, const ParamOverride *ov,
+                                     bool runDefault);
+  const ParamOverride *overrideOf(const std::string &name) const;
+  void wrapInParamOps(RValue &v, const std::string &name, SrcLoc at);
 
   std::optional<RValue> overrideValue(const Param &p, const std::string &text);
   /// Calls fn on each leaf of a struct value (nested structs flattened),

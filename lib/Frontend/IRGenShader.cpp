@@ -245,100 +245,139 @@ int IRGen::connectedArrayLength(llvm::StringRef name) const {
   return 0;
 }
 
+/// The instance value given for parameter `name`, or null.
+const ::osl::ParamOverride *IRGen::overrideOf(const std::string &name) const {
+  const ParamOverride *found = nullptr;
+  for (const ParamOverride &o : overrides)
+    if (o.name == name)
+      found = &o;
+  return found;
+}
+
+/// Each value of `v` (each element of an array) becomes an osl.param named
+/// `name` with that value as its default.
+void IRGen::wrapInParamOps(RValue &v, const std::string &name, SrcLoc at) {
+  if (v.type.hasElems()) {
+    for (size_t i = 0; i < v.elems.size(); ++i) {
+      auto op = b.create<ParamOp>(loc(at), v.elems[i].getType(), name, v.elems[i]);
+      op->setAttr("osl.index", b.getI64IntegerAttr(int64_t(i)));
+      v.elems[i] = op.getResult();
+    }
+  } else {
+    v.value = b.create<ParamOp>(loc(at), v.value.getType(), name, v.value).getResult();
+  }
+}
+
 bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   OslType t = p.type;
   if ((t.base == BaseType::Matrix && t.isArray()) || (t.isStructLike() && t.isArray()))
     return error(p.loc, "shader parameters of type '" + t.str() + "' are not supported yet");
-  if (t.isStructLike()) {
-    // Instance values and connections name the fields (`p.field`): each
-    // numeric field is a parameter of its own.
-    for (const ParamOverride &o : overrides)
-      if (o.name == p.name)
-        return error(p.loc, "struct parameter '" + p.name +
-                                "' takes values field by field ('" + p.name + ".FIELD')");
-    if (!checkStructType(t, p.loc))
-      return false;
-    auto init = emitInitializer(*p.init, t, p.name, p.loc);
-    if (!init)
-      return false;
-    auto c = coerce(*init, t, p.loc, "in the default of '" + p.name + "'");
-    if (!c)
-      return false;
-    bool ok = true;
-    forEachStructLeaf(p.name, t, *c, [&](const std::string &name, RValue &leaf) {
-      if (!ok || leaf.type.isString())
-        return;
-      const ParamOverride *fieldValue = nullptr;
-      for (const ParamOverride &o : overrides)
-        if (o.name == name)
-          fieldValue = &o;
-      if (fieldValue) {
-        Param field;
-        field.type = leaf.type;
-        field.name = name;
-        field.loc = p.loc;
-        std::optional<RValue> given = overrideValue(field, fieldValue->value);
-        if (!given) {
-          ok = false;
-          return;
-        }
-        leaf = *given;
-      }
-      if (leaf.type.hasElems()) {
-        for (size_t i = 0; i < leaf.elems.size(); ++i) {
-          auto op = b.create<ParamOp>(loc(p.loc), leaf.elems[i].getType(), name, leaf.elems[i]);
-          op->setAttr("osl.index", b.getI64IntegerAttr(int64_t(i)));
-          leaf.elems[i] = op.getResult();
-        }
-      } else {
-        leaf.value = b.create<ParamOp>(loc(p.loc), leaf.value.getType(), name, leaf.value);
-      }
-    });
-    if (!ok)
-      return false;
-    Var *v = declareVar(scope, p.name, t, p.loc, *c);
-    if (!v)
-      return false;
-    v->isOutputParam = p.isOutput;
-    v->param = {p.name, isLockgeomZero(p)};
-    return true;
-  }
+  if (t.isStructLike())
+    return emitStructParam(p, scope);
   if (t.isVoid())
     return error(p.loc, "parameters cannot have type 'void'");
   if (p.isOutput && t.arrayLen == 0)
     return error(p.loc, "shader output parameter '" + p.name + "' cannot be an unsized array");
-  const ParamOverride *ov = nullptr;
-  for (const ParamOverride &o : overrides)
-    if (o.name == p.name)
-      ov = &o;
-  if (t.isArray() && t.base == BaseType::String && ov) {
-    // Comma-separated strings, each optionally quoted (as a serialized
-    // group writes them); an unsized array takes their count.
-    llvm::SmallVector<llvm::StringRef> parts;
-    llvm::StringRef(ov->value).split(parts, ',');
-    if (t.arrayLen == 0)
-      t.arrayLen = int(parts.size());
-    if (int(parts.size()) != t.arrayLen)
-      return error(p.loc, "parameter '" + p.name + "' of type '" + t.str() + "' takes " +
-                              std::to_string(t.arrayLen) + " strings, got '" + ov->value +
-                              "'");
-    RValue strings;
-    strings.type = t;
-    for (llvm::StringRef part : parts) {
-      part = part.trim();
-      part.consume_front("\"");
-      part.consume_back("\"");
-      strings.fields.push_back(RValue::string(part.str()));
-    }
-    Var *v = declareVar(scope, p.name, t, p.loc, strings);
-    if (!v)
-      return false;
-    v->isOutputParam = p.isOutput;
-    return true;
-  }
-  std::optional<RValue> init;
+  const ParamOverride *ov = overrideOf(p.name);
+  if (t.isArray() && t.base == BaseType::String && ov)
+    return emitStringArrayParam(p, t, ov->value, scope);
   if (ov && t.isClosure())
     return error(p.loc, "closure parameter '" + p.name + "' cannot be given a value");
+  std::optional<RValue> init = paramDefault(p, t, ov, runDefault);
+  if (!init)
+    return false;
+  RValue val = *init;
+  // (A closure parameter takes no instance value, but may be connected.)
+  if (t.hasElems() || !t.isString()) {
+    wrapInParamOps(val, p.name, p.loc);
+    // Per-geometry data (lockgeom=0) the renderer has takes precedence.
+    if (!t.hasElems() && isLockgeomZero(p))
+      if (auto data = testshadeUserdata(*this, p.name, t, p.loc))
+        val.value = select(data->first, data->second, val.value, p.loc);
+  }
+  Var *v = declareVar(scope, p.name, t, p.loc, val);
+  if (!v)
+    return false;
+  v->isOutputParam = p.isOutput;
+  v->param = {p.name, isLockgeomZero(p)};
+  return true;
+}
+
+/// A struct parameter: instance values and connections name the fields
+/// (`p.field`), so each numeric field is a parameter of its own.
+bool IRGen::emitStructParam(const Param &p, Scope *scope) {
+  OslType t = p.type;
+  if (overrideOf(p.name))
+    return error(p.loc, "struct parameter '" + p.name + "' takes values field by field ('" +
+                            p.name + ".FIELD')");
+  if (!checkStructType(t, p.loc))
+    return false;
+  auto init = emitInitializer(*p.init, t, p.name, p.loc);
+  if (!init)
+    return false;
+  auto c = coerce(*init, t, p.loc, "in the default of '" + p.name + "'");
+  if (!c)
+    return false;
+  bool ok = true;
+  forEachStructLeaf(p.name, t, *c, [&](const std::string &name, RValue &leaf) {
+    if (!ok || leaf.type.isString())
+      return;
+    if (const ParamOverride *fieldValue = overrideOf(name)) {
+      Param field;
+      field.type = leaf.type;
+      field.name = name;
+      field.loc = p.loc;
+      std::optional<RValue> given = overrideValue(field, fieldValue->value);
+      if (!given) {
+        ok = false;
+        return;
+      }
+      leaf = *given;
+    }
+    wrapInParamOps(leaf, name, p.loc);
+  });
+  if (!ok)
+    return false;
+  Var *v = declareVar(scope, p.name, t, p.loc, *c);
+  if (!v)
+    return false;
+  v->isOutputParam = p.isOutput;
+  v->param = {p.name, isLockgeomZero(p)};
+  return true;
+}
+
+/// A string array given an instance value: comma-separated strings, each
+/// optionally quoted (as a serialized group writes them); an unsized array
+/// takes their count.
+bool IRGen::emitStringArrayParam(const Param &p, OslType t, const std::string &value,
+                                 Scope *scope) {
+  llvm::SmallVector<llvm::StringRef> parts;
+  llvm::StringRef(value).split(parts, ',');
+  if (t.arrayLen == 0)
+    t.arrayLen = int(parts.size());
+  if (int(parts.size()) != t.arrayLen)
+    return error(p.loc, "parameter '" + p.name + "' of type '" + t.str() + "' takes " +
+                            std::to_string(t.arrayLen) + " strings, got '" + value + "'");
+  RValue strings;
+  strings.type = t;
+  for (llvm::StringRef part : parts) {
+    part = part.trim();
+    part.consume_front("\"");
+    part.consume_back("\"");
+    strings.fields.push_back(RValue::string(part.str()));
+  }
+  Var *v = declareVar(scope, p.name, t, p.loc, strings);
+  if (!v)
+    return false;
+  v->isOutputParam = p.isOutput;
+  return true;
+}
+
+/// A parameter's value before osl.param: its instance value `ov`, zeros
+/// (an unsized array connected to an array output; a default with side
+/// effects not run), or its default. Sizes an unsized array `t`.
+std::optional<RValue> IRGen::paramDefault(const Param &p, OslType &t, const ParamOverride *ov,
+                                          bool runDefault) {
   if (ov) {
     if (t.arrayLen == 0) {
       // An unsized array takes its length from the value given (OSL's
@@ -354,49 +393,26 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
     sized.type = t;
     sized.name = p.name;
     sized.loc = p.loc;
-    init = overrideValue(sized, ov->value);
-  } else if (int length = connectedArrayLength(p.name); t.arrayLen == 0 && length > 0) {
+    return overrideValue(sized, ov->value);
+  }
+  if (int length = connectedArrayLength(p.name); t.arrayLen == 0 && length > 0) {
     // An unsized array input takes the length of the array output
     // connected to it, which gives every element.
     t.arrayLen = length;
-    init = zeroValue(t, p.loc);
-  } else if (!runDefault && !t.isString() && !t.isClosure() && hasSideEffects(*p.init)) {
+    return zeroValue(t, p.loc);
+  }
+  if (!runDefault && !t.isString() && !t.isClosure() && hasSideEffects(*p.init)) {
     if (t.arrayLen == 0 && p.init->kind == ExprKind::InitList)
       t.arrayLen = int(p.init->args.size());
-    init = zeroValue(t, p.loc);
-  } else if (p.init->kind == ExprKind::InitList && p.init->args.empty()) {
+    return zeroValue(t, p.loc);
+  }
+  if (p.init->kind == ExprKind::InitList && p.init->args.empty()) {
     // `{ }`: zeros; an unsized array of one element, as OSL makes it.
     if (t.arrayLen == 0)
       t.arrayLen = 1;
-    init = zeroValue(t, p.loc);
-  } else {
-    init = emitInitializer(*p.init, t, p.name, p.loc);
+    return zeroValue(t, p.loc);
   }
-  if (!init)
-    return false;
-  RValue val = *init;
-  if (t.hasElems()) {
-    for (size_t i = 0; i < val.elems.size(); ++i) {
-      Value d = val.elems[i];
-      auto op = b.create<ParamOp>(loc(p.loc), d.getType(), p.name, d);
-      op->setAttr("osl.index", b.getI64IntegerAttr(int64_t(i)));
-      val.elems[i] = op.getResult();
-    }
-  } else if (!t.isString()) {
-    // (A closure parameter takes no instance value, but may be connected.)
-    Value d = val.value;
-    val.value = b.create<ParamOp>(loc(p.loc), d.getType(), p.name, d).getResult();
-    // Per-geometry data (lockgeom=0) the renderer has takes precedence.
-    if (isLockgeomZero(p))
-      if (auto data = testshadeUserdata(*this, p.name, t, p.loc))
-        val.value = select(data->first, data->second, val.value, p.loc);
-  }
-  Var *v = declareVar(scope, p.name, t, p.loc, val);
-  if (!v)
-    return false;
-  v->isOutputParam = p.isOutput;
-  v->param = {p.name, isLockgeomZero(p)};
-  return true;
+  return emitInitializer(*p.init, t, p.name, p.loc);
 }
 
 std::optional<RValue> IRGen::emitInitializer(const Expr &init, OslType &type,

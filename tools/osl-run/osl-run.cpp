@@ -57,7 +57,8 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
       image = rootImage;
     requested.push_back({image->name, shader.name + ".png"});
   }
-  for (auto &[name, file] : requested) {
+  for (const auto &request : requested) {
+    const std::string &name = request.first, &file = request.second;
     // A group's root layer outputs are also ROOT.NAME, as testshade has them.
     auto it = std::find_if(shader.outputs.begin(), shader.outputs.end(), [&](const OutputSpec &o) {
       return o.name == name || (options.isGroup && name == shader.name + "." + o.name);
@@ -253,6 +254,115 @@ int osl::statusAfterShading(const RunOptions &options) {
   return !options.keepGoing && (textureFileErrors() > 0 || stringErrors() > 0) ? 1 : 0;
 }
 
+/// Marks the outputs written to files (or printed, --print) as kept;
+/// returns the bytes one row of their images takes.
+double keepWrittenImages(RunOptions &options, const CompiledShader &shader,
+                         const std::vector<std::pair<size_t, std::string>> &files) {
+  options.grid.keepImages.assign(shader.outputs.size(), false);
+  double rowBytes = 0;
+  for (auto &[index, file] : files)
+    if ((file != "null" || options.printValues) && !options.grid.keepImages[index]) {
+      options.grid.keepImages[index] = true;
+      rowBytes += 4.0 * imageWidth(options.grid) * shader.outputs[index].channels;
+    }
+  return rowBytes;
+}
+
+/// Shades the grid --iters times into one set of images; what the passes
+/// printed goes to `printed` in order. False (reported) if the shader as
+/// given before --reparam does not compile. `shading`: the seconds spent.
+bool shadePasses(const RunOptions &options, ShaderCompiler &compiler,
+                 const CompiledShader &shader, ThreadPool &pool, ShadeResult &result,
+                 PrintLog &printed, Stats &stats, double &shading) {
+  shading = 0;
+  for (int i = 0; i < options.iters; ++i) {
+    // With --reparam, testshade's first pass shades the values as given,
+    // the later ones the changed values.
+    const CompiledShader *pass = &shader;
+    std::unique_ptr<CompiledShader> beforeReparams;
+    if (i == 0 && options.iters > 1 && !options.reparams.empty()) {
+      beforeReparams = compiler.compileGroup(options.groupBeforeReparams);
+      if (!beforeReparams)
+        return false;
+      pass = beforeReparams.get();
+    }
+    // One set of images, allocated and paged in by the first pass.
+    shadeGridInto(result, pass->kernel, pass->width, pass->outputs, options.grid, pool);
+    shading += result.seconds;
+    for (PrintedText &t : result.printed.texts)
+      printed.texts.push_back(std::move(t));
+  }
+  stats.add("shading", shading);
+  return true;
+}
+
+/// Writes the images and prints what the shader printed, in testshade's
+/// order: after the reports of the images it was asked to write, or before
+/// its closing blank line when it writes none. False (reported) if an
+/// image cannot be written.
+bool writeResults(const RunOptions &options, const CompiledShader &shader,
+                  const std::vector<std::pair<size_t, std::string>> &files,
+                  const ShadeResult &result, const PrintLog &printed, Stats *statsPtr) {
+  ScopedTimer timer(statsPtr, "write images");
+  bool imagesFirst = !options.outputs.empty();
+  if (!imagesFirst)
+    emitPrints(printed, shader.name, options.errorRepeats);
+  llvm::outs() << "\n";
+  for (size_t i = 0; i < files.size(); ++i) {
+    auto &[index, file] = files[i];
+    if (file == "null")
+      continue;
+    std::string error;
+    setImagesBeingWritten({file.c_str()});
+    bool written = writeImage(file, imageWidth(options.grid), imageHeight(options.grid),
+                              shader.outputs[index].channels, result.images[index].data(),
+                              error, options.dataType, shader.outputs[index].integer);
+    setImagesBeingWritten({});
+    if (!written) {
+      fail("cannot write '" + file + "': " + error);
+      return false;
+    }
+    // testshade's report of each image it was asked for.
+    if (imagesFirst)
+      llvm::outs() << "Output " << options.outputs[i].first << " to " << file << "\n";
+  }
+  if (options.printValues)
+    printPixelValues(options, shader, files, result);
+  if (imagesFirst) {
+    llvm::outs().flush();
+    emitPrints(printed, shader.name, options.errorRepeats);
+  }
+  return true;
+}
+
+/// --lane-stats and --stats.
+void reportRun(const RunOptions &options, ShaderCompiler &compiler,
+               const CompiledShader &shader, ThreadPool &pool, Stats &stats,
+               double shading) {
+  if (options.compile.countLanes) {
+    // Summed over every pass: --iters repeats the same work.
+    LaneStats lanes = laneStats();
+    llvm::outs() << "lane stats: " << lanes.blocks << " masked blocks executed, "
+                 << llvm::format("%.1f%%", 100.0 * lanes.meanActiveFraction(shader.width))
+                 << " of " << shader.width << " lanes active on average\n";
+  }
+  if (options.stats) {
+    llvm::errs() << "shader " << shader.name << ", width " << shader.width
+                 << ", grid " << options.grid.xres << "x" << options.grid.yres
+                 << ", " << pool.size() << " thread(s), " << options.iters
+                 << " iteration(s)\n";
+    stats.print(llvm::errs());
+    llvm::errs() << "kernel cache: " << cacheUseText(compiler.cacheUse()) << "\n";
+    const GroupStats &g = compiler.groupStats();
+    if (options.isGroup && g.opsBefore > 0)
+      llvm::errs() << "group: before specialisation " << g.layersBefore << " layers, "
+                   << g.opsBefore << " ops; after " << g.layersAfter << " layers, "
+                   << g.opsAfter << " ops\n";
+    double points = double(imageWidth(options.grid)) * imageHeight(options.grid) * options.iters;
+    llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
+  }
+}
+
 int main(int argc, char **argv) {
   llvm::InitLLVM init(argc, argv);
   for (int signal : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT})
@@ -322,14 +432,7 @@ int main(int argc, char **argv) {
   std::vector<std::pair<size_t, std::string>> files;
   if (!resolveOutputs(options, *shader, files, error))
     return fail(error);
-  // Only the images written to files (or printed, --print) are kept.
-  options.grid.keepImages.assign(shader->outputs.size(), false);
-  double rowBytes = 0;
-  for (auto &[index, file] : files)
-    if ((file != "null" || options.printValues) && !options.grid.keepImages[index]) {
-      options.grid.keepImages[index] = true;
-      rowBytes += 4.0 * imageWidth(options.grid) * shader->outputs[index].channels;
-    }
+  double rowBytes = keepWrittenImages(options, *shader, files);
   double memoryBytes = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
   if (memoryBytes > 0 && rowBytes > memoryBytes)
     return fail(llvm::formatv("one row of the images of a {0}x{1} grid needs {2:F1} GB, "
@@ -353,78 +456,11 @@ int main(int argc, char **argv) {
   ShadeResult result;
   PrintLog printed; // every pass's, in order, as testshade prints each
   double shading = 0;
-  for (int i = 0; i < options.iters; ++i) {
-    // With --reparam, testshade's first pass shades the values as given,
-    // the later ones the changed values.
-    const CompiledShader *pass = shader.get();
-    std::unique_ptr<CompiledShader> beforeReparams;
-    if (i == 0 && options.iters > 1 && !options.reparams.empty()) {
-      beforeReparams = compiler.compileGroup(options.groupBeforeReparams);
-      if (!beforeReparams)
-        return 1;
-      pass = beforeReparams.get();
-    }
-    // One set of images, allocated and paged in by the first pass.
-    shadeGridInto(result, pass->kernel, pass->width, pass->outputs, options.grid, pool);
-    shading += result.seconds;
-    for (PrintedText &t : result.printed.texts)
-      printed.texts.push_back(std::move(t));
-  }
-  stats.add("shading", shading);
+  if (!shadePasses(options, compiler, *shader, pool, result, printed, stats, shading))
+    return 1;
 
-  {
-    ScopedTimer timer(statsPtr, "write images");
-    // testshade's order: what the shader printed comes after the reports
-    // of the images it was asked to write, or before its closing blank
-    // line when it writes none.
-    bool imagesFirst = !options.outputs.empty();
-    if (!imagesFirst)
-      emitPrints(printed, shader->name, options.errorRepeats);
-    llvm::outs() << "\n";
-    for (size_t i = 0; i < files.size(); ++i) {
-      auto &[index, file] = files[i];
-      if (file == "null")
-        continue;
-      setImagesBeingWritten({file.c_str()});
-      bool written = writeImage(file, imageWidth(options.grid), imageHeight(options.grid),
-                                shader->outputs[index].channels,
-                                result.images[index].data(), error, options.dataType,
-                                shader->outputs[index].integer);
-      setImagesBeingWritten({});
-      if (!written)
-        return fail("cannot write '" + file + "': " + error);
-      // testshade's report of each image it was asked for.
-      if (imagesFirst)
-        llvm::outs() << "Output " << options.outputs[i].first << " to " << file << "\n";
-    }
-    if (options.printValues)
-      printPixelValues(options, *shader, files, result);
-    if (imagesFirst) {
-      llvm::outs().flush();
-      emitPrints(printed, shader->name, options.errorRepeats);
-    }
-  }
-  if (options.compile.countLanes) {
-    // Summed over every pass: --iters repeats the same work.
-    LaneStats lanes = laneStats();
-    llvm::outs() << "lane stats: " << lanes.blocks << " masked blocks executed, "
-                 << llvm::format("%.1f%%", 100.0 * lanes.meanActiveFraction(shader->width))
-                 << " of " << shader->width << " lanes active on average\n";
-  }
-  if (options.stats) {
-    llvm::errs() << "shader " << shader->name << ", width " << shader->width
-                 << ", grid " << options.grid.xres << "x" << options.grid.yres
-                 << ", " << pool.size() << " thread(s), " << options.iters
-                 << " iteration(s)\n";
-    stats.print(llvm::errs());
-    llvm::errs() << "kernel cache: " << cacheUseText(compiler.cacheUse()) << "\n";
-    const GroupStats &g = compiler.groupStats();
-    if (options.isGroup && g.opsBefore > 0)
-      llvm::errs() << "group: before specialisation " << g.layersBefore << " layers, "
-                   << g.opsBefore << " ops; after " << g.layersAfter << " layers, "
-                   << g.opsAfter << " ops\n";
-    double points = double(imageWidth(options.grid)) * imageHeight(options.grid) * options.iters;
-    llvm::errs() << llvm::format("shading: %.2f ns per point\n", shading * 1e9 / points);
-  }
+  if (!writeResults(options, *shader, files, result, printed, statsPtr))
+    return 1;
+  reportRun(options, compiler, *shader, pool, stats, shading);
   return statusAfterShading(options);
 }
