@@ -9,6 +9,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslLanes/ColorBuilder.h"
 #include "OslLanes/ConstantTable.h"
+#include "OslLanes/LaneEmitter.h"
 #include "OslLanes/LaneMath.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
@@ -169,39 +170,17 @@ ColorSystem makeColorSystem(const Chromaticities &ch) {
 // Lane code
 //===----------------------------------------------------------------------===//
 
-/// Shorthands for building float lane arithmetic.
-struct Lane {
-  OpBuilder &b;
-  Location loc;
-  Value add(Value x, Value y) { return b.create<arith::AddFOp>(loc, x, y); }
-  Value sub(Value x, Value y) { return b.create<arith::SubFOp>(loc, x, y); }
-  Value mul(Value x, Value y) { return b.create<arith::MulFOp>(loc, x, y); }
-  Value div(Value x, Value y) { return b.create<arith::DivFOp>(loc, x, y); }
-  Value cst(Value like, double v) { return lane::constantLike(b, loc, like, v); }
-  Value lt(Value x, Value y) {
-    return b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OLT, x, y);
-  }
-  Value le(Value x, Value y) {
-    return b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OLE, x, y);
-  }
-  Value ge(Value x, Value y) {
-    return b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OGE, x, y);
-  }
-  Value eq(Value x, Value y) {
-    return b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OEQ, x, y);
-  }
-  Value sel(Value c, Value x, Value y) { return b.create<arith::SelectOp>(loc, c, x, y); }
-  LaneColor sel(Value c, LaneColor x, LaneColor y) {
-    return {sel(c, x[0], y[0]), sel(c, x[1], y[1]), sel(c, x[2], y[2])};
-  }
-  Value min(Value x, Value y) { return sel(lt(x, y), x, y); }
-  Value max(Value x, Value y) { return sel(lt(y, x), x, y); }
+/// The lane emitter with the color conversions' pieces. Constants take
+/// the shape of a value (cst), as colors come uniform or varying.
+struct ColorLanes : public LaneEmitter {
+  ColorLanes(OpBuilder &b, Location loc) : LaneEmitter(b, loc) {}
+
   /// v0 (1 - t) + v1 t, as OpenImageIO's lerp.
   Value lerp(Value v0, Value v1, Value t) {
     return add(mul(v0, sub(cst(t, 1), t)), mul(v1, t));
   }
   /// c < 0 becomes 0 (NaN stays).
-  Value clampZero(Value c) { return sel(lt(c, cst(c, 0)), cst(c, 0), c); }
+  Value clampZero(Value c) { return select(lt(c, cst(c, 0)), cst(c, 0), c); }
   /// c * m for a row vector c.
   LaneColor times(LaneColor c, const std::array<float, 9> &m) {
     LaneColor r;
@@ -218,7 +197,7 @@ struct Lane {
   }
 };
 
-LaneColor hsvToRgb(Lane &l, LaneColor hsv) {
+LaneColor hsvToRgb(ColorLanes &l, LaneColor hsv) {
   auto [h, s, v] = hsv;
   Value one = l.cst(h, 1);
   Value h6 = l.mul(l.cst(h, 6), l.sub(h, lane::floor(l.b, l.loc, {h}))); // [0, 6)
@@ -231,51 +210,51 @@ LaneColor hsvToRgb(Lane &l, LaneColor hsv) {
   const Value table[6][3] = {{v, t, p}, {q, v, p}, {p, v, t}, {p, q, v}, {t, p, v}, {v, p, q}};
   LaneColor rgb = {table[5][0], table[5][1], table[5][2]};
   for (int k = 4; k >= 0; --k) {
-    Value isK = l.eq(hi, l.cst(hi, k));
-    rgb = l.sel(isK, LaneColor{table[k][0], table[k][1], table[k][2]}, rgb);
+    Value isK = l.feq(hi, l.cst(hi, k));
+    rgb = l.select(isK, LaneColor{table[k][0], table[k][1], table[k][2]}, rgb);
   }
   Value grey = l.lt(s, l.cst(s, 0.0001));
-  return l.sel(grey, LaneColor{v, v, v}, rgb);
+  return l.select(grey, LaneColor{v, v, v}, rgb);
 }
 
-LaneColor rgbToHsv(Lane &l, LaneColor rgb) {
+LaneColor rgbToHsv(ColorLanes &l, LaneColor rgb) {
   auto [r, g, b] = rgb;
   Value zero = l.cst(r, 0);
   Value lo = l.min(r, l.min(g, b));
   Value hi = l.max(r, l.max(g, b));
   Value delta = l.sub(hi, lo);
-  Value s = l.sel(l.lt(zero, hi), l.div(delta, hi), zero);
+  Value s = l.select(l.lt(zero, hi), l.div(delta, hi), zero);
   Value hr = l.div(l.sub(g, b), delta);
   Value hg = l.add(l.cst(r, 2), l.div(l.sub(b, r), delta));
   Value hb = l.add(l.cst(r, 4), l.div(l.sub(r, g), delta));
-  Value h = l.sel(l.ge(r, hi), hr, l.sel(l.ge(g, hi), hg, hb));
+  Value h = l.select(l.ge(r, hi), hr, l.select(l.ge(g, hi), hg, hb));
   h = l.mul(h, l.cst(r, 1.0f / 6.0f));
-  h = l.sel(l.lt(h, zero), l.add(h, l.cst(r, 1)), h);
-  h = l.sel(l.le(s, zero), zero, h);
+  h = l.select(l.lt(h, zero), l.add(h, l.cst(r, 1)), h);
+  h = l.select(l.le(s, zero), zero, h);
   return {h, s, hi};
 }
 
-LaneColor hslToRgb(Lane &l, LaneColor hsl) {
+LaneColor hslToRgb(ColorLanes &l, LaneColor hsl) {
   auto [h, s, lum] = hsl;
   Value one = l.cst(h, 1), zero = l.cst(h, 0);
-  Value v = l.sel(l.le(lum, l.cst(h, 0.5)), l.mul(lum, l.add(one, s)),
+  Value v = l.select(l.le(lum, l.cst(h, 0.5)), l.mul(lum, l.add(one, s)),
                   l.add(l.mul(lum, l.sub(one, s)), s));
   Value lo = l.sub(l.mul(l.cst(h, 2), lum), v);
   Value sv = l.div(l.sub(v, lo), v);
   LaneColor rgb = hsvToRgb(l, {h, sv, v});
-  return l.sel(l.le(v, zero), LaneColor{zero, zero, zero}, rgb);
+  return l.select(l.le(v, zero), LaneColor{zero, zero, zero}, rgb);
 }
 
-LaneColor rgbToHsl(Lane &l, LaneColor rgb) {
+LaneColor rgbToHsl(ColorLanes &l, LaneColor rgb) {
   auto [r, g, b] = rgb;
   Value lo = l.min(r, l.min(g, b));
   LaneColor hsv = rgbToHsv(l, rgb);
   Value hi = hsv[2];
   Value lum = l.div(l.add(lo, hi), l.cst(r, 2));
   Value delta = l.sub(hi, lo);
-  Value s = l.sel(l.le(lum, l.cst(r, 0.5)), l.div(delta, l.add(hi, lo)),
+  Value s = l.select(l.le(lum, l.cst(r, 0.5)), l.div(delta, l.add(hi, lo)),
                   l.div(delta, l.sub(l.sub(l.cst(r, 2), hi), lo)));
-  s = l.sel(l.eq(lo, hi), l.cst(r, 0), s);
+  s = l.select(l.feq(lo, hi), l.cst(r, 0), s);
   return {hsv[0], s, lum};
 }
 
@@ -284,21 +263,21 @@ constexpr std::array<float, 9> kYiqToRgb = {1.0000f, 1.0000f,  1.0000f,  0.9557f
 constexpr std::array<float, 9> kRgbToYiq = {0.299f, 0.596f,  0.212f,  0.587f, -0.275f,
                                             -0.523f, 0.114f, -0.321f, 0.311f};
 
-LaneColor xyYToXYZ(Lane &l, LaneColor xyY) {
+LaneColor xyYToXYZ(ColorLanes &l, LaneColor xyY) {
   auto [x, y, Y] = xyY;
   Value zero = l.cst(x, 0);
-  Value yRatio = l.sel(l.lt(l.cst(x, 1.0e-6), y), l.div(Y, y), zero);
+  Value yRatio = l.select(l.lt(l.cst(x, 1.0e-6), y), l.div(Y, y), zero);
   return {l.mul(yRatio, x), Y, l.mul(yRatio, l.sub(l.sub(l.cst(x, 1), x), y))};
 }
 
-LaneColor xyzToXyY(Lane &l, LaneColor xyz) {
+LaneColor xyzToXyY(ColorLanes &l, LaneColor xyz) {
   auto [X, Y, Z] = xyz;
   Value n = l.add(l.add(X, Y), Z);
-  Value inv = l.sel(l.ge(n, l.cst(X, 1.0e-6)), l.div(l.cst(X, 1), n), l.cst(X, 0));
+  Value inv = l.select(l.ge(n, l.cst(X, 1.0e-6)), l.div(l.cst(X, 1), n), l.cst(X, 0));
   return {l.mul(X, inv), l.mul(Y, inv), Y};
 }
 
-LaneColor srgbToLinear(Lane &l, LaneColor c) {
+LaneColor srgbToLinear(ColorLanes &l, LaneColor c) {
   LaneColor r;
   for (int i = 0; i < 3; ++i) {
     Value x = c[i];
@@ -306,12 +285,12 @@ LaneColor srgbToLinear(Lane &l, LaneColor c) {
     Value curve = lane::pow(l.b, l.loc,
                             {l.mul(l.add(x, l.cst(x, 0.055f)), l.cst(x, 1.0f / 1.055f)),
                              l.cst(x, 2.4f)});
-    r[i] = l.sel(l.le(x, l.cst(x, 0.04045f)), lin, curve);
+    r[i] = l.select(l.le(x, l.cst(x, 0.04045f)), lin, curve);
   }
   return r;
 }
 
-LaneColor linearToSrgb(Lane &l, LaneColor c) {
+LaneColor linearToSrgb(ColorLanes &l, LaneColor c) {
   LaneColor r;
   for (int i = 0; i < 3; ++i) {
     Value x = c[i];
@@ -319,7 +298,7 @@ LaneColor linearToSrgb(Lane &l, LaneColor c) {
     Value curve = l.sub(
         l.mul(l.cst(x, 1.055f), lane::pow(l.b, l.loc, {x, l.cst(x, 1.0f / 2.4f)})),
         l.cst(x, 0.055f));
-    r[i] = l.sel(l.le(x, l.cst(x, 0.0031308f)), lin, curve);
+    r[i] = l.select(l.le(x, l.cst(x, 0.0031308f)), lin, curve);
   }
   return r;
 }
@@ -328,7 +307,7 @@ bool isWorkingRgb(StringRef space, StringRef working) {
   return space == "rgb" || space == "RGB" || space == "linear" || space == working;
 }
 
-std::optional<LaneColor> toRgb(Lane &l, const ColorSystem &cs, StringRef from, LaneColor c) {
+std::optional<LaneColor> toRgb(ColorLanes &l, const ColorSystem &cs, StringRef from, LaneColor c) {
   if (isWorkingRgb(from, cs.name))
     return c;
   if (from == "hsv")
@@ -346,7 +325,7 @@ std::optional<LaneColor> toRgb(Lane &l, const ColorSystem &cs, StringRef from, L
   return std::nullopt;
 }
 
-std::optional<LaneColor> fromRgb(Lane &l, const ColorSystem &cs, StringRef to, LaneColor c) {
+std::optional<LaneColor> fromRgb(ColorLanes &l, const ColorSystem &cs, StringRef to, LaneColor c) {
   if (isWorkingRgb(to, cs.name))
     return c;
   if (to == "hsv")
@@ -409,7 +388,7 @@ struct SpectrumTables {
 
 /// blackbody above the table: Planck's law summed over the observer's 81
 /// wavelengths, one loop iteration per wavelength.
-LaneColor blackbodyBySpectrum(Lane &l, const ColorSystem &cs, const SpectrumTables &tables,
+LaneColor blackbodyBySpectrum(ColorLanes &l, const ColorSystem &cs, const SpectrumTables &tables,
                               Value kelvin) {
   OpBuilder &b = l.b;
   Value zero = l.cst(kelvin, 0);
@@ -419,7 +398,7 @@ LaneColor blackbodyBySpectrum(Lane &l, const ColorSystem &cs, const SpectrumTabl
   auto loop = b.create<scf::ForOp>(
       l.loc, lb, ub, step, ValueRange{zero, zero, zero},
       [&](OpBuilder &nb, Location loc, Value iv, ValueRange xyz) {
-        Lane in{nb, loc};
+        ColorLanes in(nb, loc);
         Value i = nb.create<arith::IndexCastOp>(loc, nb.getI32Type(), iv);
         int64_t width = 0;
         if (auto vec = dyn_cast<VectorType>(kelvin.getType()))
@@ -466,7 +445,7 @@ bool mlir::osl::isColorSpaceName(StringRef space, StringRef working) {
 FailureOr<LaneColor> mlir::osl::buildTransformc(OpBuilder &b, Location loc,
                                                 const ColorSystem &cs, StringRef from,
                                                 StringRef to, LaneColor c) {
-  Lane l{b, loc};
+  ColorLanes l(b, loc);
   std::optional<LaneColor> rgb = toRgb(l, cs, from, c);
   if (!rgb)
     return failure();
@@ -478,7 +457,7 @@ FailureOr<LaneColor> mlir::osl::buildTransformc(OpBuilder &b, Location loc,
 
 LaneColor mlir::osl::buildBlackbody(OpBuilder &b, Location loc, const ColorSystem &cs,
                                     Value kelvin) {
-  Lane l{b, loc};
+  ColorLanes l(b, loc);
   Value below = l.lt(kelvin, l.cst(kelvin, kDraperKelvin));
   Value inTable = l.lt(kelvin, l.cst(kelvin, kTableMaxKelvin));
   // The table position i = ((T - 800) / 2)^(2/3); lanes outside the table
@@ -487,7 +466,7 @@ LaneColor mlir::osl::buildBlackbody(OpBuilder &b, Location loc, const ColorSyste
       loc, inTable, b.create<arith::XOrIOp>(loc, below, lane::constantLike(b, loc, below, 1)));
   Value t = l.div(l.sub(kelvin, l.cst(kelvin, kDraperKelvin)), l.cst(kelvin, 2));
   Value cube = lane::cbrt(b, loc, {t});
-  Value pos = l.sel(tableLane, l.mul(cube, cube), l.cst(kelvin, 0));
+  Value pos = l.select(tableLane, l.mul(cube, cube), l.cst(kelvin, 0));
   Value index = l.toInt(pos);
   Value frac = l.sub(pos, l.toFloat(index));
   LaneColor table;
@@ -507,7 +486,7 @@ LaneColor mlir::osl::buildBlackbody(OpBuilder &b, Location loc, const ColorSyste
   auto ifHot = b.create<scf::IfOp>(
       loc, anyLane(b, loc, hot),
       [&](OpBuilder &tb, Location tl) {
-        Lane in{tb, tl};
+        ColorLanes in(tb, tl);
         LaneColor r = blackbodyBySpectrum(in, cs, spectrum, kelvin);
         tb.create<scf::YieldOp>(tl, ValueRange{r[0], r[1], r[2]});
       },
@@ -518,7 +497,7 @@ LaneColor mlir::osl::buildBlackbody(OpBuilder &b, Location loc, const ColorSyste
   LaneColor result;
   for (int c = 0; c < 3; ++c) {
     Value dim = l.cst(kelvin, c == 0 ? 1.0e-6 : 0.0); // very dim red below 800 K
-    Value v = l.sel(below, dim, l.sel(inTable, table[c], ifHot.getResult(c)));
+    Value v = l.select(below, dim, l.select(inTable, table[c], ifHot.getResult(c)));
     v.getDefiningOp()->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleNone));
     result[c] = v;
   }
@@ -527,12 +506,12 @@ LaneColor mlir::osl::buildBlackbody(OpBuilder &b, Location loc, const ColorSyste
 
 LaneColor mlir::osl::buildWavelengthColor(OpBuilder &b, Location loc, const ColorSystem &cs,
                                           Value nanometers) {
-  Lane l{b, loc};
+  ColorLanes l(b, loc);
   Value pos = l.div(l.sub(nanometers, l.cst(nanometers, 380)), l.cst(nanometers, 5));
   // int(pos) must lie in [0, 80): pos in (-1, 80).
   Value inside = b.create<arith::AndIOp>(loc, l.lt(l.cst(pos, -1), pos),
                                          l.lt(pos, l.cst(pos, 80)));
-  Value index = l.toInt(l.sel(inside, pos, l.cst(pos, 0)));
+  Value index = l.toInt(l.select(inside, pos, l.cst(pos, 0)));
   Value frac = l.sub(pos, l.toFloat(index));
   LaneColor xyz;
   for (int c = 0; c < 3; ++c) {
@@ -546,7 +525,7 @@ LaneColor mlir::osl::buildWavelengthColor(OpBuilder &b, Location loc, const Colo
   for (int c = 0; c < 3; ++c) {
     // An empirical scale that keeps every component at most 1.
     Value v = l.clampZero(l.mul(rgb[c], l.cst(rgb[c], float(1.0 / 2.52))));
-    v = l.sel(inside, v, l.cst(v, 0));
+    v = l.select(inside, v, l.cst(v, 0));
     v.getDefiningOp()->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleNone));
     result[c] = v;
   }
@@ -555,7 +534,7 @@ LaneColor mlir::osl::buildWavelengthColor(OpBuilder &b, Location loc, const Colo
 
 Value mlir::osl::buildLuminance(OpBuilder &b, Location loc, const ColorSystem &cs,
                                 LaneColor c) {
-  Lane l{b, loc};
+  ColorLanes l(b, loc);
   return l.add(l.add(l.mul(c[0], l.cst(c[0], cs.luminance[0])),
                      l.mul(c[1], l.cst(c[1], cs.luminance[1]))),
                l.mul(c[2], l.cst(c[2], cs.luminance[2])));

@@ -32,6 +32,7 @@
 //===----------------------------------------------------------------------===//
 
 #include "OslLanes/GaborBuilder.h"
+#include "OslLanes/LaneEmitter.h"
 #include "OslLanes/NoiseBuilder.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
@@ -63,79 +64,20 @@ constexpr uint32_t kRngMultiplier = 3039177861u;
 // Ops on one lane shape (f32 / vector<W x f32> and their i32 / i1 forms)
 //===----------------------------------------------------------------------===//
 
-/// Constants are made where they are used (no cache): the builder moves in
-/// and out of loop bodies, where a cached constant would not dominate.
-class Lanes {
+/// The lane emitter with Gabor noise's pieces. Constants are made where
+/// they are used (no cache): the builder moves in and out of loop bodies,
+/// where a cached constant would not dominate.
+class Lanes : public LaneEmitter {
 public:
-  Lanes(OpBuilder &b, Location loc, Type floatType)
-      : b(b), loc(loc), fty(floatType), ity(withElement(b.getI32Type())),
-        bty(withElement(b.getI1Type())) {}
-
-  Type withElement(Type element) const {
-    if (auto vt = dyn_cast<VectorType>(fty))
-      return VectorType::get(vt.getShape(), element);
-    return element;
-  }
-  bool isVector() const { return isa<VectorType>(fty); }
-
-  Value constant(Type type, TypedAttr scalar) {
-    if (auto vt = dyn_cast<VectorType>(type)) {
-      Attribute elt = scalar;
-      return b.create<arith::ConstantOp>(loc, DenseElementsAttr::get(vt, ArrayRef(elt)));
-    }
-    return b.create<arith::ConstantOp>(loc, scalar);
-  }
-  Value f(float v) { return constant(fty, b.getF32FloatAttr(v)); }
-  Value i(uint32_t v) {
-    return constant(ity, b.getIntegerAttr(b.getI32Type(), APInt(32, v)));
-  }
-  /// A uniform (scalar) value spread over the lanes.
-  Value splat(Value uniform) {
-    if (auto vt = dyn_cast<VectorType>(fty))
-      if (!isa<VectorType>(uniform.getType()))
-        return b.create<vector::BroadcastOp>(
-            loc, VectorType::get(vt.getShape(), uniform.getType()), uniform);
-    return uniform;
-  }
-
-  Value add(Value x, Value y) { return b.create<arith::AddFOp>(loc, x, y); }
-  Value sub(Value x, Value y) { return b.create<arith::SubFOp>(loc, x, y); }
-  Value mul(Value x, Value y) { return b.create<arith::MulFOp>(loc, x, y); }
-  Value div(Value x, Value y) { return b.create<arith::DivFOp>(loc, x, y); }
-  Value neg(Value x) { return b.create<arith::NegFOp>(loc, x); }
-  Value floor(Value x) { return b.create<math::FloorOp>(loc, x); }
-  Value sqrt(Value x) { return b.create<math::SqrtOp>(loc, x); }
-  Value exp(Value x) { return b.create<math::ExpOp>(loc, x); }
-  Value cos(Value x) { return b.create<math::CosOp>(loc, x); }
-  Value sin(Value x) { return b.create<math::SinOp>(loc, x); }
-  Value abs(Value x) { return b.create<math::AbsFOp>(loc, x); }
-  Value cmp(FP p, Value x, Value y) { return b.create<arith::CmpFOp>(loc, p, x, y); }
-  Value select(Value c, Value t, Value e) {
-    return b.create<arith::SelectOp>(loc, c, t, e);
-  }
-  Value band(Value x, Value y) { return b.create<arith::AndIOp>(loc, x, y); }
-
-  Value imul(Value x, Value y) { return b.create<arith::MulIOp>(loc, x, y); }
-  Value iadd(Value x, Value y) { return b.create<arith::AddIOp>(loc, x, y); }
-  Value icmp(arith::CmpIPredicate p, Value x, Value y) {
-    return b.create<arith::CmpIOp>(loc, p, x, y);
-  }
-  Value uitofp(Value x) { return b.create<arith::UIToFPOp>(loc, fty, x); }
+  Lanes(OpBuilder &b, Location loc, Type floatType) : LaneEmitter(b, loc, floatType) {}
 
   /// (int)floorf(x) as on x86: INT_MIN when out of range or NaN.
   Value ifloor(Value x) {
     Value fl = floor(x);
-    Value inRange = band(cmp(FP::OGE, fl, f(-2147483648.0f)),
-                         cmp(FP::OLT, fl, f(2147483648.0f)));
+    Value inRange = band(cmpf(FP::OGE, fl, f(-2147483648.0f)),
+                         cmpf(FP::OLT, fl, f(2147483648.0f)));
     return select(inRange, b.create<arith::FPToSIOp>(loc, ity, fl),
                   i(0x80000000u));
-  }
-
-  /// True if any lane of `mask` is (a scalar mask is its own answer).
-  Value any(Value mask) {
-    if (!isa<VectorType>(mask.getType()))
-      return mask;
-    return b.create<vector::ReductionOp>(loc, vector::CombiningKind::OR, mask);
   }
 
   Value dot(const Vec3 &x, const Vec3 &y) {
@@ -144,7 +86,7 @@ public:
   /// Imath's normalize: a zero vector stays as it is.
   Vec3 normalized(const Vec3 &v) {
     Value len = sqrt(dot(v, v));
-    Value zero = cmp(FP::OEQ, len, f(0.0f));
+    Value zero = cmpf(FP::OEQ, len, f(0.0f));
     Vec3 out;
     for (int k = 0; k < 3; ++k)
       out[k] = select(zero, v[k], div(v[k], len));
@@ -193,16 +135,12 @@ public:
     return {add(mul(v[0], m[0][0]), mul(v[1], m[1][0])),
             add(mul(v[0], m[0][1]), mul(v[1], m[1][1]))};
   }
-
-  OpBuilder &b;
-  Location loc;
-  Type fty, ity, bty;
 };
 
 /// Imath's clamp: x < lo ? lo : (x > hi ? hi : x).
 Value clampTo(Lanes &l, Value x, float lo, float hi) {
-  return l.select(l.cmp(FP::OLT, x, l.f(lo)), l.f(lo),
-                  l.select(l.cmp(FP::OGT, x, l.f(hi)), l.f(hi), x));
+  return l.select(l.cmpf(FP::OLT, x, l.f(lo)), l.f(lo),
+                  l.select(l.cmpf(FP::OGT, x, l.f(hi)), l.f(hi), x));
 }
 
 /// e^x for a moderate f32 x (|x| < 80), computed in double and rounded
@@ -334,9 +272,9 @@ Filter buildFilter(Lanes &l, const Params &p, const Vec3 &dx, const Vec3 &dy) {
   Filter fl;
   Vec3 n = l.cross(dx, dy);
   // OSL skips filtering when |n|^2 < 1e-6 (NaN included, as its test fails).
-  fl.on = l.band(l.splat(p.doFilter), l.cmp(FP::UGE, l.dot(n, n), l.f(1.0e-6f)));
+  fl.on = l.band(l.splat(p.doFilter), l.cmpf(FP::UGE, l.dot(n, n), l.f(1.0e-6f)));
   n = l.normalized(n);
-  Value nearX = l.cmp(FP::OLT, l.abs(n[0]), l.f(0.9f));
+  Value nearX = l.cmpf(FP::OLT, l.abs(n[0]), l.f(0.9f));
   Vec3 t = {l.select(nearX, l.f(0.0f), l.neg(n[2])), l.select(nearX, n[2], l.f(0.0f)),
             l.select(nearX, l.neg(n[1]), n[0])};
   t = l.normalized(t);
@@ -357,7 +295,7 @@ Filter buildFilter(Lanes &l, const Params &p, const Vec3 &dx, const Vec3 &dy) {
   Mat2 sigmaScr = {{{l.f(0.25f), l.f(0.0f)}, {l.f(0.0f), l.f(0.25f)}}};
   Mat2 sigmaF = l.times(l.times(scrTanT, sigmaScr), scrTan);
   Value detF = l.det(sigmaF);
-  fl.on = l.band(fl.on, l.cmp(FP::UGE, detF, l.f(1.0e-18f)));
+  fl.on = l.band(fl.on, l.cmpf(FP::UGE, detF, l.f(1.0e-18f)));
 
   // Equation 10 of Lagae et al., all but the impulse's own frequency.
   Value a = l.splat(p.a);
@@ -412,7 +350,7 @@ std::pair<Value, Vec3> sampleOmega(Lanes &l, const Params &p, int32_t mode,
     // lerp(-1, 1, u) = -1 * (1 - u) + 1 * u
     Value cosP = l.add(l.mul(l.f(-1.0f), l.sub(l.f(1.0f), u2)), l.mul(l.f(1.0f), u2));
     Value rest = l.sub(l.f(1.0f), l.mul(cosP, cosP));
-    Value sinP = l.sqrt(l.select(l.cmp(FP::OLT, l.f(0.0f), rest), rest, l.f(0.0f)));
+    Value sinP = l.sqrt(l.select(l.cmpf(FP::OLT, l.f(0.0f), rest), rest, l.f(0.0f)));
     return {s2, l.normalized({l.mul(cosT, sinP), l.mul(sinT, sinP), cosP})};
   }
   Value r = l.splat(p.directionLength);
@@ -485,7 +423,7 @@ Value impulseValue(Lanes &l, const Params &p, const Filter *fl,
   std::array<Value, 2> omegaF = l.rowTimes(mu, fl->gfTimesGInverse);
   Vec3 xt = l.rowTimes(x, fl->local);
   Value filtered = kernel(l, wF, omegaF, phiS, fl->aF, {xt[0], xt[1]});
-  Value finite = l.cmp(FP::ONE, l.abs(filtered), l.f(INFINITY));
+  Value finite = l.cmpf(FP::ONE, l.abs(filtered), l.f(INFINITY));
   return l.select(l.band(fl->on, finite), filtered, plain);
 }
 
@@ -497,7 +435,7 @@ Value impulseValue(Lanes &l, const Params &p, const Filter *fl,
 /// raised to at least 1.
 Value wrapCoord(Lanes &l, Value s, Value period) {
   Value q = l.floor(period);
-  q = l.select(l.cmp(FP::OLT, q, l.f(1.0f)), l.f(1.0f), q);
+  q = l.select(l.cmpf(FP::OLT, q, l.f(1.0f)), l.f(1.0f), q);
   return l.sub(s, l.mul(q, l.floor(l.div(s, q))));
 }
 
@@ -505,7 +443,7 @@ Value wrapCoord(Lanes &l, Value s, Value period) {
 /// uniforms stays above `bound`. Returns (state, count).
 std::pair<Value, Value> poissonCount(Lanes &l, Value bound, Value seed) {
   auto [s0, t0] = draw(l, seed);
-  Value active0 = l.cmp(FP::OGT, t0, bound);
+  Value active0 = l.cmpf(FP::OGT, t0, bound);
   SmallVector<Type> types = {l.ity, l.fty, l.ity, l.bty};
   SmallVector<Value> init = {s0, t0, l.i(0), active0};
   auto loop = l.b.create<scf::WhileOp>(
@@ -517,7 +455,7 @@ std::pair<Value, Value> poissonCount(Lanes &l, Value bound, Value seed) {
         Value state = args[0], t = args[1], count = args[2], active = args[3];
         auto [sNext, u] = draw(l, state);
         Value tNext = l.mul(t, u);
-        Value stillActive = l.band(active, l.cmp(FP::OGT, tNext, bound));
+        Value stillActive = l.band(active, l.cmpf(FP::OGT, tNext, bound));
         b.create<scf::YieldOp>(
             loc, ValueRange{l.select(active, sNext, state), l.select(active, tNext, t),
                             l.select(active, l.iadd(count, l.i(1)), count), stillActive});
@@ -536,17 +474,17 @@ Value cellSum(Lanes &l, const Params &p, const Filter *fl, Value seed,
   auto loop = l.b.create<scf::WhileOp>(
       l.loc, types, init,
       [&](OpBuilder &b, Location loc, ValueRange args) {
-        Value left = l.icmp(arith::CmpIPredicate::sgt, args[1], l.i(0));
+        Value left = l.cmpi(arith::CmpIPredicate::sgt, args[1], l.i(0));
         b.create<scf::ConditionOp>(loc, l.any(left), args);
       },
       [&](OpBuilder &b, Location loc, ValueRange args) {
         Value st = args[0], left = args[1], sum = args[2];
-        Value active = l.icmp(arith::CmpIPredicate::sgt, left, l.i(0));
+        Value active = l.cmpi(arith::CmpIPredicate::sgt, left, l.i(0));
         Impulse imp = drawImpulse(l, p, st);
         Vec3 xk;
         for (int k = 0; k < 3; ++k)
           xk[k] = l.mul(radius, l.sub(xci[k], imp.position[k]));
-        Value inside = l.cmp(FP::OLT, l.dot(xk, xk), radius2);
+        Value inside = l.cmpf(FP::OLT, l.dot(xk, xk), radius2);
         Value value = impulseValue(l, p, fl, imp, xk);
         Value counted = l.band(active, inside);
         b.create<scf::YieldOp>(
@@ -601,7 +539,7 @@ Value evaluate(Lanes &l, const Params &p, const Filter *fl,
     }
     keys.push_back(l.i(seedKey));
     Value seed = buildIntHash(b, loc, keys);
-    seed = l.select(l.icmp(arith::CmpIPredicate::eq, seed, l.i(0)), l.i(1), seed);
+    seed = l.select(l.cmpi(arith::CmpIPredicate::eq, seed, l.i(0)), l.i(1), seed);
     Value sum = cells.getRegionIterArgs()[0];
     b.create<scf::YieldOp>(loc, l.add(sum, cellSum(l, p, fl, seed, xci)));
   }

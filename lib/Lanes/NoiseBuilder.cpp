@@ -66,7 +66,7 @@ Value grad3(Emitter &e, Value hash, Value x, Value y, Value z) {
   Value h = e.iand(hash, 15u);
   Value u = e.select(e.ult(h, 8), x, y);
   // h == 12 || h == 14  <=>  (h | 2) == 14 for h in [0, 15].
-  Value is12or14 = e.eq(e.ior(h, e.i(2)), 14);
+  Value is12or14 = e.ieq(e.ior(h, e.i(2)), 14);
   Value v = e.select(e.ult(h, 4), y, e.select(is12or14, x, z));
   return e.add(e.negateIfBit(u, h, 0), e.negateIfBit(v, h, 1));
 }

@@ -1,14 +1,16 @@
 //===- NoiseEmitter.h - Lane ops for the noise builders ---------*- C++ -*-===//
 //
-// The op helpers the noise algorithms are written with, over one lane type
-// (f32 / i32 / i1, or vectors of them), and the simplex noise pieces that
-// SimplexNoise.cpp builds for NoiseBuilder.cpp's entry points.
+// The lane emitter (OslLanes/LaneEmitter.h) with what the noise algorithms
+// add to it (OSL's hashes, sign flips, floorfrac, small vectors and
+// matrices), and the simplex noise pieces that SimplexNoise.cpp builds for
+// NoiseBuilder.cpp's entry points.
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLTRANSFORMS_NOISEEMITTER_H
-#define OSLTRANSFORMS_NOISEEMITTER_H
+#ifndef OSLLANES_NOISEEMITTER_H
+#define OSLLANES_NOISEEMITTER_H
 
 #include "OslLanes/NoiseBuilder.h"
+#include "OslLanes/LaneEmitter.h"
 #include "OslLanes/LaneMath.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
@@ -33,98 +35,13 @@ namespace mlir::osl::noise {
 // Op helpers over one lane type (f32 / i32 / i1 or vectors of them)
 //===----------------------------------------------------------------------===//
 
-class Emitter {
+class Emitter : public LaneEmitter {
 public:
   Emitter(OpBuilder &b, Location loc, Type floatType)
-      : b(b), loc(loc), fty(floatType) {
-    Type i32 = b.getI32Type(), i1 = b.getI1Type();
-    if (auto vt = dyn_cast<VectorType>(floatType)) {
-      assert(vt.getElementType().isF32() && "noise operands must be f32");
-      ity = VectorType::get(vt.getShape(), i32, vt.getScalableDims());
-      bty = VectorType::get(vt.getShape(), i1, vt.getScalableDims());
-    } else {
-      assert(floatType.isF32() && "noise operands must be f32");
-      ity = i32;
-      bty = i1;
-    }
+      : LaneEmitter(b, loc, floatType, Constants::Cached) {
+    assert(getElementTypeOrSelf(floatType).isF32() && "noise operands must be f32");
   }
 
-  /// `scalar` as a constant of `type`, splat if `type` is a vector.
-  Value constant(Type type, TypedAttr scalar) {
-    TypedAttr attr = scalar;
-    if (auto vt = dyn_cast<VectorType>(type)) {
-      Attribute elt = scalar;
-      attr = DenseElementsAttr::get(vt, llvm::ArrayRef(elt));
-    }
-    return b.create<arith::ConstantOp>(loc, attr);
-  }
-
-  // Constants, cached per bit pattern.
-  Value f(float v) {
-    uint32_t bits;
-    static_assert(sizeof bits == sizeof v);
-    std::memcpy(&bits, &v, sizeof bits);
-    Value &slot = floatConsts[bits];
-    if (!slot)
-      slot = constant(fty, b.getF32FloatAttr(v));
-    return slot;
-  }
-  Value i(uint32_t v) {
-    Value &slot = intConsts[v];
-    if (!slot)
-      slot = constant(ity, IntegerAttr::get(b.getI32Type(), APInt(32, v)));
-    return slot;
-  }
-
-  // Float arithmetic: plain IEEE ops, no fastmath flags.
-  Value add(Value a, Value c) { return b.create<arith::AddFOp>(loc, a, c); }
-  Value sub(Value a, Value c) { return b.create<arith::SubFOp>(loc, a, c); }
-  Value mul(Value a, Value c) { return b.create<arith::MulFOp>(loc, a, c); }
-  Value div(Value a, Value c) { return b.create<arith::DivFOp>(loc, a, c); }
-  Value neg(Value a) { return b.create<arith::NegFOp>(loc, a); }
-  Value floor(Value a) { return b.create<math::FloorOp>(loc, a); }
-  Value cmpf(arith::CmpFPredicate p, Value a, Value c) {
-    return b.create<arith::CmpFOp>(loc, p, a, c);
-  }
-
-  // Integer arithmetic on i32 lanes (wrap-around, like C unsigned).
-  Value iadd(Value a, Value c) { return b.create<arith::AddIOp>(loc, a, c); }
-  Value isub(Value a, Value c) { return b.create<arith::SubIOp>(loc, a, c); }
-  Value ixor(Value a, Value c) { return b.create<arith::XOrIOp>(loc, a, c); }
-  Value iand(Value a, Value c) { return b.create<arith::AndIOp>(loc, a, c); }
-  Value ior(Value a, Value c) { return b.create<arith::OrIOp>(loc, a, c); }
-  Value shl(Value a, Value c) { return b.create<arith::ShLIOp>(loc, a, c); }
-  Value shr(Value a, Value c) { return b.create<arith::ShRUIOp>(loc, a, c); }
-  Value shl(Value a, unsigned k) { return shl(a, i(k)); }
-  Value shr(Value a, unsigned k) { return shr(a, i(k)); }
-  Value iand(Value a, uint32_t m) { return iand(a, i(m)); }
-  Value iadd(Value a, uint32_t k) { return k ? iadd(a, i(k)) : a; }
-  Value remsi(Value a, Value c) { return b.create<arith::RemSIOp>(loc, a, c); }
-  Value cmpi(arith::CmpIPredicate p, Value a, Value c) {
-    return b.create<arith::CmpIOp>(loc, p, a, c);
-  }
-  /// (a & mask) != 0
-  Value test(Value a, uint32_t mask) {
-    return cmpi(arith::CmpIPredicate::ne, iand(a, mask), i(0));
-  }
-  Value ult(Value a, uint32_t k) {
-    return cmpi(arith::CmpIPredicate::ult, a, i(k));
-  }
-  Value eq(Value a, uint32_t k) {
-    return cmpi(arith::CmpIPredicate::eq, a, i(k));
-  }
-
-  // Booleans.
-  Value band(Value a, Value c) { return b.create<arith::AndIOp>(loc, a, c); }
-  Value bor(Value a, Value c) { return b.create<arith::OrIOp>(loc, a, c); }
-  Value bnot(Value a) {
-    if (!trueConst)
-      trueConst = constant(bty, b.getIntegerAttr(b.getI1Type(), 1));
-    return b.create<arith::XOrIOp>(loc, a, trueConst);
-  }
-  Value select(Value c, Value t, Value e) {
-    return b.create<arith::SelectOp>(loc, c, t, e);
-  }
   /// cond ? -v : v
   Value negateIf(Value v, Value cond) { return select(cond, neg(v), v); }
   /// -v where bit `bit` of the integer h is set, else v: that bit moved to
@@ -139,13 +56,6 @@ public:
     flipped->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleSignFlip));
     return flipped;
   }
-
-  // Conversions.
-  Value sitofp(Value a) { return b.create<arith::SIToFPOp>(loc, fty, a); }
-  Value uitofp(Value a) { return b.create<arith::UIToFPOp>(loc, fty, a); }
-  Value bitsOf(Value a) { return b.create<arith::BitcastOp>(loc, ity, a); }
-  /// 0/1 as i32 from an i1.
-  Value zext(Value cond) { return b.create<arith::ExtUIOp>(loc, ity, cond); }
 
   //===--------------------------------------------------------------------===//
   // Shared noise pieces
@@ -236,14 +146,6 @@ public:
   }
 
   Value unsignedOf(Value n) { return mul(f(0.5f), add(n, f(1.0f))); }
-
-  OpBuilder &b;
-  Location loc;
-  Type fty, ity, bty;
-
-private:
-  llvm::DenseMap<uint32_t, Value> floatConsts, intConsts;
-  Value trueConst;
 };
 
 /// All corners of the simplex containing a 2-4D point: distance vectors
@@ -261,4 +163,4 @@ Value simplexN(Emitter &e, const SimplexCorners &sc, uint32_t seed);
 
 } // namespace mlir::osl::noise
 
-#endif // OSLTRANSFORMS_NOISEEMITTER_H
+#endif // OSLLANES_NOISEEMITTER_H
