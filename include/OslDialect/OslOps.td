@@ -84,7 +84,9 @@ def Osl_CountLanesOp : Osl_Op<"count_lanes", [MemoryEffects<[MemWrite]>]> {
 // Structured control flow (before osl-insert-mask-stack)
 //===----------------------------------------------------------------------===//
 
-def Osl_IfOp : Osl_Op<"if", [RecursiveMemoryEffects, NoRegionArguments]> {
+def Osl_IfOp : Osl_Op<"if", [RecursiveMemoryEffects, NoRegionArguments,
+    DeclareOpInterfaceMethods<RegionBranchOpInterface,
+                              ["areTypesCompatible", "getRegionInvocationBounds"]>]> {
   let summary = "if/else; the condition may be varying";
   let arguments = (ins Osl_Bool:$condition);
   let results = (outs Variadic<Osl_Value>:$results);
@@ -96,7 +98,9 @@ def Osl_IfOp : Osl_Op<"if", [RecursiveMemoryEffects, NoRegionArguments]> {
   let hasCanonicalizer = 1;
 }
 
-def Osl_WhileOp : Osl_Op<"while", [RecursiveMemoryEffects]> {
+def Osl_WhileOp : Osl_Op<"while", [RecursiveMemoryEffects,
+    DeclareOpInterfaceMethods<RegionBranchOpInterface,
+                              ["areTypesCompatible", "getEntrySuccessorOperands"]>]> {
   let summary = "a loop; its condition may be varying";
   let description = [{
     Like scf.while: `cond` receives the loop-carried values and ends in
@@ -112,7 +116,8 @@ def Osl_WhileOp : Osl_Op<"while", [RecursiveMemoryEffects]> {
   let hasRegionVerifier = 1; // after the ops inside verify
 }
 
-def Osl_ConditionOp : Osl_Op<"condition", [Pure, Terminator, HasParent<"WhileOp">]> {
+def Osl_ConditionOp : Osl_Op<"condition", [Pure, Terminator, HasParent<"WhileOp">,
+    DeclareOpInterfaceMethods<RegionBranchTerminatorOpInterface>]> {
   let summary = "ends the condition region of osl.while";
   let arguments = (ins Osl_Bool:$condition, Variadic<Osl_Value>:$args);
   let assemblyFormat = "$condition `:` type($condition) (`,` $args^ `:` type($args))? attr-dict";

@@ -161,32 +161,64 @@ LogicalResult BatchMaskOp::verify() {
 // Control flow
 //===----------------------------------------------------------------------===//
 
-/// Types flowing into a slot must have its base type; uniformity is settled
-/// by osl-varying-propagation.
-static LogicalResult verifyFlow(Operation *op, StringRef what, TypeRange from,
-                                TypeRange to) {
-  if (from.size() != to.size())
-    return op->emitOpError() << what << ": " << from.size()
-                             << " values for " << to.size() << " slots";
-  for (auto [f, t] : llvm::zip(from, to))
-    if (getUniformType(f) != getUniformType(t))
-      return op->emitOpError() << what << ": type " << f << " does not match "
-                               << t;
-  return success();
+//===----------------------------------------------------------------------===//
+// Control flow between regions (RegionBranchOpInterface)
+//===----------------------------------------------------------------------===//
+
+// Before osl-varying-propagation a uniform value may flow into a varying
+// slot (verifyFlow): the edges compare base types.
+bool IfOp::areTypesCompatible(Type lhs, Type rhs) {
+  return getUniformType(lhs) == getUniformType(rhs);
+}
+bool WhileOp::areTypesCompatible(Type lhs, Type rhs) {
+  return getUniformType(lhs) == getUniformType(rhs);
+}
+
+/// Either arm from the op; the arms to the op's results.
+void IfOp::getSuccessorRegions(RegionBranchPoint point,
+                               SmallVectorImpl<RegionSuccessor> &regions) {
+  if (point.isParent()) {
+    regions.push_back(RegionSuccessor(&getThenRegion()));
+    regions.push_back(RegionSuccessor(&getElseRegion()));
+    return;
+  }
+  regions.push_back(RegionSuccessor(getResults()));
+}
+
+/// Each point runs an arm at most once (a varying condition runs both arms
+/// for the batch, each for its own points).
+void IfOp::getRegionInvocationBounds(ArrayRef<Attribute>,
+                                     SmallVectorImpl<InvocationBounds> &bounds) {
+  bounds.assign(2, InvocationBounds(0, 1));
+}
+
+/// The op enters `cond` with its inits; `cond` goes to `do` or leaves with
+/// what osl.condition forwards; `do` goes back to `cond`.
+void WhileOp::getSuccessorRegions(RegionBranchPoint point,
+                                  SmallVectorImpl<RegionSuccessor> &regions) {
+  if (point.isParent() || point.getRegionOrNull() == &getAfter()) {
+    regions.push_back(RegionSuccessor(&getBefore(), getBefore().getArguments()));
+    return;
+  }
+  regions.push_back(RegionSuccessor(&getAfter(), getAfter().getArguments()));
+  regions.push_back(RegionSuccessor(getResults()));
+}
+
+OperandRange WhileOp::getEntrySuccessorOperands(RegionBranchPoint) { return getInits(); }
+
+MutableOperandRange ConditionOp::getMutableSuccessorOperands(RegionBranchPoint) {
+  return getArgsMutable();
 }
 
 // The region verifiers run after the ops inside them have verified, so a
-// malformed terminator (too few operands) is reported, not read.
+// malformed terminator (too few operands) is reported, not read. The types
+// along the edges are RegionBranchOpInterface's to check.
 LogicalResult IfOp::verifyRegions() {
   for (Region *region : {&getThenRegion(), &getElseRegion()}) {
     if (region->empty() || region->front().empty())
       return emitOpError("regions must end in osl.yield");
-    auto yield = dyn_cast<YieldOp>(region->front().back());
-    if (!yield)
+    if (!isa<YieldOp>(region->front().back()))
       return emitOpError("regions must end in osl.yield");
-    if (failed(verifyFlow(*this, "yield", yield.getValues().getTypes(),
-                          getResultTypes())))
-      return failure();
   }
   return success();
 }
@@ -355,24 +387,13 @@ LogicalResult WhileOp::verifyRegions() {
   if (getBefore().empty() || getAfter().empty() || getBefore().front().empty() ||
       getAfter().front().empty())
     return emitOpError("needs a 'cond' and a 'do' region, each ending in its terminator");
-  Block &before = getBefore().front();
-  Block &after = getAfter().front();
-  if (failed(verifyFlow(*this, "loop entry", getInits().getTypes(),
-                        before.getArgumentTypes())))
-    return failure();
-  auto cond = dyn_cast<ConditionOp>(before.back());
-  if (!cond)
+  // What flows along each edge is checked by RegionBranchOpInterface's
+  // verifier (getSuccessorRegions, areTypesCompatible).
+  if (!isa<ConditionOp>(getBefore().front().back()))
     return emitOpError("'cond' region must end in osl.condition");
-  if (failed(verifyFlow(*this, "condition", cond.getArgs().getTypes(),
-                        after.getArgumentTypes())) ||
-      failed(verifyFlow(*this, "loop exit", cond.getArgs().getTypes(),
-                        getResultTypes())))
-    return failure();
-  auto yield = dyn_cast<YieldOp>(after.back());
-  if (!yield)
+  if (!isa<YieldOp>(getAfter().front().back()))
     return emitOpError("'do' region must end in osl.yield");
-  return verifyFlow(*this, "loop back edge", yield.getValues().getTypes(),
-                    before.getArgumentTypes());
+  return success();
 }
 
 //===----------------------------------------------------------------------===//

@@ -128,7 +128,7 @@ func.func @spline_unknown_basis(%x: f32, %k: f32) {
 // -----
 
 func.func @if_yields_wrong_type(%c: i1, %a: f32, %b: i32) {
-  // expected-error @+1 {{yield: type 'i32' does not match 'f32'}}
+  // expected-error @+1 {{along control flow edge from Region #1 to parent results: source type #0 'i32' should match input type #0 'f32'}}
   %0 = osl.if %c : i1 -> f32 {
     osl.yield %a : f32
   } else {
@@ -140,7 +140,7 @@ func.func @if_yields_wrong_type(%c: i1, %a: f32, %b: i32) {
 // -----
 
 func.func @while_back_edge_count(%a: f32, %c: i1) {
-  // expected-error @+1 {{loop back edge: 0 values for 1 slots}}
+  // expected-error @+1 {{region control flow edge from Region #1 to Region #0: source has 0 operands, but target successor needs 1}}
   %0 = osl.while (%a : f32) -> f32 cond {
   ^bb0(%x: f32):
     osl.condition %c : i1, %x : f32
@@ -393,5 +393,20 @@ func.func @message_kind_type(%f: f32) {
 func.func @message_results_varying(%f: f32) {
   // expected-error @+1 {{results must be the values' types, varying}}
   %found, %v = osl.get_message "m" "float" "f"(%f) : (f32) -> (!osl.varying<i32>, f32)
+  return
+}
+
+// -----
+
+// Before osl-varying-propagation a uniform value may flow into a varying
+// slot: the control-flow edges compare base types.
+func.func @if_uniform_into_varying(%c: !osl.varying<i1>, %a: f32, %b: !osl.varying<f32>) {
+  // expected-error @+1 {{along control flow edge from Region #0 to parent results: source type #0 'i32' should match input type #0 '!osl.varying<f32>'}}
+  %0 = osl.if %c : !osl.varying<i1> -> !osl.varying<f32> {
+    %i = arith.constant 1 : i32
+    osl.yield %i : i32
+  } else {
+    osl.yield %a : f32
+  }
   return
 }

@@ -21,6 +21,9 @@ int main(int argc, char **argv) {
   mlir::osl::registerOslPasses();
   mlir::registerCanonicalizerPass();
   mlir::registerCSEPass();
+  // Upstream passes that work through RegionBranchOpInterface, which
+  // osl.if and osl.while implement.
+  mlir::registerControlFlowSinkPass();
   return mlir::asMainReturnCode(
       mlir::MlirOptMain(argc, argv, "osl-mlir optimizer driver\n", registry));
 }
