@@ -48,6 +48,7 @@ bool isKnownNoiseName(llvm::StringRef name);
 } // namespace mlir::osl
 
 #include "OslDialect/OslOpsDialect.h.inc"
+#include "OslDialect/OslEnums.h.inc"
 
 #define GET_TYPEDEF_CLASSES
 #include "OslDialect/OslOpsTypes.h.inc"

@@ -4,6 +4,7 @@
 
 include "OslDialect/OslDialect.td"
 include "OslDialect/OslTypes.td"
+include "OslDialect/OslEnums.td"
 include "mlir/Interfaces/SideEffectInterfaces.td"
 include "mlir/Interfaces/ControlFlowInterfaces.td"
 
@@ -269,14 +270,16 @@ def Osl_CmpOp : Osl_LaneOp<"cmp", "Compare"> {
     Triples and matrices: `ne` is or-ed over the components, the others
     and-ed.
   }];
-  let arguments = (ins StrAttr:$predicate, Osl_Value:$lhs, Osl_Value:$rhs,
+  let arguments = (ins Osl_CmpPredicate:$predicate, Osl_Value:$lhs, Osl_Value:$rhs,
                        UnitAttr:$unordered);
   let results = (outs Osl_Bool:$result);
   let assemblyFormat = "$predicate `,` $lhs `,` $rhs attr-dict `:` type($lhs) `,` type($rhs) `->` type($result)";
   let builders = [OpBuilder<(ins "::llvm::StringRef":$predicate, "::mlir::Value":$lhs,
                                 "::mlir::Value":$rhs, CArg<"bool", "false">:$unordered), [{
-    build($_builder, $_state, ::mlir::osl::inferLaneResultType(kLaneKind, {lhs, rhs}),
-          $_builder.getStringAttr(predicate), lhs, rhs, unordered);
+    std::optional<::mlir::osl::CmpPredicate> p = ::mlir::osl::symbolizeCmpPredicate(predicate);
+    assert(p && "osl.cmp predicates are eq, ne, lt, le, gt, ge");
+    build($_builder, $_state, ::mlir::osl::inferLaneResultType(kLaneKind, {lhs, rhs}), *p, lhs,
+          rhs, unordered);
   }]>];
 }
 
@@ -743,7 +746,7 @@ def Osl_DerivOp : Osl_Op<"deriv", [Pure, AllTypesMatch<["value", "result"]>]> {
     turns it into osl.lane_deriv, which osl-derivatives resolves by
     differentiating the lane code that computes the value.
   }];
-  let arguments = (ins Osl_Value:$value, StrAttr:$axis);
+  let arguments = (ins Osl_Value:$value, Osl_DerivAxis:$axis);
   let results = (outs Osl_Value:$result);
   let assemblyFormat = "$axis $value attr-dict `:` type($value)";
   let hasVerifier = 1;
@@ -758,7 +761,7 @@ def Osl_LaneDerivOp : Osl_Op<"lane_deriv", [Pure, AllTypesMatch<["value", "resul
     for exactly the operations `value` depends on, starting from the
     derivative rows of the shader globals.
   }];
-  let arguments = (ins AnyType:$value, StrAttr:$axis);
+  let arguments = (ins AnyType:$value, Osl_DerivAxis:$axis);
   let results = (outs AnyType:$result);
   let assemblyFormat = "$axis $value attr-dict `:` type($value)";
 }

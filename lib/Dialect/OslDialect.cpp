@@ -9,6 +9,7 @@ using namespace mlir;
 using namespace mlir::osl;
 
 #include "OslDialect/OslOpsDialect.cpp.inc"
+#include "OslDialect/OslEnums.cpp.inc"
 
 #define GET_TYPEDEF_CLASSES
 #include "OslDialect/OslOpsTypes.cpp.inc"

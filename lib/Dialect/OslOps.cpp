@@ -96,16 +96,14 @@ LogicalResult mlir::osl::verifyLaneOp(Operation *op, LaneKind kind) {
     return success();
   case LaneKind::Compare: {
     // Closures compare for equality only (`if (Ci)` is Ci != the empty one).
-    StringRef predicate = op->getAttrOfType<StringAttr>("predicate").getValue();
-    bool closures = isa<ClosureType>(bases.front()) && (predicate == "eq" || predicate == "ne");
+    CmpPredicate predicate = cast<CmpOp>(op).getPredicate();
+    bool closures = isa<ClosureType>(bases.front()) &&
+                    (predicate == CmpPredicate::eq || predicate == CmpPredicate::ne);
     if (!allSame(bases) ||
         !(isNumeric(bases.front()) || bases.front().isInteger(1) || closures))
       return op->emitOpError("compares two values of one type, got ") << bases;
     if (!result.isInteger(1))
       return op->emitOpError("result must be i1");
-    if (!llvm::is_contained(ArrayRef<StringRef>{"eq", "ne", "lt", "le", "gt", "ge"},
-                            op->getAttrOfType<StringAttr>("predicate").getValue()))
-      return op->emitOpError("unknown predicate");
     return success();
   }
   case LaneKind::Select:
@@ -756,8 +754,6 @@ LogicalResult SplineOp::verify() {
 //===----------------------------------------------------------------------===//
 
 LogicalResult DerivOp::verify() {
-  if (getAxis() != "x" && getAxis() != "y" && getAxis() != "z")
-    return emitOpError("axis must be x, y or z, not '") << getAxis() << "'";
   if (!isFloatLike(getUniformType(getValue().getType())))
     return emitOpError("only floats and triples have derivatives");
   return success();

@@ -788,8 +788,8 @@ bool namesArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
 }
 
 mlir::Value derivOf(IRGen &g, SrcLoc l, mlir::Value v, char axis) {
-  const char *name = axis == 'x' ? "x" : axis == 'y' ? "y" : "z";
-  return g.builder().create<DerivOp>(g.loc(l), v.getType(), v, name);
+  DerivAxis which = axis == 'x' ? DerivAxis::x : axis == 'y' ? DerivAxis::y : DerivAxis::z;
+  return g.builder().create<DerivOp>(g.loc(l), v.getType(), v, which);
 }
 
 } // namespace osl::frontend

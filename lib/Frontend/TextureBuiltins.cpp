@@ -72,7 +72,8 @@ private:
                                          triple, i);
   }
   Value deriv(Value v, const char *axis) {
-    return g.builder().create<DerivOp>(g.loc(call.loc), v.getType(), v, axis);
+    return g.builder().create<DerivOp>(g.loc(call.loc), v.getType(), v,
+                                         *symbolizeDerivAxis(axis));
   }
 
   IRGen &g;

@@ -601,17 +601,13 @@ struct DerivativesPass : public mlir::osl::impl::DerivativesBase<DerivativesPass
   void runOnOperation() override {
     // Grouped by axis up front: each request is erased once resolved, so
     // none may be looked at again afterwards.
-    const StringRef axes[3] = {"x", "y", "z"};
     SmallVector<LaneDerivOp> requests[3];
-    getOperation().walk([&](LaneDerivOp op) {
-      for (int k = 0; k < 3; ++k)
-        if (op.getAxis() == axes[k])
-          requests[k].push_back(op);
-    });
+    getOperation().walk(
+        [&](LaneDerivOp op) { requests[static_cast<int>(op.getAxis())].push_back(op); });
     // One axis at a time: rebuilding a branch for one axis replaces values
     // another axis's memo would otherwise still hold.
     for (int k = 0; k < 3; ++k) {
-      Differentiator diff(axes[k]);
+      Differentiator diff(stringifyDerivAxis(static_cast<DerivAxis>(k)));
       for (LaneDerivOp op : llvm::reverse(requests[k])) {
         FailureOr<Value> d = diff.derive(op.getValue(), op);
         if (failed(d))

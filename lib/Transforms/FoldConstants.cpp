@@ -100,7 +100,7 @@ struct CmpOfConstants : public OpRewritePattern<CmpOp> {
     Location loc = op.getLoc();
     SmallVector<Value> lhs = constantComponents(b, loc, op.getLhs());
     SmallVector<Value> rhs = constantComponents(b, loc, op.getRhs());
-    b.replaceOp(op, lane::compareComponents(b, loc, op.getPredicate(), lhs, rhs, op.getUnordered()));
+    b.replaceOp(op, lane::compareComponents(b, loc, stringifyCmpPredicate(op.getPredicate()), lhs, rhs, op.getUnordered()));
     return success();
   }
 };

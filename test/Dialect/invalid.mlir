@@ -56,7 +56,7 @@ func.func @varying_of_f64(%a: !osl.varying<f64>) {
 // -----
 
 func.func @compare_unknown_predicate(%a: f32) {
-  // expected-error @+1 {{unknown predicate}}
+  // expected-error @+1 {{invalid predicate attribute specification: "near"}}
   %0 = osl.cmp "near", %a, %a : f32, f32 -> i1
   return
 }
@@ -368,7 +368,7 @@ func.func @print_operand_type(%s: i32, %f: f32) {
 // Closures compare for equality only.
 func.func @closure_ordered_compare(%c: !osl.closure) {
   // expected-error @+1 {{compares two values of one type}}
-  %0 = osl.cmp "lt", %c, %c : !osl.closure, !osl.closure -> i1
+  %0 = osl.cmp lt, %c, %c : !osl.closure, !osl.closure -> i1
   return
 }
 

@@ -50,8 +50,8 @@ func.func @color_ops(%c: vector<3xf32>, %t: !osl.varying<f32>) {
 // CHECK-LABEL: func.func @gabor_options
 func.func @gabor_options(%bw: f32) {
   %P = osl.global "P" : !osl.varying<vector<3xf32>>
-  %dx = osl.deriv "x" %P : !osl.varying<vector<3xf32>>
-  %dy = osl.deriv "y" %P : !osl.varying<vector<3xf32>>
+  %dx = osl.deriv x %P : !osl.varying<vector<3xf32>>
+  %dy = osl.deriv y %P : !osl.varying<vector<3xf32>>
   %one = arith.constant 1 : i32
   %dir = arith.constant dense<[0.0, 1.0, 0.0]> : vector<3xf32>
   // CHECK: osl.noise "gabor"(%{{.+}}) derivs(%{{.+}}, %{{.+}} : !osl.varying<vector<3xf32>>, !osl.varying<vector<3xf32>>) anisotropic(%{{.+}} : i32) direction(%{{.+}} : vector<3xf32>) bandwidth(%{{.+}} : f32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
@@ -124,10 +124,10 @@ func.func @print_streams(%fmt: i32, %u: !osl.varying<f32>, %m: !osl.varying<i1>)
 
 // A closure is tested against the empty one for `if (Ci)`.
 // CHECK-LABEL: func.func @closure_compare
-// CHECK: osl.cmp "ne", %{{.+}}, %{{.+}} : !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<i1>
+// CHECK: osl.cmp ne, %{{.+}}, %{{.+}} : !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<i1>
 func.func @closure_compare(%c: !osl.varying<!osl.closure>) {
   %empty = osl.closure_empty : !osl.closure
-  %0 = osl.cmp "ne", %c, %empty : !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<i1>
+  %0 = osl.cmp ne, %c, %empty : !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<i1>
   return
 }
 

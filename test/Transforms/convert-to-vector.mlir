@@ -131,7 +131,7 @@ func.func @masked_loop() {
   %m = osl.batch_mask : !osl.varying<i1>
   %one = arith.constant 1.0 : f32
   %r:2 = scf.while (%x = %u, %mask = %m) : (!osl.varying<f32>, !osl.varying<i1>) -> (!osl.varying<f32>, !osl.varying<i1>) {
-    %c = osl.cmp "lt", %x, %one : !osl.varying<f32>, f32 -> !osl.varying<i1>
+    %c = osl.cmp lt, %x, %one : !osl.varying<f32>, f32 -> !osl.varying<i1>
     %still = osl.and %mask, %c : !osl.varying<i1>, !osl.varying<i1> -> !osl.varying<i1>
     %any = osl.any %still : !osl.varying<i1>
     scf.condition(%any) %x, %still : !osl.varying<f32>, !osl.varying<i1>
@@ -350,8 +350,8 @@ func.func @first_lane() {
 func.func @gabor_filtered_color() {
   %P = osl.global "P" : !osl.varying<vector<3xf32>>
   %filter = arith.constant 1 : i32
-  %dx = osl.deriv "x" %P : !osl.varying<vector<3xf32>>
-  %dy = osl.deriv "y" %P : !osl.varying<vector<3xf32>>
+  %dx = osl.deriv x %P : !osl.varying<vector<3xf32>>
+  %dy = osl.deriv y %P : !osl.varying<vector<3xf32>>
   %c = osl.noise "gabor"(%P) derivs(%dx, %dy : !osl.varying<vector<3xf32>>, !osl.varying<vector<3xf32>>) do_filter(%filter : i32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<vector<3xf32>>
   osl.output "c" = %c : !osl.varying<vector<3xf32>>
   return
@@ -437,7 +437,7 @@ func.func @closures() {
   %e = osl.closure_component "emission"() : () -> !osl.closure
   %sum = osl.closure_add %dw, %e : !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<!osl.closure>
   %empty = osl.closure_empty : !osl.closure
-  %c = osl.cmp "gt", %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %c = osl.cmp gt, %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
   %ci = osl.select %c, %sum, %empty : !osl.varying<i1>, !osl.varying<!osl.closure>, !osl.closure -> !osl.varying<!osl.closure>
   osl.output "Ci" = %ci : !osl.varying<!osl.closure>
   return
@@ -492,7 +492,7 @@ func.func @output_in_branch() {
 func.func @print() {
   %u = osl.global "u" : !osl.varying<f32>
   %half = arith.constant 0.5 : f32
-  %c = osl.cmp "gt", %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %c = osl.cmp gt, %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
   %fmt = osl.string_constant "u = %g\n" : i32
   osl.print "printf" "sf"(%fmt, %u) mask %c : !osl.varying<i1> : i32, !osl.varying<f32>
   return
@@ -521,10 +521,10 @@ func.func @unordered_comparisons() {
   %p = osl.global "P" : !osl.varying<vector<3xf32>>
   %one = arith.constant 1.0 : f32
   %zero = arith.constant dense<0.0> : vector<3xf32>
-  %a = osl.cmp "lt", %u, %one {unordered} : !osl.varying<f32>, f32 -> !osl.varying<i1>
-  %b = osl.cmp "lt", %u, %one : !osl.varying<f32>, f32 -> !osl.varying<i1>
-  %c = osl.cmp "eq", %p, %zero {unordered} : !osl.varying<vector<3xf32>>, vector<3xf32> -> !osl.varying<i1>
-  %d = osl.cmp "ne", %p, %zero {unordered} : !osl.varying<vector<3xf32>>, vector<3xf32> -> !osl.varying<i1>
+  %a = osl.cmp lt, %u, %one {unordered} : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %b = osl.cmp lt, %u, %one : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %c = osl.cmp eq, %p, %zero {unordered} : !osl.varying<vector<3xf32>>, vector<3xf32> -> !osl.varying<i1>
+  %d = osl.cmp ne, %p, %zero {unordered} : !osl.varying<vector<3xf32>>, vector<3xf32> -> !osl.varying<i1>
   %ab = osl.and %a, %b : !osl.varying<i1>, !osl.varying<i1> -> !osl.varying<i1>
   %cd = osl.and %c, %d : !osl.varying<i1>, !osl.varying<i1> -> !osl.varying<i1>
   %all = osl.and %ab, %cd : !osl.varying<i1>, !osl.varying<i1> -> !osl.varying<i1>

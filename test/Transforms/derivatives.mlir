@@ -10,7 +10,7 @@
 func.func @global_row(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
   %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
   %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
-  %d = osl.lane_deriv "x" %u : vector<4xf32>
+  %d = osl.lane_deriv x %u : vector<4xf32>
   %m = arith.constant dense<true> : vector<4xi1>
   llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return
@@ -35,7 +35,7 @@ func.func @texture_result_row(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
   %block = llvm.alloca %c x i32 {alignment = 64 : i64} : (i64) -> !llvm.ptr
   %0 = llvm.getelementptr %block[96] : (!llvm.ptr) -> !llvm.ptr, f32
   %g = llvm.load %0 {alignment = 4 : i64, osl.texture_result_row = 24 : i64} : !llvm.ptr -> vector<4xf32>
-  %d = osl.lane_deriv "y" %g : vector<4xf32>
+  %d = osl.lane_deriv y %g : vector<4xf32>
   %m = arith.constant dense<true> : vector<4xi1>
   llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return
@@ -62,7 +62,7 @@ func.func @product_rule(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
   %1 = llvm.getelementptr %arg0[136] : (!llvm.ptr) -> !llvm.ptr, f32
   %v = llvm.load %1 {alignment = 4 : i64, osl.global_row = 34 : i64} : !llvm.ptr -> vector<4xf32>
   %p = arith.mulf %u, %v : vector<4xf32>
-  %d = osl.lane_deriv "y" %p : vector<4xf32>
+  %d = osl.lane_deriv y %p : vector<4xf32>
   %m = arith.constant dense<true> : vector<4xi1>
   llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return
@@ -83,7 +83,7 @@ func.func @triple(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
   %px = llvm.load %0 {alignment = 4 : i64, osl.global_row = 0 : i64} : !llvm.ptr -> vector<4xf32>
   %z = arith.constant dense<0.000000e+00> : vector<3x4xf32>
   %p = vector.insert %px, %z [0] : vector<4xf32> into vector<3x4xf32>
-  %d = osl.lane_deriv "x" %p : vector<3x4xf32>
+  %d = osl.lane_deriv x %p : vector<3x4xf32>
   %r = vector.extract %d[0] : vector<4xf32> from vector<3x4xf32>
   %m = arith.constant dense<true> : vector<4xi1>
   llvm.intr.masked.store %r, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
@@ -109,7 +109,7 @@ func.func @osl_atan2(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
   %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
   %one = arith.constant dense<1.0> : vector<4xf32>
   %a = math.atan2 %one, %u {osl.dual_rule = "osl_atan2"} : vector<4xf32>
-  %d = osl.lane_deriv "x" %a : vector<4xf32>
+  %d = osl.lane_deriv x %a : vector<4xf32>
   %m = arith.constant dense<true> : vector<4xi1>
   llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return
@@ -143,7 +143,7 @@ func.func @osl_pow(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
   %dual = arith.mulf %below, %u : vector<4xf32>
   %c = arith.cmpf false, %u, %y : vector<4xf32>
   %v = arith.select %c, %dual, %plain {osl.dual_rule = "osl_pow"} : vector<4xi1>, vector<4xf32>
-  %d = osl.lane_deriv "x" %v : vector<4xf32>
+  %d = osl.lane_deriv x %v : vector<4xf32>
   %m = arith.constant dense<true> : vector<4xi1>
   llvm.intr.masked.store %v, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   %1 = llvm.getelementptr %arg1[4] : (!llvm.ptr) -> !llvm.ptr, f32
@@ -178,7 +178,7 @@ func.func @loop_carried_for(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
     %n = arith.mulf %acc, %acc : vector<4xf32>
     scf.yield %n : vector<4xf32>
   }
-  %d = osl.lane_deriv "x" %r : vector<4xf32>
+  %d = osl.lane_deriv x %r : vector<4xf32>
   %m = arith.constant dense<true> : vector<4xi1>
   llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return
@@ -215,7 +215,7 @@ func.func @loop_carried_while(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
     %k3 = arith.addi %k2, %one : i32
     scf.yield %n, %k3 : vector<4xf32>, i32
   }
-  %d = osl.lane_deriv "x" %r#0 : vector<4xf32>
+  %d = osl.lane_deriv x %r#0 : vector<4xf32>
   %m = arith.constant dense<true> : vector<4xi1>
   llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return
@@ -245,7 +245,7 @@ func.func @uniform_loop_carried(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) 
   %r = scf.for %i = %c0 to %c4 step %c1 iter_args(%freq = %one) -> (f32) {
     %b = vector.broadcast %freq : f32 to vector<4xf32>
     %p = arith.mulf %u, %b : vector<4xf32>
-    %d = osl.lane_deriv "x" %p : vector<4xf32>
+    %d = osl.lane_deriv x %p : vector<4xf32>
     %m = arith.constant dense<true> : vector<4xi1>
     llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
     %next = arith.mulf %freq, %two : f32
@@ -281,7 +281,7 @@ func.func @uniform_branch(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32, %arg3:
     %c = arith.constant dense<1.0> : vector<4xf32>
     scf.yield %c : vector<4xf32>
   }
-  %d = osl.lane_deriv "x" %r : vector<4xf32>
+  %d = osl.lane_deriv x %r : vector<4xf32>
   %m = arith.constant dense<true> : vector<4xi1>
   llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return
@@ -299,8 +299,8 @@ func.func @derivative_of_derivative(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i
   %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
   %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
   %sq = arith.mulf %u, %u : vector<4xf32>
-  %d = osl.lane_deriv "x" %sq : vector<4xf32>
-  %dd = osl.lane_deriv "y" %d : vector<4xf32>
+  %d = osl.lane_deriv x %sq : vector<4xf32>
+  %dd = osl.lane_deriv y %d : vector<4xf32>
   %m = arith.constant dense<true> : vector<4xi1>
   llvm.intr.masked.store %dd, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return

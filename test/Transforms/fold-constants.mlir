@@ -45,7 +45,7 @@ func.func @triples() {
   %one = arith.constant 1.0 : f32
   %t = osl.construct %one, %two, %one : f32, f32, f32 -> vector<3xf32>
   %y = osl.extract %t[1] : vector<3xf32> -> f32
-  %eq = osl.cmp "eq", %c, %t : vector<3xf32>, vector<3xf32> -> i1
+  %eq = osl.cmp eq, %c, %t : vector<3xf32>, vector<3xf32> -> i1
   osl.output "scaled" = %scaled : vector<3xf32>
   osl.output "y" = %y : f32
   osl.output "eq" = %eq : i1
@@ -67,7 +67,7 @@ func.func @constant_control_flow() {
   %u = osl.global "u" : !osl.varying<f32>
   %i0 = arith.constant 0 : i32
   %i1 = arith.constant 1 : i32
-  %cond = osl.cmp "lt", %i0, %i1 : i32, i32 -> i1
+  %cond = osl.cmp lt, %i0, %i1 : i32, i32 -> i1
   %r = osl.if %cond : i1 -> !osl.varying<f32> {
     %s = osl.sin %u : !osl.varying<f32> -> !osl.varying<f32>
     osl.yield %s : !osl.varying<f32>

@@ -45,7 +45,7 @@ func.func @uniform_if_stays_a_branch(%c: i1, %a: !osl.varying<f32>) {
 func.func @varying_loop_carries_mask(%n: !osl.varying<f32>, %x: !osl.varying<f32>) {
   // CHECK: %[[BATCH:.+]] = osl.batch_mask : !osl.varying<i1>
   // CHECK: scf.while (%[[X:.+]] = %{{.+}}, %[[M:.+]] = %[[BATCH]])
-  // CHECK:   %[[C:.+]] = osl.cmp "lt"
+  // CHECK:   %[[C:.+]] = osl.cmp lt
   // CHECK:   %[[STILL:.+]] = osl.and %[[M]], %[[C]]
   // CHECK:   %[[ANY:.+]] = osl.any %[[STILL]]
   // CHECK:   scf.condition(%[[ANY]]) %[[X]], %[[STILL]]
@@ -56,7 +56,7 @@ func.func @varying_loop_carries_mask(%n: !osl.varying<f32>, %x: !osl.varying<f32
   // CHECK:   scf.yield %[[KEEP]], %[[M2]]
   %r = osl.while (%x : !osl.varying<f32>) -> !osl.varying<f32> cond {
   ^bb0(%v: !osl.varying<f32>):
-    %c = osl.cmp "lt", %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+    %c = osl.cmp lt, %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
     osl.condition %c : !osl.varying<i1>, %v : !osl.varying<f32>
   } do {
   ^bb0(%v: !osl.varying<f32>):
@@ -81,7 +81,7 @@ func.func @loop_inside_varying_if_uses_arm_mask(%c: !osl.varying<i1>, %n: !osl.v
   %r = osl.if %c : !osl.varying<i1> -> !osl.varying<f32> {
     %l = osl.while (%x : !osl.varying<f32>) -> !osl.varying<f32> cond {
     ^bb0(%v: !osl.varying<f32>):
-      %lt = osl.cmp "lt", %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+      %lt = osl.cmp lt, %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
       osl.condition %lt : !osl.varying<i1>, %v : !osl.varying<f32>
     } do {
     ^bb0(%v: !osl.varying<f32>):
@@ -110,14 +110,14 @@ func.func @nested_loop_in_if_in_loop(%n: !osl.varying<f32>, %x: !osl.varying<f32
   // CHECK:   scf.while (%{{.+}} = %{{.+}}, %{{.+}} = %[[ARM]])
   %r = osl.while (%x : !osl.varying<f32>) -> !osl.varying<f32> cond {
   ^bb0(%v: !osl.varying<f32>):
-    %lt = osl.cmp "lt", %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+    %lt = osl.cmp lt, %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
     osl.condition %lt : !osl.varying<i1>, %v : !osl.varying<f32>
   } do {
   ^bb0(%v: !osl.varying<f32>):
     %inner = osl.if %c : !osl.varying<i1> -> !osl.varying<f32> {
       %l = osl.while (%v : !osl.varying<f32>) -> !osl.varying<f32> cond {
       ^bb0(%w: !osl.varying<f32>):
-        %lt2 = osl.cmp "lt", %w, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+        %lt2 = osl.cmp lt, %w, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
         osl.condition %lt2 : !osl.varying<i1>, %w : !osl.varying<f32>
       } do {
       ^bb0(%w: !osl.varying<f32>):
@@ -149,7 +149,7 @@ func.func @uniform_loop_varying_body(%x: !osl.varying<f32>) {
   %r:2 = osl.while (%zero, %x : i32, !osl.varying<f32>) -> i32, !osl.varying<f32> cond {
   ^bb0(%i: i32, %s: !osl.varying<f32>):
     %six = arith.constant 6 : i32
-    %lt = osl.cmp "lt", %i, %six : i32, i32 -> i1
+    %lt = osl.cmp lt, %i, %six : i32, i32 -> i1
     osl.condition %lt : i1, %i, %s : i32, !osl.varying<f32>
   } do {
   ^bb0(%i: i32, %s: !osl.varying<f32>):
@@ -223,7 +223,7 @@ func.func @break_continue_nested() attributes {osl.shader_type = "shader"} {
   %2 = osl.broadcast %cst_2 : f32 -> !osl.varying<f32>
   %3:2 = osl.while(%2, %c0_i32 : !osl.varying<f32>, i32) -> !osl.varying<f32>, i32 cond {
   ^bb0(%arg0: !osl.varying<f32>, %arg1: i32):
-    %4 = osl.cmp "lt", %arg1, %c4_i32 : i32, i32 -> i1
+    %4 = osl.cmp lt, %arg1, %c4_i32 : i32, i32 -> i1
     osl.condition %4 : i1, %arg0, %arg1 : !osl.varying<f32>, i32
   } do {
   ^bb0(%arg0: !osl.varying<f32>, %arg1: i32):
@@ -232,14 +232,14 @@ func.func @break_continue_nested() attributes {osl.shader_type = "shader"} {
     %6:3 = osl.while(%arg0, %4, %5 : !osl.varying<f32>, !osl.varying<i1>, !osl.varying<i32>) -> !osl.varying<f32>, !osl.varying<i1>, !osl.varying<i32> cond {
     ^bb0(%arg2: !osl.varying<f32>, %arg3: !osl.varying<i1>, %arg4: !osl.varying<i32>):
       %8 = osl.not %arg3 : !osl.varying<i1> -> !osl.varying<i1>
-      %9 = osl.cmp "lt", %arg4, %c4_i32 : !osl.varying<i32>, i32 -> !osl.varying<i1>
+      %9 = osl.cmp lt, %arg4, %c4_i32 : !osl.varying<i32>, i32 -> !osl.varying<i1>
       %10 = osl.and %8, %9 : !osl.varying<i1>, !osl.varying<i1> -> !osl.varying<i1>
       osl.condition %10 : !osl.varying<i1>, %arg2, %arg3, %arg4 : !osl.varying<f32>, !osl.varying<i1>, !osl.varying<i32>
     } do {
     ^bb0(%arg2: !osl.varying<f32>, %arg3: !osl.varying<i1>, %arg4: !osl.varying<i32>):
       %8 = osl.convert %arg4 : !osl.varying<i32> -> !osl.varying<f32>
       %9 = osl.mul %8, %cst_1 : !osl.varying<f32>, f32 -> !osl.varying<f32>
-      %10 = osl.cmp "gt", %9, %0 : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+      %10 = osl.cmp gt, %9, %0 : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
       %11 = osl.if %10 : !osl.varying<i1> -> !osl.varying<i1> {
         %16 = osl.broadcast %true : i1 -> !osl.varying<i1>
         osl.yield %16 : !osl.varying<i1>
@@ -250,7 +250,7 @@ func.func @break_continue_nested() attributes {osl.shader_type = "shader"} {
       %13 = osl.if %12 : !osl.varying<i1> -> !osl.varying<f32> {
         %16 = osl.convert %arg4 : !osl.varying<i32> -> !osl.varying<f32>
         %17 = osl.mul %16, %cst_0 : !osl.varying<f32>, f32 -> !osl.varying<f32>
-        %18 = osl.cmp "gt", %17, %1 : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+        %18 = osl.cmp gt, %17, %1 : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
         %19 = osl.not %18 : !osl.varying<i1> -> !osl.varying<i1>
         %20 = osl.if %19 : !osl.varying<i1> -> !osl.varying<f32> {
           %21 = osl.add %arg2, %cst : !osl.varying<f32>, f32 -> !osl.varying<f32>
@@ -289,7 +289,7 @@ func.func @break_continue_nested() attributes {osl.shader_type = "shader"} {
 // CHECK:   osl.not %arg0
 // CHECK:   osl.any
 // CHECK: } do {
-// CHECK:   %[[HIT:.+]] = osl.cmp "gt"
+// CHECK:   %[[HIT:.+]] = osl.cmp gt
 // CHECK:   %[[RET:.+]] = osl.select %[[HIT]], %{{.+}}, %arg0
 // CHECK:   %[[STEP:.+]] = osl.not %[[RET]]
 // CHECK:   osl.select %[[STEP]]
@@ -313,14 +313,14 @@ func.func @return_in_loop() attributes {osl.shader_type = "shader"} {
   %4:3 = osl.while(%1, %2, %3 : !osl.varying<i1>, !osl.varying<f32>, !osl.varying<i32>) -> !osl.varying<i1>, !osl.varying<f32>, !osl.varying<i32> cond {
   ^bb0(%arg0: !osl.varying<i1>, %arg1: !osl.varying<f32>, %arg2: !osl.varying<i32>):
     %7 = osl.not %arg0 : !osl.varying<i1> -> !osl.varying<i1>
-    %8 = osl.cmp "lt", %arg2, %c8_i32 : !osl.varying<i32>, i32 -> !osl.varying<i1>
+    %8 = osl.cmp lt, %arg2, %c8_i32 : !osl.varying<i32>, i32 -> !osl.varying<i1>
     %9 = osl.and %7, %8 : !osl.varying<i1>, !osl.varying<i1> -> !osl.varying<i1>
     osl.condition %9 : !osl.varying<i1>, %arg0, %arg1, %arg2 : !osl.varying<i1>, !osl.varying<f32>, !osl.varying<i32>
   } do {
   ^bb0(%arg0: !osl.varying<i1>, %arg1: !osl.varying<f32>, %arg2: !osl.varying<i32>):
     %7 = osl.convert %arg2 : !osl.varying<i32> -> !osl.varying<f32>
     %8 = osl.mul %7, %cst_0 : !osl.varying<f32>, f32 -> !osl.varying<f32>
-    %9 = osl.cmp "gt", %8, %0 : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+    %9 = osl.cmp gt, %8, %0 : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
     %10:2 = osl.if %9 : !osl.varying<i1> -> !osl.varying<i1>, !osl.varying<f32> {
       %13 = osl.convert %arg2 : !osl.varying<i32> -> !osl.varying<f32>
       %14 = osl.broadcast %true : i1 -> !osl.varying<i1>
@@ -355,7 +355,7 @@ func.func @return_in_loop() attributes {osl.shader_type = "shader"} {
 // CHECK-LABEL: func.func @exit_varying
 // CHECK: %[[U:.+]] = osl.global "u"
 // CHECK: %[[V:.+]] = osl.global "v"
-// CHECK: %[[EXIT:.+]] = osl.cmp "gt", %[[V]]
+// CHECK: %[[EXIT:.+]] = osl.cmp gt, %[[V]]
 // CHECK: %[[GO:.+]] = osl.not %[[EXIT]]
 // CHECK: %[[B:.+]] = osl.select %[[GO]], %[[V]], %{{.+}}
 // CHECK: osl.output "a" = %[[U]]
@@ -365,7 +365,7 @@ func.func @exit_varying() attributes {osl.shader_type = "shader"} {
   %cst_0 = arith.constant 0.000000e+00 : f32
   %0 = osl.global "u" : !osl.varying<f32>
   %1 = osl.global "v" : !osl.varying<f32>
-  %2 = osl.cmp "gt", %1, %cst : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %2 = osl.cmp gt, %1, %cst : !osl.varying<f32>, f32 -> !osl.varying<i1>
   %3 = osl.not %2 : !osl.varying<i1> -> !osl.varying<i1>
   %4 = osl.if %3 : !osl.varying<i1> -> !osl.varying<f32> {
     osl.yield %1 : !osl.varying<f32>
@@ -385,7 +385,7 @@ func.func @exit_varying() attributes {osl.shader_type = "shader"} {
 // CHECK-LABEL: func.func @partial_output
 // CHECK: %[[U:.+]] = osl.global "u"
 // CHECK: %[[V:.+]] = osl.global "v"
-// CHECK: %[[C:.+]] = osl.cmp "gt", %[[U]]
+// CHECK: %[[C:.+]] = osl.cmp gt, %[[U]]
 // CHECK: %[[ADEF:.+]] = osl.broadcast %{{.+}} : f32 -> !osl.varying<f32>
 // CHECK: %[[BDEF:.+]] = osl.broadcast %{{.+}} : f32 -> !osl.varying<f32>
 // CHECK: %[[A:.+]] = osl.select %[[C]], %[[U]], %[[BDEF]]
@@ -398,7 +398,7 @@ func.func @partial_output() attributes {osl.shader_type = "shader"} {
   %cst_1 = arith.constant 0.000000e+00 : f32
   %0 = osl.global "u" : !osl.varying<f32>
   %1 = osl.global "v" : !osl.varying<f32>
-  %2 = osl.cmp "gt", %0, %cst : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %2 = osl.cmp gt, %0, %cst : !osl.varying<f32>, f32 -> !osl.varying<i1>
   %3:2 = osl.if %2 : !osl.varying<i1> -> !osl.varying<f32>, !osl.varying<f32> {
     %4 = osl.broadcast %cst_0 : f32 -> !osl.varying<f32>
     osl.yield %0, %4 : !osl.varying<f32>, !osl.varying<f32>
@@ -432,7 +432,7 @@ func.func @empty_arm_is_skipped(%c: !osl.varying<i1>, %n: !osl.varying<f32>, %x:
   %r = osl.if %c : !osl.varying<i1> -> !osl.varying<f32> {
     %l = osl.while (%x : !osl.varying<f32>) -> !osl.varying<f32> cond {
     ^bb0(%v: !osl.varying<f32>):
-      %lt = osl.cmp "lt", %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+      %lt = osl.cmp lt, %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
       osl.condition %lt : !osl.varying<i1>, %v : !osl.varying<f32>
     } do {
     ^bb0(%v: !osl.varying<f32>):
@@ -476,7 +476,7 @@ func.func @count_lanes_in_masked_blocks(%c: !osl.varying<i1>, %a: !osl.varying<f
   }
   %w = osl.while (%r : !osl.varying<f32>) -> !osl.varying<f32> cond {
   ^bb0(%v: !osl.varying<f32>):
-    %lt = osl.cmp "lt", %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+    %lt = osl.cmp lt, %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
     osl.condition %lt : !osl.varying<i1>, %v : !osl.varying<f32>
   } do {
   ^bb0(%v: !osl.varying<f32>):

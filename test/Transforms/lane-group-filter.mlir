@@ -12,7 +12,7 @@
 // CHECK: ^bb0(%[[L:.+]]: !osl.varying<i1>, %[[ACC:.+]]: !osl.varying<vector<3xf32>>, %{{.+}}: !osl.varying<f32>, %{{.+}}: !osl.varying<i32>):
 // CHECK: %[[LEAD:.+]] = osl.first_lane %[[WRAP:.+]], %[[L]] : !osl.varying<i32>, !osl.varying<i1> -> i32
 // CHECK: %[[B:.+]] = osl.broadcast %[[LEAD]]
-// CHECK: %[[SAME:.+]] = osl.cmp "eq", %[[WRAP]], %[[B]]
+// CHECK: %[[SAME:.+]] = osl.cmp eq, %[[WRAP]], %[[B]]
 // CHECK: %[[GROUP:.+]] = osl.and %[[L]], %[[SAME]]
 // CHECK: %[[R:.+]], %{{.+}}, %{{.+}} = osl.texture "2d"{{.*}} choices(%{{.+}}, %[[LEAD]], %[[LEAD]], %[[LEAD]], %{{.+}}, %{{.+}}) mask %[[GROUP]]
 // CHECK: %[[NOT:.+]] = osl.not %[[SAME]]
@@ -26,7 +26,7 @@ func.func @varying_wrap() {
   %zero = arith.constant 0.0 : f32
   %c0 = arith.constant 0 : i32
   %half = arith.constant 0.5 : f32
-  %right = osl.cmp "gt", %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %right = osl.cmp gt, %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
   %c1 = arith.constant 1 : i32
   %wrap = osl.select %right, %c1, %c0 : !osl.varying<i1>, i32, i32 -> !osl.varying<i32>
   %r, %a, %err = osl.texture "2d"(%u, %v) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %wrap, %wrap, %wrap, %c0, %c0) {candidates = [["ramp.tx"], ["black", "clamp"], ["black", "clamp"], ["black", "clamp"], ["smartcubic"], [""]], nchannels = 3 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, !osl.varying<i32>, !osl.varying<i32>, !osl.varying<i32>, i32, i32) -> !osl.varying<vector<3xf32>>, !osl.varying<f32>, !osl.varying<i32>
@@ -40,9 +40,9 @@ func.func @varying_wrap() {
 // only when both of its choices equal the lead's.
 // CHECK-LABEL: func.func @varying_file_and_interp
 // CHECK: %[[LF:.+]] = osl.first_lane %[[FILE:[^,]+]], %[[L:[^ ]+]]
-// CHECK: %[[EQF:.+]] = osl.cmp "eq", %[[FILE]]
+// CHECK: %[[EQF:.+]] = osl.cmp eq, %[[FILE]]
 // CHECK: %[[LI:.+]] = osl.first_lane %[[INTERP:[^,]+]], %[[L]]
-// CHECK: %[[EQI:.+]] = osl.cmp "eq", %[[INTERP]]
+// CHECK: %[[EQI:.+]] = osl.cmp eq, %[[INTERP]]
 // CHECK: %[[SAME:.+]] = osl.and %[[EQF]], %[[EQI]]
 // CHECK: choices(%[[LF]], %{{.+}}, %{{.+}}, %{{.+}}, %[[LI]], %{{.+}})
 func.func @varying_file_and_interp() {
@@ -53,8 +53,8 @@ func.func @varying_file_and_interp() {
   %c0 = arith.constant 0 : i32
   %c1 = arith.constant 1 : i32
   %half = arith.constant 0.5 : f32
-  %right = osl.cmp "gt", %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
-  %top = osl.cmp "gt", %v, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %right = osl.cmp gt, %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %top = osl.cmp gt, %v, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
   %file = osl.select %right, %c1, %c0 : !osl.varying<i1>, i32, i32 -> !osl.varying<i32>
   %interp = osl.select %top, %c1, %c0 : !osl.varying<i1>, i32, i32 -> !osl.varying<i32>
   %r, %a, %err = osl.texture "2d"(%u, %v) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%file, %c0, %c0, %c0, %interp, %c0) {candidates = [["a.tx", "b.tx"], ["default"], ["default"], ["default"], ["closest", "linear"], [""]], nchannels = 1 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(!osl.varying<i32>, i32, i32, i32, !osl.varying<i32>, i32) -> !osl.varying<f32>, !osl.varying<f32>, !osl.varying<i32>

@@ -19,7 +19,7 @@ module {
     %zero = arith.constant 0 : i32
     %pick = osl.param "pick"(%zero) : i32
     %cz = arith.constant 0 : i32
-    %use_u = osl.cmp "ne", %pick, %cz : i32, i32 -> i1
+    %use_u = osl.cmp ne, %pick, %cz : i32, i32 -> i1
     %c = arith.constant 0.75 : f32
     %out = osl.select %use_u, %u, %c : i1, !osl.varying<f32>, f32 -> !osl.varying<f32>
     osl.output "out" = %out : !osl.varying<f32>
@@ -30,7 +30,7 @@ module {
     %zero = arith.constant 0.0 : f32
     %in = osl.param "in"(%zero) {osl.connect = ["up", "out"]} : f32
     %t = arith.constant 0.5 : f32
-    %cond = osl.cmp "gt", %in, %t : f32, f32 -> i1
+    %cond = osl.cmp gt, %in, %t : f32, f32 -> i1
     %r = osl.if %cond : i1 -> !osl.varying<vector<3xf32>> {
       %one = arith.constant dense<1.0> : vector<3xf32>
       osl.yield %one : vector<3xf32>
@@ -48,7 +48,7 @@ module {
 // The same group with `pick` 1: the output is u, the if stays varying and
 // is masked.
 // CHECK-LABEL: func.func @decided_per_point
-// CHECK: osl.cmp "gt", {{.*}} -> !osl.varying<i1>
+// CHECK: osl.cmp gt, {{.*}} -> !osl.varying<i1>
 // CHECK: scf.if
 // CHECK: osl.noise
 // CHECK: osl.select
@@ -58,7 +58,7 @@ module {
     %one = arith.constant 1 : i32
     %pick = osl.param "pick"(%one) : i32
     %cz = arith.constant 0 : i32
-    %use_u = osl.cmp "ne", %pick, %cz : i32, i32 -> i1
+    %use_u = osl.cmp ne, %pick, %cz : i32, i32 -> i1
     %c = arith.constant 0.75 : f32
     %out = osl.select %use_u, %u, %c : i1, !osl.varying<f32>, f32 -> !osl.varying<f32>
     osl.output "out" = %out : !osl.varying<f32>
@@ -69,7 +69,7 @@ module {
     %zero = arith.constant 0.0 : f32
     %in = osl.param "in"(%zero) {osl.connect = ["up", "out"]} : f32
     %t = arith.constant 0.5 : f32
-    %cond = osl.cmp "gt", %in, %t : f32, f32 -> i1
+    %cond = osl.cmp gt, %in, %t : f32, f32 -> i1
     %r = osl.if %cond : i1 -> !osl.varying<vector<3xf32>> {
       %one = arith.constant dense<1.0> : vector<3xf32>
       osl.yield %one : vector<3xf32>

@@ -29,7 +29,7 @@ module {
     %v = osl.global "v" : !osl.varying<f32>
     %half = arith.constant 0.5 : f32
     %in = osl.param "in"(%half) {osl.connect = ["up", "out"]} : f32
-    %cond = osl.cmp "gt", %v, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+    %cond = osl.cmp gt, %v, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
     %r = osl.if %cond : !osl.varying<i1> -> !osl.varying<f32> {
       %m = osl.mul %in, %half : f32, f32 -> f32
       osl.yield %m : f32
@@ -84,7 +84,7 @@ module {
     %in = osl.param "in"(%zero) {osl.connect = ["up", "out"]} : f32
     %r = osl.while (%zero : f32) -> f32 cond {
     ^bb0(%x: f32):
-      %c = osl.cmp "lt", %x, %in : f32, f32 -> i1
+      %c = osl.cmp lt, %x, %in : f32, f32 -> i1
       osl.condition %c : i1, %x : f32
     } do {
     ^bb0(%x: f32):
@@ -215,13 +215,13 @@ module {
     %u = osl.global "u" : !osl.varying<f32>
     %half = arith.constant 0.5 : f32
     %in = osl.param "in"(%half) {osl.connect = ["up", "out"]} : f32
-    %c1 = osl.cmp "gt", %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+    %c1 = osl.cmp gt, %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
     %a = osl.if %c1 : !osl.varying<i1> -> !osl.varying<f32> {
       osl.yield %in : f32
     } else {
       osl.yield %u : !osl.varying<f32>
     }
-    %c2 = osl.cmp "lt", %a, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+    %c2 = osl.cmp lt, %a, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
     %b = osl.if %c2 : !osl.varying<i1> -> !osl.varying<f32> {
       %m = osl.mul %in, %a : f32, !osl.varying<f32> -> !osl.varying<f32>
       osl.yield %m : !osl.varying<f32>

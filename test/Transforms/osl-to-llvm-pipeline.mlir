@@ -30,7 +30,7 @@ func.func @branch_on_u() attributes {osl.shader_type = "shader"} {
   %zero = arith.constant 0.000000e+00 : f32
   %out = osl.param "out"(%zero) : f32
   %half = arith.constant 5.000000e-01 : f32
-  %c = osl.cmp "gt", %u, %half {unordered} : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %c = osl.cmp gt, %u, %half {unordered} : !osl.varying<f32>, f32 -> !osl.varying<i1>
   %r = osl.if %c : !osl.varying<i1> -> !osl.varying<f32> {
     %s = osl.sin %u : !osl.varying<f32> -> !osl.varying<f32>
     osl.yield %s : !osl.varying<f32>

@@ -27,7 +27,7 @@ func.func @values() {
 func.func @control_flow() {
   %u = osl.global "u" : !osl.varying<f32>
   %half = arith.constant 0.5 : f32
-  %c = osl.cmp "lt", %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %c = osl.cmp lt, %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
   %r = osl.if %c : !osl.varying<i1> -> !osl.varying<f32> {
     osl.yield %u : !osl.varying<f32>
   } else {
@@ -36,7 +36,7 @@ func.func @control_flow() {
   }
   %l = osl.while (%r : !osl.varying<f32>) -> !osl.varying<f32> cond {
   ^bb0(%v: !osl.varying<f32>):
-    %k = osl.cmp "lt", %v, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+    %k = osl.cmp lt, %v, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
     osl.condition %k : !osl.varying<i1>, %v : !osl.varying<f32>
   } do {
   ^bb0(%v: !osl.varying<f32>):

@@ -27,7 +27,7 @@ func.func @data_dependence() {
 func.func @assigned_under_varying_if() {
   %u = osl.global "u" : !osl.varying<f32>
   %half = arith.constant 0.5 : f32
-  %c = osl.cmp "gt", %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %c = osl.cmp gt, %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
   %one = arith.constant 1.0 : f32
   %two = arith.constant 2.0 : f32
   // CHECK: %[[R:.+]] = osl.if %{{.+}} : !osl.varying<i1> -> !osl.varying<f32> {
@@ -53,7 +53,7 @@ func.func @assigned_under_varying_if() {
 func.func @uniform_if_stays_uniform() {
   %one = arith.constant 1.0 : f32
   %f = osl.param "freq"(%one) : f32
-  %c = osl.cmp "gt", %f, %one : f32, f32 -> i1
+  %c = osl.cmp gt, %f, %one : f32, f32 -> i1
   // CHECK: osl.if %{{.+}} : i1 -> f32
   // CHECK-NOT: osl.broadcast
   %r = osl.if %c : i1 -> f32 {
@@ -82,8 +82,8 @@ func.func @loop_with_varying_trip_count() {
   // CHECK: ^bb0(%{{.+}}: !osl.varying<f32>, %{{.+}}: !osl.varying<f32>):
   %r:2 = osl.while (%zero, %zero : f32, f32) -> f32, f32 cond {
   ^bb0(%i: f32, %sum: f32):
-    // CHECK: osl.cmp "lt", %{{.+}}, %{{.+}} : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
-    %c = osl.cmp "lt", %i, %n : f32, !osl.varying<f32> -> i1
+    // CHECK: osl.cmp lt, %{{.+}}, %{{.+}} : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+    %c = osl.cmp lt, %i, %n : f32, !osl.varying<f32> -> i1
     osl.condition %c : i1, %i, %sum : f32, f32
   } do {
   ^bb0(%i: f32, %sum: f32):
@@ -109,8 +109,8 @@ func.func @uniform_loop_with_varying_body() {
   // CHECK: osl.while(%{{.+}}, %{{.+}} : i32, !osl.varying<f32>) -> i32, !osl.varying<f32>
   %r:2 = osl.while (%zero, %fz : i32, f32) -> i32, f32 cond {
   ^bb0(%i: i32, %sum: f32):
-    // CHECK: osl.cmp "lt", %{{.+}}, %{{.+}} : i32, i32 -> i1
-    %c = osl.cmp "lt", %i, %six : i32, i32 -> i1
+    // CHECK: osl.cmp lt, %{{.+}}, %{{.+}} : i32, i32 -> i1
+    %c = osl.cmp lt, %i, %six : i32, i32 -> i1
     osl.condition %c : i1, %i, %sum : i32, f32
   } do {
   ^bb0(%i: i32, %sum: f32):

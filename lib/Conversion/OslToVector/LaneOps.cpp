@@ -111,7 +111,7 @@ struct CmpLowering : public OslPattern<CmpOp> {
     Lanes lanes{rewriter, loc, width};
     auto lhs = lanes.unpack(adaptor.getLhs(), op.getLhs().getType(), varying);
     auto rhs = lanes.unpack(adaptor.getRhs(), op.getRhs().getType(), varying);
-    rewriter.replaceOp(op, lane::compareComponents(rewriter, loc, op.getPredicate(), lhs, rhs,
+    rewriter.replaceOp(op, lane::compareComponents(rewriter, loc, stringifyCmpPredicate(op.getPredicate()), lhs, rhs,
                                                            op.getUnordered()));
     return success();
   }
