@@ -24,14 +24,6 @@ inline std::pair<llvm::StringRef, int> splitComponentName(llvm::StringRef name) 
   return {name, -1};
 }
 
-/// Marks the value a shader's Ci starts with (the front end sets it), which
-/// osl-link-group replaces by an earlier layer's Ci with lazy-globals=false.
-inline constexpr const char *kInitialCiAttr = "osl.initial_ci";
-
-/// Marks a parameter whose metadata forbids connections to it
-/// ([[int allowconnect = 0]]); the front end sets it.
-inline constexpr const char *kNotConnectableAttr = "osl.not_connectable";
-
 } // namespace mlir::osl
 
 #endif // OSLDIALECT_GROUPNAMES_H

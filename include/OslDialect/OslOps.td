@@ -25,9 +25,18 @@ def Osl_ParamOp : Osl_Op<"param", [Pure, AllTypesMatch<["defaultValue", "result"
   let description = [{
     The default is computed by the shader (it may read globals). Binding an
     instance value replaces the op by that constant; otherwise by the default.
+    `index`: the element of an array (or matrix) parameter this op holds.
+    `userdata`: per-geometry data the renderer supplies (lockgeom=0), set
+    by the group's linking. `not_connectable`: its metadata forbids
+    connections ([[int allowconnect = 0]]).
   }];
-  let arguments = (ins StrAttr:$name, Osl_Value:$defaultValue);
+  let arguments = (ins StrAttr:$name, Osl_Value:$defaultValue, OptionalAttr<I64Attr>:$index,
+                       UnitAttr:$userdata, UnitAttr:$not_connectable);
   let results = (outs Osl_Value:$result);
+  let builders = [OpBuilder<(ins "::mlir::Type":$result, "::llvm::StringRef":$name,
+                                "::mlir::Value":$defaultValue), [{
+    build($_builder, $_state, result, name, defaultValue, nullptr, false, false);
+  }]>];
   let assemblyFormat = "$name `(` $defaultValue `)` attr-dict `:` type($result)";
 }
 
@@ -37,7 +46,11 @@ def Osl_OutputOp : Osl_Op<"output"> {
     Written once per shader invocation, in declaration order. Lanes that are
     not active in the batch are never written.
   }];
-  let arguments = (ins StrAttr:$name, Osl_Value:$value);
+  // `index`: the element of an array (or matrix) output this op writes.
+  let arguments = (ins StrAttr:$name, Osl_Value:$value, OptionalAttr<I64Attr>:$index);
+  let builders = [OpBuilder<(ins "::llvm::StringRef":$name, "::mlir::Value":$value), [{
+    build($_builder, $_state, name, value, nullptr);
+  }]>];
   let assemblyFormat = "$name `=` $value attr-dict `:` type($value)";
 }
 
@@ -611,6 +624,12 @@ def Osl_GetMessageOp : Osl_Op<"get_message", [AttrSizedOperandSegments,
 
 def Osl_ClosureEmptyOp : Osl_Op<"closure_empty", [Pure]> {
   let summary = "the empty closure (what `Ci = 0` assigns)";
+  let description = [{
+    `initial_ci`: the value a shader's Ci starts with (the front end marks
+    it), which osl-link-group replaces by an earlier layer's Ci when globals
+    are not lazy.
+  }];
+  let arguments = (ins UnitAttr:$initial_ci);
   let results = (outs Osl_ClosureType:$result);
   let assemblyFormat = "attr-dict `:` type($result)";
 }

@@ -39,7 +39,7 @@ def LinkShaderGroup : Pass<"osl-link-group", "::mlir::ModuleOp"> {
     that every layer runs. With `opaque-params` (-O0) each unconnected
     parameter whose value is a constant becomes a load from a writable
     external global, so nothing is specialised on it; parameters marked
-    `osl.userdata` (lockgeom=0) are always loaded that way.
+    `userdata` (lockgeom=0) are always loaded that way.
 
     With `lazy-globals=false` (OSL's lazyglobals=0 option) a layer that
     assigns Ci is not lazy either: it runs at the top level in group order,

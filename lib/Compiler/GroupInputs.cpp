@@ -58,7 +58,7 @@ private:
     Value &tip = tips[base];
     if (!tip)
       func.walk([&](mlir::osl::ParamOp p) {
-        if (p.getName() == base && !p->hasAttr("osl.index") &&
+        if (p.getName() == base && !p.getIndex() &&
             mlir::osl::isTriple(mlir::osl::getUniformType(p.getType())))
           tip = p.getResult();
       });
@@ -88,7 +88,7 @@ private:
     func.walk([&](mlir::osl::ParamOp p) {
       llvm::StringRef name = p.getName();
       if ((name == input || name.starts_with(input.str() + ".")) &&
-          p->hasAttr(mlir::osl::kNotConnectableAttr))
+          p.getNotConnectable())
         forbidden = true;
     });
     if (forbidden)
@@ -122,7 +122,7 @@ bool markGroupInputs(func::FuncOp func, const GroupLayer &layer, const ShaderGro
       return false;
   Builder b(func.getContext());
   for (const std::string &name : layer.userdata)
-    if (!marker.mark(name, "osl.userdata", b.getUnitAttr()))
+    if (!marker.mark(name, "userdata", b.getUnitAttr())) // osl.param's own attribute
       return false;
   return true;
 }

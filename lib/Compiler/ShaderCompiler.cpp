@@ -138,7 +138,7 @@ void ShaderCompiler::collectOutputs() {
     int channels = mlir::osl::isTriple(t) ? 3 : 1;
     // An array output is one osl.output per element, in consecutive rows:
     // one image with the elements' channels side by side.
-    if (out->hasAttr("osl.index") && !outputSpecs.empty() &&
+    if (out.getIndex() && !outputSpecs.empty() &&
         outputSpecs.back().name == out.getName())
       outputSpecs.back().channels += channels;
     else
@@ -440,9 +440,9 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
       return false;
     }
     parsed->walk([&](mlir::osl::OutputOp out) {
-      if (auto element = out->getAttrOfType<mlir::IntegerAttr>("osl.index")) {
+      if (std::optional<int64_t> element = out.getIndex()) {
         int &length = outputLengths[layer.name][out.getName()];
-        length = std::max(length, int(element.getInt()) + 1);
+        length = std::max(length, int(*element) + 1);
       }
     });
     auto funcs = llvm::to_vector(parsed->getOps<mlir::func::FuncOp>());

@@ -74,7 +74,7 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   Value emptyCi = ci->val.value;
   // Ci as the shader starts: in a group, what earlier layers left
   // (osl-link-group, with lazy-globals=false).
-  emptyCi.getDefiningOp()->setAttr(kInitialCiAttr, b.getUnitAttr());
+  mlir::cast<ClosureEmptyOp>(emptyCi.getDefiningOp()).setInitialCi(true);
   Scope *paramScope = newScope(root);
   current = paramScope;
   // Before the parameters: a default value may call exit().
@@ -99,7 +99,7 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   if (!unconnectable.empty())
     func.walk([&](ParamOp op) {
       if (unconnectable.contains(op.getName().split('.').first))
-        op->setAttr(kNotConnectableAttr, b.getUnitAttr());
+        op.setNotConnectable(true);
     });
 
   current = newScope(paramScope);
@@ -139,7 +139,7 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
         // merges them into one image with as many channels.
         for (size_t i = 0; i < leaf.elems.size(); ++i) {
           auto out = b.create<OutputOp>(loc(p.loc), name, leaf.elems[i]);
-          out->setAttr("osl.index", b.getI64IntegerAttr(int64_t(i)));
+          out.setIndex(int64_t(i));
         }
         return;
       }
@@ -260,7 +260,7 @@ void IRGen::wrapInParamOps(RValue &v, const std::string &name, SrcLoc at) {
   if (v.type.hasElems()) {
     for (size_t i = 0; i < v.elems.size(); ++i) {
       auto op = b.create<ParamOp>(loc(at), v.elems[i].getType(), name, v.elems[i]);
-      op->setAttr("osl.index", b.getI64IntegerAttr(int64_t(i)));
+      op.setIndex(int64_t(i));
       v.elems[i] = op.getResult();
     }
   } else {

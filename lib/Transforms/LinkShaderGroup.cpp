@@ -31,7 +31,6 @@ namespace {
 constexpr const char *kLayerAttr = "osl.layer";
 constexpr const char *kEntryAttr = "osl.entry";
 constexpr const char *kConnectAttr = "osl.connect";
-constexpr const char *kUserdataAttr = "osl.userdata";
 constexpr const char *kFromLayerAttr = "osl.from_layer";
 constexpr const char *kGroupOutputsAttr = "osl.group_outputs";
 
@@ -265,10 +264,13 @@ struct LinkShaderGroupPass
     return found;
   }
 
-  /// An array parameter or output is one op per element, marked osl.index.
+  /// An array parameter or output is one op per element, each with its
+  /// `index`.
   static std::optional<int64_t> elementIndex(Operation *op) {
-    if (auto index = op->getAttrOfType<IntegerAttr>("osl.index"))
-      return index.getInt();
+    if (auto param = dyn_cast<ParamOp>(op))
+      return param.getIndex();
+    if (auto output = dyn_cast<OutputOp>(op))
+      return output.getIndex();
     return std::nullopt;
   }
 
@@ -308,7 +310,8 @@ struct LinkShaderGroupPass
     for (Operation &op : l.func.front().without_terminator()) {
       // Ci as the layers placed before left it (the front end marks the
       // value a shader's Ci starts with).
-      if (op.hasAttr(kInitialCiAttr) && currentCi && !lazyGlobals) {
+      auto empty = dyn_cast<ClosureEmptyOp>(op);
+      if (empty && empty.getInitialCi() && currentCi && !lazyGlobals) {
         map.map(op.getResult(0), currentCi);
         continue;
       }
@@ -390,7 +393,7 @@ struct LinkShaderGroupPass
     ModuleOp module = getOperation();
     SmallVector<ParamOp> params;
     group.walk([&](ParamOp p) {
-      if (opaqueParams || p->hasAttr(kUserdataAttr))
+      if (opaqueParams || p.getUserdata())
         params.push_back(p);
     });
     for (ParamOp param : params) {
@@ -400,8 +403,8 @@ struct LinkShaderGroupPass
       std::string symbol = "osl_param." +
                            param->getAttrOfType<StringAttr>(kFromLayerAttr).getValue().str() +
                            "." + param.getName().str();
-      if (auto index = param->getAttrOfType<IntegerAttr>("osl.index"))
-        symbol += "." + std::to_string(index.getInt());
+      if (std::optional<int64_t> index = param.getIndex())
+        symbol += "." + std::to_string(*index);
       OpBuilder b(module.getContext());
       b.setInsertionPointToStart(module.getBody());
       Type type = getUniformType(param.getType());

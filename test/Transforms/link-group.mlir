@@ -184,7 +184,7 @@ module {
     %c2 = arith.constant 2.0 : f32
     %freq = osl.param "freq"(%c2) : f32
     %c3 = arith.constant 3.0 : f32
-    %height = osl.param "height"(%c3) {osl.userdata} : f32
+    %height = osl.param "height"(%c3) {userdata} : f32
     %u = osl.global "u" : !osl.varying<f32>
     %fromu = osl.param "fromu"(%u) : !osl.varying<f32>
     %a = osl.mul %freq, %height : f32, f32 -> f32
