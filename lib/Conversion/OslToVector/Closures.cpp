@@ -25,7 +25,7 @@ Value callClosureEntry(ConversionPatternRewriter &rewriter, Operation *op, int64
   Location loc = op->getLoc();
   bool varying = isVarying(op->getResult(0).getType());
   int64_t lanes = varying ? width : 1;
-  Lanes unpacker{rewriter, loc, width};
+  Components unpacker{rewriter, loc, width};
   SmallVector<Value> rows;
   for (auto [c, o] : llvm::zip(converted, original))
     for (Value comp : unpacker.unpack(c, o.getType(), varying))

@@ -24,7 +24,7 @@ struct GlobalLowering : public OslPattern<GlobalOp> {
                                 ConversionPatternRewriter &rewriter) const override {
     const ::osl::GlobalSlot *slot = ::osl::findGlobal(op.getName().str());
     Location loc = op.getLoc();
-    Lanes lanes{rewriter, loc, width};
+    Components lanes{rewriter, loc, width};
     // A uniform global (reference mode, see osl-uniform-reference) is lane 0.
     Type rowType = isVarying(op.getType())
                        ? Type(VectorType::get({width}, rewriter.getF32Type()))
@@ -51,7 +51,7 @@ struct OutputLowering : public OslPattern<OutputOp> {
   LogicalResult matchAndRewrite(OutputOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
     Location loc = op.getLoc();
-    Lanes lanes{rewriter, loc, width};
+    Components lanes{rewriter, loc, width};
     SmallVector<Value> rows =
         lanes.unpack(adaptor.getValue(), op.getValue().getType(), /*varying=*/true);
     bool unconditional = isa<func::FuncOp>(op->getParentOp());

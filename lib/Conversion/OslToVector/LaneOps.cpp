@@ -30,7 +30,7 @@ struct ComponentwiseLowering : public OslPattern<OpTy> {
     Location loc = op.getLoc();
     Type resultType = op->getResult(0).getType();
     bool varying = isVarying(resultType);
-    Lanes lanes{rewriter, loc, this->width};
+    Components lanes{rewriter, loc, this->width};
     size_t ncomp = isTriple(getUniformType(resultType)) ? 3 : 1;
     SmallVector<SmallVector<Value>> operands =
         lanes.unpackAll(adaptor.getOperands(), op->getOperands(), varying);
@@ -94,7 +94,7 @@ struct BroadcastLowering : public OslPattern<BroadcastOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(BroadcastOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
-    Lanes lanes{rewriter, op.getLoc(), width};
+    Components lanes{rewriter, op.getLoc(), width};
     rewriter.replaceOp(op, lanes.pack(lanes.unpack(adaptor.getValue(),
                                                    op.getValue().getType(), true),
                                       convert(op.getType())));
@@ -108,7 +108,7 @@ struct CmpLowering : public OslPattern<CmpOp> {
                                 ConversionPatternRewriter &rewriter) const override {
     Location loc = op.getLoc();
     bool varying = isVarying(op.getType());
-    Lanes lanes{rewriter, loc, width};
+    Components lanes{rewriter, loc, width};
     auto lhs = lanes.unpack(adaptor.getLhs(), op.getLhs().getType(), varying);
     auto rhs = lanes.unpack(adaptor.getRhs(), op.getRhs().getType(), varying);
     rewriter.replaceOp(op, lane::compareComponents(rewriter, loc, stringifyCmpPredicate(op.getPredicate()), lhs, rhs,
@@ -122,7 +122,7 @@ struct ConvertLowering : public OslPattern<ConvertOp> {
   LogicalResult matchAndRewrite(ConvertOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
     Location loc = op.getLoc();
-    Lanes lanes{rewriter, loc, width};
+    Components lanes{rewriter, loc, width};
     Type to = getUniformType(op.getType());
     bool varying = isVarying(op.getType());
     Value x = lanes.unpack(adaptor.getValue(), op.getValue().getType(), varying)[0];
@@ -140,7 +140,7 @@ struct ConstructLowering : public OslPattern<ConstructOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(ConstructOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
-    Lanes lanes{rewriter, op.getLoc(), width};
+    Components lanes{rewriter, op.getLoc(), width};
     bool varying = isVarying(op.getType());
     SmallVector<Value> comps;
     for (auto &c : lanes.unpackAll(adaptor.getOperands(), op->getOperands(), varying))
@@ -154,7 +154,7 @@ struct ExtractLowering : public OslPattern<ExtractOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(ExtractOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
-    Lanes lanes{rewriter, op.getLoc(), width};
+    Components lanes{rewriter, op.getLoc(), width};
     auto comps = lanes.unpack(adaptor.getVector(), op.getVector().getType(),
                               isVarying(op.getType()));
     rewriter.replaceOp(op, comps[op.getIndex()]);
@@ -166,7 +166,7 @@ struct InsertLowering : public OslPattern<InsertOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(InsertOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
-    Lanes lanes{rewriter, op.getLoc(), width};
+    Components lanes{rewriter, op.getLoc(), width};
     bool varying = isVarying(op.getType());
     auto comps = lanes.unpack(adaptor.getVector(), op.getVector().getType(), varying);
     comps[op.getIndex()] =

@@ -41,7 +41,7 @@ struct GeometryLowering : public OslPattern<OpTy> {
     Location loc = op.getLoc();
     Type resultType = op->getResult(0).getType();
     bool varying = isVarying(resultType);
-    Lanes lanes{rewriter, loc, this->width};
+    Components lanes{rewriter, loc, this->width};
     SmallVector<SmallVector<Value>> v =
         lanes.unpackAll(adaptor.getOperands(), op->getOperands(), varying);
     auto &b = rewriter;
@@ -79,7 +79,7 @@ struct GeometryLowering : public OslPattern<OpTy> {
 
 /// Gabor noise: the point (and its derivatives and period) made 3D, the
 /// options read as scalars (the verifier keeps them uniform).
-void lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Lanes &lanes, Type resultType,
+void lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes, Type resultType,
                 ConversionPatternRewriter &rewriter) {
   Location loc = op.getLoc();
   bool varying = isVarying(op.getType());
@@ -136,7 +136,7 @@ struct HashLowering : public OslPattern<HashOp> {
   LogicalResult matchAndRewrite(HashOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
     Location loc = op.getLoc();
-    Lanes lanes{rewriter, loc, width};
+    Components lanes{rewriter, loc, width};
     SmallVector<Value> keys;
     for (auto &key : lanes.unpackAll(adaptor.getKeys(), op.getKeys(), isVarying(op.getType())))
       llvm::append_range(keys, key);
@@ -152,7 +152,7 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
   LogicalResult matchAndRewrite(NoiseOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
     if (op.getKind() == "gabor") {
-      Lanes lanes{rewriter, op.getLoc(), width};
+      Components lanes{rewriter, op.getLoc(), width};
       lowerGabor(op, adaptor, lanes, convert(op.getType()), rewriter);
       return success();
     }
@@ -161,7 +161,7 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
       return op.emitError("noise type '") << op.getKind() << "' is not supported yet";
     Location loc = op.getLoc();
     bool varying = isVarying(op.getType());
-    Lanes lanes{rewriter, loc, width};
+    Components lanes{rewriter, loc, width};
     SmallVector<Value> coords;
     for (auto &c : lanes.unpackAll(adaptor.getCoords(), op.getCoords(), varying))
       llvm::append_range(coords, c);
@@ -201,7 +201,7 @@ struct TransformLowering : public OslPattern<TransformOp> {
     if (!m)
       return op.emitError("unknown coordinate space in transform from '")
              << op.getFrom() << "' to '" << op.getTo() << "'";
-    Lanes lanes{rewriter, op.getLoc(), width};
+    Components lanes{rewriter, op.getLoc(), width};
     auto p = lanes.unpack(adaptor.getValue(), op.getValue().getType(),
                           isVarying(op.getType()));
     std::array<Value, 3> r =
@@ -222,7 +222,7 @@ struct ColorLowering : public OslPattern<Op> {
     if (!cs)
       return op.emitError("unknown color space '") << op.getColorspace() << "'";
     Location loc = op.getLoc();
-    Lanes lanes{rewriter, loc, this->width};
+    Components lanes{rewriter, loc, this->width};
     SmallVector<Value> in = lanes.unpack(adaptor.getOperands()[0],
                                          op->getOperand(0).getType(), false);
     SmallVector<Value> out;
@@ -255,7 +255,7 @@ struct SplineFamilyLowering : public OslPattern<Op> {
                                 ConversionPatternRewriter &rewriter) const override {
     Location loc = op.getLoc();
     bool varying = isVarying(op.getType());
-    Lanes lanes{rewriter, loc, this->width};
+    Components lanes{rewriter, loc, this->width};
     Value x = lanes.unpack(adaptor.getOperands()[0], op->getOperand(0).getType(), varying)[0];
     Value count;
     if (op.getCount()) {

@@ -90,7 +90,7 @@ std::pair<Value, int64_t> operandRows(OpBuilder &b, Location loc, Operation *op,
   for (char k : kinds)
     rows += ::osl::stringOperandRows(k);
   Value block = entryBlockRows(b, loc, op, rows * lanes);
-  Lanes unpacker{b, loc, width};
+  Components unpacker{b, loc, width};
   int64_t row = 0;
   for (auto [o, c] : llvm::zip(original, converted))
     for (Value comp : unpacker.unpack(c, o.getType(), varying))

@@ -55,7 +55,7 @@ public:
 };
 
 /// Splits converted values into per-component lane values and back.
-struct Lanes {
+struct Components {
   OpBuilder &b;
   Location loc;
   int64_t width;

@@ -160,7 +160,7 @@ struct MessageLowering : public OslPattern<OpTy> {
         return load.getResult();
       };
       SmallVector<Value> results = {loadRow(foundRow, i32)};
-      Lanes packer{rewriter, loc, width};
+      Components packer{rewriter, loc, width};
       int64_t row = 0;
       for (auto [k, value] : llvm::enumerate(op.getValues())) {
         Type resultType = this->convert(value.getType());
@@ -197,7 +197,7 @@ struct TextureLowering : public OslPattern<TextureOp> {
     Type f32 = rewriter.getF32Type(), i32 = rewriter.getI32Type();
     LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, entry::osl_rt_texture);
     Value block = entryBlockRows(rewriter, loc, op, ::osl::kTextureRows * lanes);
-    Lanes unpacker{rewriter, loc, width};
+    Components unpacker{rewriter, loc, width};
     auto storeRow = [&](int64_t row, Value original, Value converted) {
       Value v = unpacker.unpack(converted, original.getType(), varying)[0];
       rewriter.create<LLVM::StoreOp>(loc, v, rowAddress(rewriter, loc, block, row, lanes), 4);
@@ -353,7 +353,7 @@ struct GetTextureInfoLowering : public OslPattern<GetTextureInfoOp> {
     int64_t count = op.getValues().size();
     // Rows: the handles, whether found, then the values.
     Value block = entryBlockRows(rewriter, loc, op, (2 + count) * lanes);
-    Lanes unpacker{rewriter, loc, width};
+    Components unpacker{rewriter, loc, width};
     Value handles = unpacker.unpack(adaptor.getFileHandle(), op.getFileHandle().getType(),
                                     varying)[0];
     rewriter.create<LLVM::StoreOp>(loc, handles, rowAddress(rewriter, loc, block, 0, lanes), 4);
