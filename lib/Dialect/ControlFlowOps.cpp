@@ -19,12 +19,11 @@ using namespace mlir::osl;
 
 // Before osl-varying-propagation a uniform value may flow into a varying
 // slot: the edges compare base types.
-bool IfOp::areTypesCompatible(Type lhs, Type rhs) {
+static bool sameBaseType(Type lhs, Type rhs) {
   return getUniformType(lhs) == getUniformType(rhs);
 }
-bool WhileOp::areTypesCompatible(Type lhs, Type rhs) {
-  return getUniformType(lhs) == getUniformType(rhs);
-}
+bool IfOp::areTypesCompatible(Type lhs, Type rhs) { return sameBaseType(lhs, rhs); }
+bool WhileOp::areTypesCompatible(Type lhs, Type rhs) { return sameBaseType(lhs, rhs); }
 
 /// Either arm from the op; the arms to the op's results.
 void IfOp::getSuccessorRegions(RegionBranchPoint point,

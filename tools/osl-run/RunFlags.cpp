@@ -275,11 +275,11 @@ bool itersFlag(FlagParser &p) {
   return true;
 }
 
-/// A flag that stores its one argument in `field`.
-template <std::string RunOptions::*Field> bool stringFlag(FlagParser &p) {
+/// A flag that stores its one argument in a compile option.
+template <std::string CompileOptions::*Field> bool compileStringFlag(FlagParser &p) {
   if (!p.need(1))
     return false;
-  p.o.*Field = p.next();
+  p.o.compile.*Field = p.next();
   return true;
 }
 
@@ -506,12 +506,7 @@ const Flag kFlags[] = {
     {{"--group"}, groupFlag},
     {{"--reparam"}, reparamFlag},
     {{"--entry"}, entryFlag},
-    {{"--groupname"}, [](FlagParser &p) {
-       if (!p.need(1))
-         return false;
-       p.o.compile.groupName = p.next();
-       return true;
-     }},
+    {{"--groupname"}, compileStringFlag<&CompileOptions::groupName>},
     {{"-O0", "-O1", "-O2"}, optimizationFlag},
     // Compiling
     {{"--width"}, widthFlag},
@@ -523,18 +518,8 @@ const Flag kFlags[] = {
     {{"-w"}, noWarningsFlag},
     {{"-I"}, includeFlag},
     {{"-D", "-U"}, macroFlag},
-    {{"--raytype"}, [](FlagParser &p) {
-       if (!p.need(1))
-         return false;
-       p.o.compile.rayType = p.next();
-       return true;
-     }},
-    {{"--colorspace"}, [](FlagParser &p) {
-       if (!p.need(1))
-         return false;
-       p.o.compile.colorSpace = p.next();
-       return true;
-     }},
+    {{"--raytype"}, compileStringFlag<&CompileOptions::rayType>},
+    {{"--colorspace"}, compileStringFlag<&CompileOptions::colorSpace>},
     // Running
     {{"--check"}, setFlag<&RunOptions::checkOnly>},
     {{"--info"}, setFlag<&RunOptions::infoOnly>},
