@@ -376,6 +376,9 @@ private:
   /// getattribute's value...); none for a user function of that name.
   llvm::SmallVector<size_t> libraryOutputArgs(const Expr &e) const;
   bool hasSideEffects(const Expr &e);
+  /// Whether `e` may only run on the lanes that evaluate it: it has side
+  /// effects or an index checked at run time.
+  bool mustRunMasked(const Expr &e);
   const llvm::StringSet<> &functionAssigned(const FunctionDecl *fn);
   /// Whether `fn` may write its parameter `name` (see Var::writtenThrough).
   bool writesParam(const FunctionDecl &fn, llvm::StringRef name) {

@@ -180,7 +180,7 @@ std::optional<RValue> IRGen::emitLogical(const Expr &e) {
   if (!lc)
     return std::nullopt;
   OslType boolType(BaseType::Bool);
-  if (hasSideEffects(*e.args[1])) {
+  if (mustRunMasked(*e.args[1])) {
     // Short-circuit: the right side runs only when it decides the result.
     llvm::StringSet<> names;
     scanAssigned(*e.args[1], names);
@@ -265,7 +265,7 @@ std::optional<RValue> IRGen::emitTernary(const Expr &e, const OslType *expected)
   auto cb = toBool(*c, e.args[0]->loc);
   if (!cb)
     return std::nullopt;
-  if (hasSideEffects(*e.args[1]) || hasSideEffects(*e.args[2])) {
+  if (mustRunMasked(*e.args[1]) || mustRunMasked(*e.args[2])) {
     llvm::StringSet<> names;
     scanAssigned(*e.args[1], names);
     scanAssigned(*e.args[2], names);

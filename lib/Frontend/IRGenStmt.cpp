@@ -363,7 +363,7 @@ bool IRGen::emitWhile(const Expr *condExpr, const Stmt &body, const Expr *step,
       return RValue::num(OslType(BaseType::Bool), *cb);
     };
     std::optional<RValue> c;
-    if (stay && hasSideEffects(*condExpr)) {
+    if (stay && mustRunMasked(*condExpr)) {
       llvm::StringSet<> condNames;
       scanAssigned(*condExpr, condNames);
       c = emitIfRegion(
@@ -554,4 +554,13 @@ bool IRGen::hasSideEffects(const Expr &e) {
        ::osl::printStreamCode(e.name) >= 0))
     return true;
   return llvm::any_of(e.args, [&](const ExprPtr &a) { return hasSideEffects(*a); });
+}
+
+bool IRGen::mustRunMasked(const Expr &e) {
+  // An index known only at run time is range-checked where it is evaluated:
+  // `m >= 0 && a[m] > x` must not report a[-1].
+  if (e.kind == ExprKind::Index && e.args[1]->kind != ExprKind::IntLit)
+    return true;
+  return hasSideEffects(e) ||
+         llvm::any_of(e.args, [&](const ExprPtr &a) { return mustRunMasked(*a); });
 }

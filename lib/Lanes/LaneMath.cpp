@@ -1,5 +1,6 @@
 //===- LaneMath.cpp - OSL semantics on lane values ------------------------===//
 #include "OslLanes/LaneMath.h"
+#include "OslLanes/UniformDivisor.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Math/IR/Math.h"
@@ -138,6 +139,8 @@ Value lane::div(OpBuilder &b, Location loc, ValueRange x) {
                         cst(b, loc, q, INFINITY));
     return sel(b, loc, finite, q, cst(b, loc, num, 0));
   }
+  if (Value d = uniformDivisorOf(den))
+    return divideByUniform(b, loc, num, d);
   Value zero = cst(b, loc, den, 0), one = cst(b, loc, den, 1);
   Value isZero = icmp(b, loc, arith::CmpIPredicate::eq, den, zero);
   Value overflow = b.create<arith::AndIOp>(
@@ -153,6 +156,8 @@ Value lane::div(OpBuilder &b, Location loc, ValueRange x) {
 /// int x % 0 = 0, truncating like C.
 Value lane::mod(OpBuilder &b, Location loc, ValueRange x) {
   Value num = x[0], den = x[1];
+  if (Value d = uniformDivisorOf(den))
+    return remainderByUniform(b, loc, num, d);
   Value zero = cst(b, loc, den, 0);
   Value isZero = icmp(b, loc, arith::CmpIPredicate::eq, den, zero);
   Value isMinusOne = icmp(b, loc, arith::CmpIPredicate::eq, den, cst(b, loc, den, -1));

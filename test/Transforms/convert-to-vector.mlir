@@ -338,6 +338,32 @@ func.func @first_lane() {
 
 // -----
 
+// int / and % of varying values by a uniform divisor known only at run
+// time: no per-lane division (x86 has no vector one); the divisor's
+// multiplier is one scalar division, each lane a multiply-high and shifts.
+// CHECK-LABEL: osl.shader_name = "int_division_by_uniform"
+// CHECK-NOT: arith.divsi %{{.+}} : vector<8xi32>
+// CHECK: arith.divui %{{.+}}, %{{.+}} : i64
+// CHECK: arith.mului_extended %{{.+}}, %{{.+}} : vector<8xi32>
+// CHECK-NOT: arith.remsi %{{.+}} : vector<8xi32>
+// CHECK: arith.mului_extended %{{.+}}, %{{.+}} : vector<8xi32>
+// CHECK-NOT: arith.divsi %{{.+}} : vector<8xi32>
+func.func @int_division_by_uniform() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %m = osl.batch_mask : !osl.varying<i1>
+  %big = arith.constant 1.0e+06 : f32
+  %s = osl.mul %u, %big : !osl.varying<f32>, f32 -> !osl.varying<f32>
+  %n = osl.convert %s : !osl.varying<f32> -> !osl.varying<i32>
+  %d = osl.first_lane %n, %m : !osl.varying<i32>, !osl.varying<i1> -> i32
+  %q = osl.div %n, %d : !osl.varying<i32>, i32 -> !osl.varying<i32>
+  %r = osl.mod %n, %d : !osl.varying<i32>, i32 -> !osl.varying<i32>
+  osl.output "q" = %q : !osl.varying<i32>
+  osl.output "r" = %r : !osl.varying<i32>
+  return
+}
+
+// -----
+
 // With Dx/Dy of the point, lanes where |Dx P x Dy P|^2 >= 1e-6 (and
 // do_filter != 0, uniform) filter their kernels. A color result evaluates
 // three times (seeds 0, 1, 2: three cell loops).
