@@ -42,13 +42,20 @@ Value buildZero(OpBuilder &b, Location loc, Type type);
 /// The result type of a lane-wise op of this kind over these operands.
 Type inferLaneResultType(LaneKind kind, ValueRange operands);
 LogicalResult verifyLaneOp(Operation *op, LaneKind kind);
-/// Noise type names the front end and verifier accept.
-bool isKnownNoiseName(llvm::StringRef name);
-
 } // namespace mlir::osl
 
 #include "OslDialect/OslOpsDialect.h.inc"
 #include "OslDialect/OslEnums.h.inc"
+
+namespace mlir::osl {
+/// The noise an OSL noise name selects ("snoise" is perlin, "noise"
+/// uperlin, "cellnoise" cell, "hashnoise" hash), or none.
+std::optional<NoiseKind> noiseKindFromName(llvm::StringRef name);
+/// The basis an OSL basis name selects ("catmull-rom" is catmullrom).
+std::optional<SplineBasis> splineBasisFromName(llvm::StringRef name);
+/// OSL's name of a basis, for messages.
+llvm::StringRef splineBasisName(SplineBasis basis);
+} // namespace mlir::osl
 
 #define GET_TYPEDEF_CLASSES
 #include "OslDialect/OslOpsTypes.h.inc"

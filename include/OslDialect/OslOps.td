@@ -372,7 +372,8 @@ def Osl_HashOp : Osl_Op<"hash", [Pure]> {
 def Osl_NoiseOp : Osl_Op<"noise", [Pure, AttrSizedOperandSegments]> {
   let summary = "noise(name, p [, t]) with a float or triple result";
   let description = [{
-    `kind` is OSL's noise type name ("perlin", "uperlin", "cell", "hash"...).
+    `kind` is the noise (OslEnums.td: the front end maps OSL's names and
+    aliases to it).
     Domains: (f32), (f32, f32), (triple), (triple, f32). With `periodic`
     (OSL's pnoise) the coordinates are followed by one period of the same
     type per coordinate.
@@ -385,7 +386,7 @@ def Osl_NoiseOp : Osl_Op<"noise", [Pure, AttrSizedOperandSegments]> {
     coordinates, not a 4th one or the periods), for the filter; without
     them the noise is not filtered.
   }];
-  let arguments = (ins StrAttr:$kind, Variadic<Osl_Value>:$coords, UnitAttr:$periodic,
+  let arguments = (ins Osl_NoiseKind:$kind, Variadic<Osl_Value>:$coords, UnitAttr:$periodic,
                        Variadic<Osl_Value>:$derivs,
                        Optional<Osl_Value>:$anisotropic, Optional<Osl_Value>:$direction,
                        Optional<Osl_Value>:$bandwidth, Optional<Osl_Value>:$impulses,
@@ -402,7 +403,7 @@ def Osl_NoiseOp : Osl_Op<"noise", [Pure, AttrSizedOperandSegments]> {
     attr-dict `:` functional-type($coords, $result)
   }];
   let builders = [
-    OpBuilder<(ins "Type":$result, "StringRef":$kind, "ValueRange":$coords,
+    OpBuilder<(ins "Type":$result, "::mlir::osl::NoiseKind":$kind, "ValueRange":$coords,
                    "bool":$periodic), [{
       build($_builder, $_state, result, kind, coords, periodic, ValueRange(),
             Value(), Value(), Value(), Value(), Value());
@@ -413,7 +414,7 @@ def Osl_NoiseOp : Osl_Op<"noise", [Pure, AttrSizedOperandSegments]> {
 
 def Osl_TransformOp : Osl_Op<"transform", [Pure]> {
   let summary = "transform a point, vector or normal between named spaces";
-  let arguments = (ins StrAttr:$from, StrAttr:$to, StrAttr:$kind, Osl_Triple:$value);
+  let arguments = (ins StrAttr:$from, StrAttr:$to, Osl_TransformKind:$kind, Osl_Triple:$value);
   let results = (outs Osl_Triple:$result);
   let assemblyFormat = "$from `to` $to $kind $value attr-dict `:` type($value) `->` type($result)";
   let hasVerifier = 1;
@@ -427,9 +428,9 @@ def Osl_TextureOp : Osl_Op<"texture", [AttrSizedOperandSegments]> {
   let summary = "texture(), texture3d() and environment() through OpenImageIO";
   let description = [{
     A filtered texture lookup of `nchannels` (1 or 3) channels plus alpha.
-    `kind` is "2d" (coords s, t; derivs ds/dx, dt/dx, ds/dy, dt/dy), "3d"
-    (coords P; derivs dP/dx, dP/dy, dP/dz, component by component) or
-    "environment" (coords R; derivs dR/dx, dR/dy).
+    `kind` is texture (coords s, t; derivs ds/dx, dt/dx, ds/dy, dt/dy),
+    texture3d (coords P; derivs dP/dx, dP/dy, dP/dz, component by
+    component) or environment (coords R; derivs dR/dx, dR/dy).
 
     `floatOptions` are the per-point options, in the order sblur, tblur,
     rblur, swidth, twidth, rwidth, fill, missingalpha, then missingcolor's
@@ -453,7 +454,7 @@ def Osl_TextureOp : Osl_Op<"texture", [AttrSizedOperandSegments]> {
     the handle of the error's text where a lookup failed ("unknown" when
     the texture system gave none) and of "" elsewhere.
   }];
-  let arguments = (ins StrAttr:$kind, I32Attr:$nchannels,
+  let arguments = (ins Osl_TextureKind:$kind, I32Attr:$nchannels,
                        UnitAttr:$hasMissingColor, UnitAttr:$hasMissingAlpha,
                        UnitAttr:$wantsErrorMessage, ArrayAttr:$candidates,
                        Variadic<Osl_Float>:$coords, Variadic<Osl_Float>:$derivs,
@@ -728,7 +729,7 @@ def Osl_SplineOp : Osl_Op<"spline", [Pure, AttrSizedOperandSegments]> {
     OSL's spline. With `count` (an i32, possibly varying), only the first
     `count` knots are used (at most as many as are given).
   }];
-  let arguments = (ins StrAttr:$basis, Osl_Value:$x, Optional<Osl_Value>:$count,
+  let arguments = (ins Osl_SplineBasis:$basis, Osl_Value:$x, Optional<Osl_Value>:$count,
                        Variadic<Osl_Value>:$knots);
   let results = (outs Osl_Value:$result);
   let assemblyFormat = [{
@@ -744,7 +745,7 @@ def Osl_SplineInverseOp : Osl_Op<"splineinverse", [Pure, AttrSizedOperandSegment
     0 or 1 outside the knots' range, else found segment by segment by
     regula falsi falling back to bisection (32 iterations, eps 1e-6).
   }];
-  let arguments = (ins StrAttr:$basis, Osl_Value:$y, Optional<Osl_Value>:$count,
+  let arguments = (ins Osl_SplineBasis:$basis, Osl_Value:$y, Optional<Osl_Value>:$count,
                        Variadic<Osl_Value>:$knots);
   let results = (outs Osl_Value:$result);
   let assemblyFormat = [{

@@ -7,6 +7,7 @@
 #ifndef OSLLANES_LIBRARYBUILDERS_H
 #define OSLLANES_LIBRARYBUILDERS_H
 
+#include "OslDialect/OslDialect.h"
 #include "mlir/IR/Builders.h"
 #include "mlir/Support/LogicalResult.h"
 
@@ -26,7 +27,7 @@ std::optional<Matrix44> namedSpaceTransform(StringRef from, StringRef to);
 /// Applies `m` to a point (with translation), a vector (without) or a
 /// normal (by the inverse transpose), given as three lane values.
 std::array<Value, 3> buildTransform(OpBuilder &b, Location loc,
-                                    const Matrix44 &m, StringRef kind,
+                                    const Matrix44 &m, TransformKind kind,
                                     std::array<Value, 3> p);
 
 /// OSL's spline(basis, x, knots): `knots[i]` holds the components of knot
@@ -34,11 +35,11 @@ std::array<Value, 3> buildTransform(OpBuilder &b, Location loc,
 /// as many components. `count` (a lane i32 shaped like x, or null for all)
 /// limits the knots used. Fails for a basis it does not implement.
 FailureOr<SmallVector<Value>> buildSpline(OpBuilder &b, Location loc,
-                                          StringRef basis, Value x, Value count,
+                                          SplineBasis basis, Value x, Value count,
                                           ArrayRef<SmallVector<Value>> knots);
 
 /// OSL's splineinverse(basis, y, knots) over float knots (see buildSpline).
-FailureOr<Value> buildSplineInverse(OpBuilder &b, Location loc, StringRef basis,
+FailureOr<Value> buildSplineInverse(OpBuilder &b, Location loc, SplineBasis basis,
                                     Value y, Value count,
                                     ArrayRef<SmallVector<Value>> knots);
 

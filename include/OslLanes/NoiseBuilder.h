@@ -20,17 +20,11 @@
 #include <array>
 #include <optional>
 
+#include "OslDialect/OslDialect.h"
+
 namespace mlir::osl {
 
-enum class NoiseKind {
-  Perlin,   ///< "perlin", "snoise": signed, about [-1, 1]
-  UPerlin,  ///< "uperlin", "noise": 0.5 * (perlin + 1)
-  Cell,     ///< "cell", "cellnoise": hash of floor(coords), [0, 1]
-  Hash,     ///< "hash", "hashnoise": hash of the coords' bits, [0, 1]
-  Simplex,  ///< "simplex": signed simplex noise
-  USimplex, ///< "usimplex": 0.5 * (simplex + 1)
-};
-
+/// `kind` is any NoiseKind but gabor (GaborBuilder.h builds that one).
 /// Every Value in `coords` (1 to 4 of them, OSL's domain order x, y, z, w)
 /// has the same type: f32 or vector<W x f32>. Results have that same type.
 /// Emits only arith ops (vector constants as splat arith.constant) and
@@ -59,11 +53,6 @@ buildPeriodicNoiseTriple(mlir::OpBuilder &b, mlir::Location loc,
 /// The cell seeds of Gabor noise use it like cellnoise.
 mlir::Value buildIntHash(mlir::OpBuilder &b, mlir::Location loc,
                          llvm::ArrayRef<mlir::Value> keys);
-
-/// Parses an OSL noise type name: "perlin"/"snoise", "uperlin"/"noise",
-/// "cell"/"cellnoise", "hash"/"hashnoise", "simplex", "usimplex".
-/// ("gabor", built by GaborBuilder.h, and unknown names give std::nullopt.)
-std::optional<NoiseKind> parseNoiseName(llvm::StringRef name);
 
 } // namespace mlir::osl
 

@@ -45,13 +45,13 @@ struct Entry {
 };
 
 Value perlin2(OpBuilder &b, Location loc, ValueRange x) {
-  return mlir::osl::buildNoiseFloat(b, loc, mlir::osl::NoiseKind::Perlin, x);
+  return mlir::osl::buildNoiseFloat(b, loc, mlir::osl::NoiseKind::perlin, x);
 }
 Value simplex2(OpBuilder &b, Location loc, ValueRange x) {
-  return mlir::osl::buildNoiseFloat(b, loc, mlir::osl::NoiseKind::Simplex, x);
+  return mlir::osl::buildNoiseFloat(b, loc, mlir::osl::NoiseKind::simplex, x);
 }
 Value cell2(OpBuilder &b, Location loc, ValueRange x) {
-  return mlir::osl::buildNoiseFloat(b, loc, mlir::osl::NoiseKind::Cell, x);
+  return mlir::osl::buildNoiseFloat(b, loc, mlir::osl::NoiseKind::cell, x);
 }
 
 /// No bound: MLIR's tan (sin/cos) gives +-inf and NaN at large arguments.

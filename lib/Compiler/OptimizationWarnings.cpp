@@ -28,10 +28,10 @@ std::string issue(Operation *op) {
   if (auto lookup = dyn_cast<mlir::osl::TextureOp>(op)) {
     if (!lookup.getFileHandle())
       return "";
-    llvm::StringRef function = lookup.getKind() == "2d"   ? "texture"
-                               : lookup.getKind() == "3d" ? "texture3d"
-                                                          : "environment";
-    return (function + "(): texture name cannot be converted to a handle.").str();
+    // The kinds are named after OSL's functions.
+    return (mlir::osl::stringifyTextureKind(lookup.getKind()) +
+            "(): texture name cannot be converted to a handle.")
+        .str();
   }
   if (auto info = dyn_cast<mlir::osl::GetTextureInfoOp>(op))
     return info.getFileHandle() ? "gettextureinfo(): texture name cannot be converted to a handle."

@@ -186,18 +186,34 @@ LogicalResult InsertOp::verify() {
 // Library calls
 //===----------------------------------------------------------------------===//
 
-bool mlir::osl::isKnownNoiseName(StringRef name) {
-  return llvm::StringSwitch<bool>(name)
-      .Cases("perlin", "snoise", "uperlin", "noise", true)
-      .Cases("cell", "cellnoise", "hash", "hashnoise", true)
-      .Cases("simplex", "usimplex", "gabor", true)
-      .Default(false);
+std::optional<NoiseKind> mlir::osl::noiseKindFromName(StringRef name) {
+  return llvm::StringSwitch<std::optional<NoiseKind>>(name)
+      .Cases("perlin", "snoise", NoiseKind::perlin)
+      .Cases("uperlin", "noise", NoiseKind::uperlin)
+      .Cases("cell", "cellnoise", NoiseKind::cell)
+      .Cases("hash", "hashnoise", NoiseKind::hash)
+      .Case("simplex", NoiseKind::simplex)
+      .Case("usimplex", NoiseKind::usimplex)
+      .Case("gabor", NoiseKind::gabor)
+      .Default(std::nullopt);
+}
+
+std::optional<SplineBasis> mlir::osl::splineBasisFromName(StringRef name) {
+  if (name == "catmull-rom")
+    return SplineBasis::catmullrom;
+  if (name == "catmullrom") // not OSL's spelling
+    return std::nullopt;
+  return symbolizeSplineBasis(name);
+}
+
+StringRef mlir::osl::splineBasisName(SplineBasis basis) {
+  return basis == SplineBasis::catmullrom ? "catmull-rom" : stringifySplineBasis(basis);
 }
 
 /// Gabor's options and filter derivatives (see the op's description).
 /// `domain` holds the uniform types of the coordinates, without periods.
 static LogicalResult verifyNoiseOptions(NoiseOp op, ArrayRef<Type> domain) {
-  bool gabor = op.getKind() == "gabor";
+  bool gabor = op.getKind() == NoiseKind::gabor;
   bool anyOption = op.getAnisotropic() || op.getDirection() || op.getBandwidth() ||
                    op.getImpulses() || op.getDoFilter();
   if (!gabor && (anyOption || !op.getDerivs().empty()))
@@ -236,8 +252,6 @@ static LogicalResult verifyNoiseOptions(NoiseOp op, ArrayRef<Type> domain) {
 }
 
 LogicalResult NoiseOp::verify() {
-  if (!isKnownNoiseName(getKind()))
-    return emitOpError("unknown noise type '") << getKind() << "'";
   SmallVector<Type> bases;
   for (Value v : getCoords())
     bases.push_back(getUniformType(v.getType()));
@@ -260,8 +274,6 @@ LogicalResult NoiseOp::verify() {
 }
 
 LogicalResult TransformOp::verify() {
-  if (!llvm::is_contained(ArrayRef<StringRef>{"point", "vector", "normal"}, getKind()))
-    return emitOpError("kind must be point, vector or normal");
   if (getFrom().empty() || getTo().empty())
     return emitOpError("space names must not be empty");
   return success();
@@ -276,18 +288,20 @@ static constexpr const char *kTextureChoiceNames[] = {"file",  "swrap",  "twrap"
                                                       "rwrap", "interp", "subimagename"};
 
 LogicalResult TextureOp::verify() {
-  size_t coords = 0, derivs = 0;
-  if (getKind() == "2d")
-    coords = 2, derivs = 4;
-  else if (getKind() == "3d")
-    coords = 3, derivs = 9;
-  else if (getKind() == "environment")
-    coords = 3, derivs = 6;
-  else
-    return emitOpError("kind must be 2d, 3d or environment");
+  auto [coords, derivs] = [&]() -> std::pair<size_t, size_t> {
+    switch (getKind()) {
+    case TextureKind::texture:
+      return {2, 4};
+    case TextureKind::texture3d:
+      return {3, 9};
+    case TextureKind::environment:
+      return {3, 6};
+    }
+    llvm_unreachable("texture kind");
+  }();
   if (getCoords().size() != coords || getDerivs().size() != derivs)
-    return emitOpError("a ") << getKind() << " lookup takes " << coords << " coordinates and "
-                             << derivs << " derivatives";
+    return emitOpError("a ") << stringifyTextureKind(getKind()) << " lookup takes " << coords
+                             << " coordinates and " << derivs << " derivatives";
   if (getFloatOptions().size() != 11)
     return emitOpError("needs 11 float options (8 per-point options, then missingcolor)");
   if (getNchannels() != 1 && getNchannels() != 3)
@@ -468,18 +482,12 @@ LogicalResult LuminanceOp::verify() { return verifyColorOp(*this, getColorspace(
 
 /// Checks shared by spline and splineinverse: a known basis, enough knots,
 /// an f32 parameter and an i32 count.
-static LogicalResult verifySplineCommon(Operation *op, StringRef basis, Value x,
+static LogicalResult verifySplineCommon(Operation *op, SplineBasis basis, Value x,
                                         Value count, ValueRange knots) {
-  size_t minKnots = llvm::StringSwitch<size_t>(basis)
-                        .Cases("catmull-rom", "bezier", "bspline", "hermite", 4)
-                        .Case("linear", 2)
-                        .Case("constant", 1)
-                        .Default(0);
-  if (minKnots == 0)
-    return op->emitOpError("unknown spline basis '") << basis << "'";
+  size_t minKnots = basis == SplineBasis::constant ? 1 : basis == SplineBasis::linear ? 2 : 4;
   if (knots.size() < minKnots)
-    return op->emitOpError("basis '") << basis << "' needs at least " << minKnots
-                                      << " knots";
+    return op->emitOpError("basis '") << splineBasisName(basis) << "' needs at least "
+                                      << minKnots << " knots";
   if (!getUniformType(x.getType()).isF32())
     return op->emitOpError("the spline parameter must be f32");
   if (count && !getUniformType(count.getType()).isInteger(32))

@@ -104,7 +104,7 @@ std::optional<RValue> emitTypeConstructor(IRGen &g, OslType t,
         return RValue::num(t, value);
       return RValue::num(t, g.builder().create<TransformOp>(g.loc(call.loc), value.getType(),
                                                             space, "common",
-                                                            baseTypeName(t.base), value));
+                                                            transformKindOf(t.base), value));
     };
     auto r = g.forEachStringChoice(args[0], call.loc, inSpace);
     if (!r)

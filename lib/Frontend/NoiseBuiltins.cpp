@@ -156,7 +156,8 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
   bool varying = llvm::any_of(coords, [](Value v) { return isVarying(v.getType()); });
   Type t = withUniformity(irType(g.builder(), resultType), varying);
   return g.forEachStringChoice(kindName, call.loc, [&](const std::string &k) {
-    if (!isKnownNoiseName(k)) {
+    std::optional<NoiseKind> kind = noiseKindFromName(k);
+    if (!kind) {
       // OSL's renderer reports an unknown name where the point runs, and
       // the noise is 0.
       g.reportAtRunTime(std::string(periodic ? "periodic " : "") + "noise type \"" + k +
@@ -164,12 +165,12 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
                         call.loc);
       return std::optional<RValue>(g.zeroValue(resultType, call.loc));
     }
-    if (k != "gabor") { // other noises ignore the options, as in OSL
-      Value v = g.builder().create<NoiseOp>(g.loc(call.loc), t, k, coords, periodic);
+    if (*kind != NoiseKind::gabor) { // other noises ignore the options, as in OSL
+      Value v = g.builder().create<NoiseOp>(g.loc(call.loc), t, *kind, coords, periodic);
       return std::optional<RValue>(RValue::num(resultType, v));
     }
     Value v = g.builder().create<NoiseOp>(
-        g.loc(call.loc), t, k, coords, periodic,
+        g.loc(call.loc), t, *kind, coords, periodic,
         gaborFilterDerivs(g, call.loc, pointCoords, *options), options->anisotropic,
         options->direction, options->bandwidth, options->impulses, options->doFilter);
     return std::optional<RValue>(RValue::num(resultType, v));

@@ -136,9 +136,8 @@ std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
     }
     if (!knownSpaces(g, {from, to}, call.loc))
       return p;
-    std::string kind = baseTypeName(p.type.base).str();
     Value v = g.builder().create<TransformOp>(g.loc(call.loc), p.value.getType(), from, to,
-                                              kind, p.value);
+                                              transformKindOf(p.type.base), p.value);
     return RValue::num(p.type, v);
   };
   RValue from = n == 3 ? (*args)[0] : RValue::string("common");

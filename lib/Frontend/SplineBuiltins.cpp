@@ -35,9 +35,7 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
     return std::nullopt;
   std::vector<std::string> bases = *knownBases;
   for (const std::string &basis : bases) {
-    bool known = llvm::is_contained(
-        {"catmull-rom", "bezier", "bspline", "hermite", "linear", "constant"}, basis);
-    if (!known) {
+    if (!splineBasisFromName(basis)) {
       g.error(call.args[0]->loc, "unknown spline basis '" + basis +
                                      "' (expected catmull-rom, bezier, bspline, hermite, "
                                      "linear or constant)");
@@ -103,11 +101,12 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
   }
   Type t = withUniformity(irType(g.builder(), knotType), varying);
   return g.forEachStringChoice(basisName, call.loc, [&](const std::string &basis) {
+    SplineBasis kind = *splineBasisFromName(basis);
     Value v =
         inverse
-            ? g.builder().create<SplineInverseOp>(g.loc(call.loc), t, basis, xv, count, kv)
+            ? g.builder().create<SplineInverseOp>(g.loc(call.loc), t, kind, xv, count, kv)
                   .getResult()
-            : g.builder().create<SplineOp>(g.loc(call.loc), t, basis, xv, count, kv)
+            : g.builder().create<SplineOp>(g.loc(call.loc), t, kind, xv, count, kv)
                   .getResult();
     return std::optional<RValue>(RValue::num(knotType, v));
   });

@@ -20,7 +20,7 @@ namespace {
 
 /// The shape of one lookup function.
 struct TextureForm {
-  const char *kind;  // osl.texture's kind
+  mlir::osl::TextureKind kind;
   bool tripleCoord;  // one triple (P, R) rather than s, t
   int derivArgs;     // explicit derivative arguments
   const char *usage; // its signatures, for errors
@@ -28,15 +28,15 @@ struct TextureForm {
 
 std::optional<TextureForm> textureForm(llvm::StringRef name) {
   if (name == "texture")
-    return TextureForm{"2d", false, 4,
+    return TextureForm{mlir::osl::TextureKind::texture, false, 4,
                        "texture(string file, float s, float t, [float dsdx, float dtdx, "
                        "float dsdy, float dtdy,] options...)"};
   if (name == "texture3d")
-    return TextureForm{"3d", true, 3,
+    return TextureForm{mlir::osl::TextureKind::texture3d, true, 3,
                        "texture3d(string file, point p, [vector dpdx, vector dpdy, "
                        "vector dpdz,] options...)"};
   if (name == "environment")
-    return TextureForm{"environment", true, 2,
+    return TextureForm{mlir::osl::TextureKind::environment, true, 2,
                        "environment(string file, vector R, [vector dRdx, vector dRdy,] "
                        "options...)"};
   return std::nullopt;

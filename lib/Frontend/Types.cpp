@@ -47,3 +47,9 @@ mlir::Type osl::frontend::irType(mlir::Builder &b, OslType type) {
   default: return {};
   }
 }
+
+mlir::osl::TransformKind osl::frontend::transformKindOf(BaseType base) {
+  return base == BaseType::Normal   ? mlir::osl::TransformKind::normal
+         : base == BaseType::Vector ? mlir::osl::TransformKind::vector
+                                    : mlir::osl::TransformKind::point;
+}

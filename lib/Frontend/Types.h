@@ -14,6 +14,10 @@
 
 #include <string>
 
+namespace mlir::osl {
+enum class TransformKind : uint32_t;
+} // namespace mlir::osl
+
 namespace osl::frontend {
 
 struct StructDecl; // Ast.h
@@ -86,6 +90,8 @@ struct OslType {
 };
 
 llvm::StringRef baseTypeName(BaseType base);
+/// How osl.transform moves a value of a point-like type.
+mlir::osl::TransformKind transformKindOf(BaseType base);
 /// The IR type of a non-array numeric type (uniform).
 mlir::Type irType(mlir::Builder &b, OslType type);
 

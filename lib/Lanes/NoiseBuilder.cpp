@@ -288,24 +288,24 @@ SmallVector<Value, 3> simplexResults(Emitter &e, ValueRange coords,
 SmallVector<Value, 3> noiseResults(Emitter &e, NoiseKind kind,
                                    ValueRange coords, unsigned channels) {
   switch (kind) {
-  case NoiseKind::Perlin:
-  case NoiseKind::UPerlin: {
+  case NoiseKind::perlin:
+  case NoiseKind::uperlin: {
     auto hash = [&](ArrayRef<Value> key) { return e.inthash(key); };
     return perlinResults(e, coords, hash, channels,
-                         kind == NoiseKind::UPerlin);
+                         kind == NoiseKind::uperlin);
   }
-  case NoiseKind::Cell:
-  case NoiseKind::Hash: {
+  case NoiseKind::cell:
+  case NoiseKind::hash: {
     SmallVector<Value, 4> keys =
-        kind == NoiseKind::Cell ? cellKeys(e, coords) : hashKeys(e, coords);
+        kind == NoiseKind::cell ? cellKeys(e, coords) : hashKeys(e, coords);
     if (channels == 1)
       return {e.bitsTo01(e.inthash(keys))};
     std::array<Value, 3> t = hashTriple(e, keys);
     return {t[0], t[1], t[2]};
   }
-  case NoiseKind::Simplex:
-  case NoiseKind::USimplex:
-    return simplexResults(e, coords, channels, kind == NoiseKind::USimplex);
+  case NoiseKind::simplex:
+  case NoiseKind::usimplex:
+    return simplexResults(e, coords, channels, kind == NoiseKind::usimplex);
   }
   llvm_unreachable("unknown noise kind");
 }
@@ -315,8 +315,8 @@ SmallVector<Value, 3> periodicResults(Emitter &e, NoiseKind kind,
                                       unsigned channels) {
   assert(periods.size() == coords.size() && "one period per coordinate");
   switch (kind) {
-  case NoiseKind::Perlin:
-  case NoiseKind::UPerlin: {
+  case NoiseKind::perlin:
+  case NoiseKind::uperlin: {
     SmallVector<Value, 4> per = latticePeriods(e, periods);
     auto hash = [&](ArrayRef<Value> key) {
       SmallVector<Value, 4> wrapped;
@@ -329,15 +329,15 @@ SmallVector<Value, 3> periodicResults(Emitter &e, NoiseKind kind,
       return e.inthash(wrapped);
     };
     return perlinResults(e, coords, hash, channels,
-                         kind == NoiseKind::UPerlin);
+                         kind == NoiseKind::uperlin);
   }
-  case NoiseKind::Cell:
-  case NoiseKind::Hash: {
+  case NoiseKind::cell:
+  case NoiseKind::hash: {
     SmallVector<Value, 4> w = wrapCoords(e, coords, periods);
     return noiseResults(e, kind, w, channels);
   }
-  case NoiseKind::Simplex:
-  case NoiseKind::USimplex:
+  case NoiseKind::simplex:
+  case NoiseKind::usimplex:
     return {};
   }
   llvm_unreachable("unknown noise kind");
@@ -392,15 +392,5 @@ Value buildIntHash(OpBuilder &b, Location loc, ArrayRef<Value> keys) {
   return e.inthash(bits);
 }
 
-std::optional<NoiseKind> parseNoiseName(llvm::StringRef name) {
-  return llvm::StringSwitch<std::optional<NoiseKind>>(name)
-      .Cases("perlin", "snoise", NoiseKind::Perlin)
-      .Cases("uperlin", "noise", NoiseKind::UPerlin)
-      .Cases("cell", "cellnoise", NoiseKind::Cell)
-      .Cases("hash", "hashnoise", NoiseKind::Hash)
-      .Case("simplex", NoiseKind::Simplex)
-      .Case("usimplex", NoiseKind::USimplex)
-      .Default(std::nullopt);
-}
 
 } // namespace mlir::osl

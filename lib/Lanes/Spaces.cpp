@@ -129,16 +129,16 @@ std::optional<Matrix44> mlir::osl::namedSpaceTransform(StringRef from,
 
 std::array<Value, 3> mlir::osl::buildTransform(OpBuilder &b, Location loc,
                                                const Matrix44 &matrix,
-                                               StringRef kind,
+                                               TransformKind kind,
                                                std::array<Value, 3> p) {
   Matrix44 m = matrix;
-  if (kind == "normal") {
+  if (kind == TransformKind::normal) {
     Matrix44 inv = inverse(matrix);
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j)
         m[i * 4 + j] = inv[j * 4 + i];
   }
-  bool translate = kind == "point";
+  bool translate = kind == TransformKind::point;
   std::array<Value, 3> out;
   for (int j = 0; j < 3; ++j) {
     Value sum;

@@ -24,34 +24,34 @@ using namespace mlir::osl;
 
 namespace {
 
-struct SplineBasis {
+/// A basis as OSL's spline matrix: segment i uses knots i*step .. i*step+3.
+struct BasisMatrix {
   double m[4][4];
   int step;
   bool constant = false;
 };
 
-std::optional<SplineBasis> lookupBasis(StringRef name) {
-  if (name == "catmull-rom")
-    return SplineBasis{{{-0.5, 1.5, -1.5, 0.5},
-                        {1, -2.5, 2, -0.5},
-                        {-0.5, 0, 0.5, 0},
-                        {0, 1, 0, 0}},
+BasisMatrix basisMatrix(SplineBasis basis) {
+  switch (basis) {
+  case SplineBasis::catmullrom:
+    return BasisMatrix{{{-0.5, 1.5, -1.5, 0.5}, {1, -2.5, 2, -0.5}, {-0.5, 0, 0.5, 0}, {0, 1, 0, 0}},
                        1};
-  if (name == "bezier")
-    return SplineBasis{{{-1, 3, -3, 1}, {3, -6, 3, 0}, {-3, 3, 0, 0}, {1, 0, 0, 0}}, 3};
-  if (name == "bspline")
-    return SplineBasis{{{-1.0 / 6, 3.0 / 6, -3.0 / 6, 1.0 / 6},
+  case SplineBasis::bezier:
+    return BasisMatrix{{{-1, 3, -3, 1}, {3, -6, 3, 0}, {-3, 3, 0, 0}, {1, 0, 0, 0}}, 3};
+  case SplineBasis::bspline:
+    return BasisMatrix{{{-1.0 / 6, 3.0 / 6, -3.0 / 6, 1.0 / 6},
                         {3.0 / 6, -6.0 / 6, 3.0 / 6, 0},
                         {-3.0 / 6, 0, 3.0 / 6, 0},
                         {1.0 / 6, 4.0 / 6, 1.0 / 6, 0}},
                        1};
-  if (name == "hermite")
-    return SplineBasis{{{2, 1, -2, 1}, {-3, -2, 3, -1}, {0, 1, 0, 0}, {1, 0, 0, 0}}, 2};
-  if (name == "linear")
-    return SplineBasis{{{0, 0, 0, 0}, {0, 0, 0, 0}, {0, -1, 1, 0}, {0, 1, 0, 0}}, 1};
-  if (name == "constant")
-    return SplineBasis{{{0}}, 1, /*constant=*/true};
-  return std::nullopt;
+  case SplineBasis::hermite:
+    return BasisMatrix{{{2, 1, -2, 1}, {-3, -2, 3, -1}, {0, 1, 0, 0}, {1, 0, 0, 0}}, 2};
+  case SplineBasis::linear:
+    return BasisMatrix{{{0, 0, 0, 0}, {0, 0, 0, 0}, {0, -1, 1, 0}, {0, 1, 0, 0}}, 1};
+  case SplineBasis::constant:
+    return BasisMatrix{{{0}}, 1, /*constant=*/true};
+  }
+  llvm_unreachable("spline basis");
 }
 
 Value selectLane(OpBuilder &b, Location loc, Value cond, Value t, Value f) {
@@ -66,7 +66,7 @@ Value cmpF(OpBuilder &b, Location loc, arith::CmpFPredicate p, Value x, Value y)
 /// knot count, evaluated at lane values of one shape.
 class LaneSpline {
 public:
-  LaneSpline(OpBuilder &b, Location loc, const SplineBasis &basis,
+  LaneSpline(OpBuilder &b, Location loc, const BasisMatrix &basis,
              ArrayRef<SmallVector<Value>> knots, Value count, Type floatLane)
       : b(b), loc(loc), basis(basis), knots(knots), floatLane(floatLane) {
     intLane = lane::withElement(floatLane, b.getI32Type());
@@ -135,7 +135,7 @@ public:
 
   OpBuilder &b;
   Location loc;
-  const SplineBasis &basis;
+  const BasisMatrix &basis;
   ArrayRef<SmallVector<Value>> knots;
   Type floatLane, intLane;
   int maxSegs;
@@ -234,12 +234,12 @@ std::pair<Value, Value> invertSegment(LaneSpline &spline, Value y, Value xmin, V
 } // namespace
 
 FailureOr<SmallVector<Value>>
-mlir::osl::buildSpline(OpBuilder &b, Location loc, StringRef basisName, Value x,
+mlir::osl::buildSpline(OpBuilder &b, Location loc, SplineBasis basisKind, Value x,
                        Value count, ArrayRef<SmallVector<Value>> knots) {
-  std::optional<SplineBasis> basis = lookupBasis(basisName);
-  if (!basis || knots.size() < 4)
+  if (knots.size() < 4)
     return failure();
-  LaneSpline spline(b, loc, *basis, knots, count, x.getType());
+  BasisMatrix basis = basisMatrix(basisKind);
+  LaneSpline spline(b, loc, basis, knots, count, x.getType());
   SmallVector<Value> result;
   for (size_t c = 0; c < knots.front().size(); ++c)
     result.push_back(spline.evaluate(x, c));
@@ -247,18 +247,18 @@ mlir::osl::buildSpline(OpBuilder &b, Location loc, StringRef basisName, Value x,
 }
 
 FailureOr<Value> mlir::osl::buildSplineInverse(OpBuilder &b, Location loc,
-                                               StringRef basisName, Value y, Value count,
+                                               SplineBasis basisKind, Value y, Value count,
                                                ArrayRef<SmallVector<Value>> knots) {
-  std::optional<SplineBasis> basis = lookupBasis(basisName);
-  if (!basis || knots.size() < 4)
+  if (knots.size() < 4)
     return failure();
+  BasisMatrix basis = basisMatrix(basisKind);
   using P = arith::CmpFPredicate;
-  LaneSpline spline(b, loc, *basis, knots, count, y.getType());
+  LaneSpline spline(b, loc, basis, knots, count, y.getType());
   int len = knots.size();
   // Targets outside the knots' range map to 0 or 1.
-  int lowIndex = basis->step == 1 ? 1 : 0;
+  int lowIndex = basis.step == 1 ? 1 : 0;
   Value highIndex = b.create<arith::SubIOp>(loc, spline.n,
-                                            spline.intConst(basis->step == 1 ? 2 : 1));
+                                            spline.intConst(basis.step == 1 ? 2 : 1));
   Value kLow = spline.knotAt(spline.intConst(lowIndex), lowIndex, lowIndex, 0);
   Value kHigh = spline.knotAt(highIndex, 0, len - 1, 0);
   Value kBeforeLast =

@@ -88,7 +88,7 @@ func.func @convert_triple_to_int(%a: vector<3xf32>) {
 // -----
 
 func.func @noise_unknown_name(%a: f32) {
-  // expected-error @+1 {{unknown noise type 'pink'}}
+  // expected-error @+1 {{invalid kind attribute specification: "pink"}}
   %0 = osl.noise "pink"(%a) : (f32) -> f32
   return
 }
@@ -97,14 +97,14 @@ func.func @noise_unknown_name(%a: f32) {
 
 func.func @noise_bad_domain(%a: f32, %p: vector<3xf32>) {
   // expected-error @+1 {{domain must be (float), (float, float), (triple) or (triple, float)}}
-  %0 = osl.noise "perlin"(%a, %p) : (f32, vector<3xf32>) -> f32
+  %0 = osl.noise perlin(%a, %p) : (f32, vector<3xf32>) -> f32
   return
 }
 
 // -----
 
 func.func @transform_bad_kind(%p: vector<3xf32>) {
-  // expected-error @+1 {{kind must be point, vector or normal}}
+  // expected-error @+1 {{invalid kind attribute specification: "color"}}
   %0 = osl.transform "common" to "object" "color" %p : vector<3xf32> -> vector<3xf32>
   return
 }
@@ -113,14 +113,14 @@ func.func @transform_bad_kind(%p: vector<3xf32>) {
 
 func.func @spline_too_few_knots(%x: f32, %k: f32) {
   // expected-error @+1 {{basis 'catmull-rom' needs at least 4 knots}}
-  %0 = osl.spline "catmull-rom" %x [%k, %k, %k] : f32, f32, f32, f32 -> f32
+  %0 = osl.spline catmullrom %x [%k, %k, %k] : f32, f32, f32, f32 -> f32
   return
 }
 
 // -----
 
 func.func @spline_unknown_basis(%x: f32, %k: f32) {
-  // expected-error @+1 {{unknown spline basis 'cosine'}}
+  // expected-error @+1 {{invalid basis attribute specification: "cosine"}}
   %0 = osl.spline "cosine" %x [%k, %k, %k, %k] : f32, f32, f32, f32, f32 -> f32
   return
 }
@@ -155,7 +155,7 @@ func.func @while_back_edge_count(%a: f32, %c: i1) {
 
 func.func @periodic_noise_without_periods(%p: vector<3xf32>, %t: f32) {
   // expected-error @+1 {{periodic noise takes one period per coordinate, of its type}}
-  %0 = osl.noise "perlin"(%p, %t) {periodic} : (vector<3xf32>, f32) -> f32
+  %0 = osl.noise perlin(%p, %t) {periodic} : (vector<3xf32>, f32) -> f32
   return
 }
 
@@ -179,7 +179,7 @@ func.func @transformc_without_space(%c: vector<3xf32>) {
 
 func.func @options_on_perlin(%p: vector<3xf32>, %b: f32) {
   // expected-error @+1 {{only gabor noise takes options and derivatives}}
-  %0 = osl.noise "perlin"(%p) bandwidth(%b : f32) : (vector<3xf32>) -> f32
+  %0 = osl.noise perlin(%p) bandwidth(%b : f32) : (vector<3xf32>) -> f32
   return
 }
 
@@ -187,7 +187,7 @@ func.func @options_on_perlin(%p: vector<3xf32>, %b: f32) {
 
 func.func @gabor_float_anisotropic(%p: vector<3xf32>, %m: f32) {
   // expected-error @+1 {{noise option 'anisotropic' has the wrong type 'f32'}}
-  %0 = osl.noise "gabor"(%p) anisotropic(%m : f32) : (vector<3xf32>) -> f32
+  %0 = osl.noise gabor(%p) anisotropic(%m : f32) : (vector<3xf32>) -> f32
   return
 }
 
@@ -195,7 +195,7 @@ func.func @gabor_float_anisotropic(%p: vector<3xf32>, %m: f32) {
 
 func.func @gabor_varying_bandwidth(%p: vector<3xf32>, %b: !osl.varying<f32>) {
   // expected-error @+1 {{noise option 'bandwidth' must be uniform}}
-  %0 = osl.noise "gabor"(%p) bandwidth(%b : !osl.varying<f32>) : (vector<3xf32>) -> f32
+  %0 = osl.noise gabor(%p) bandwidth(%b : !osl.varying<f32>) : (vector<3xf32>) -> f32
   return
 }
 
@@ -203,7 +203,7 @@ func.func @gabor_varying_bandwidth(%p: vector<3xf32>, %b: !osl.varying<f32>) {
 
 func.func @gabor_one_deriv(%x: f32, %y: f32) {
   // expected-error @+1 {{derivs must be Dx then Dy of each point coordinate}}
-  %0 = osl.noise "gabor"(%x, %y) derivs(%x, %y : f32, f32) : (f32, f32) -> f32
+  %0 = osl.noise gabor(%x, %y) derivs(%x, %y : f32, f32) : (f32, f32) -> f32
   return
 }
 
@@ -211,7 +211,7 @@ func.func @gabor_one_deriv(%x: f32, %y: f32) {
 
 func.func @gabor_deriv_of_wrong_type(%p: vector<3xf32>, %d: f32) {
   // expected-error @+1 {{derivs must be Dx then Dy of each point coordinate}}
-  %0 = osl.noise "gabor"(%p) derivs(%d, %d : f32, f32) : (vector<3xf32>) -> f32
+  %0 = osl.noise gabor(%p) derivs(%d, %d : f32, f32) : (vector<3xf32>) -> f32
   return
 }
 
@@ -220,7 +220,7 @@ func.func @gabor_deriv_of_wrong_type(%p: vector<3xf32>, %d: f32) {
 func.func @texture_bad_kind(%s: !osl.varying<f32>) {
   %zero = arith.constant 0.0 : f32
   %c0 = arith.constant 0 : i32
-  // expected-error @+1 {{kind must be 2d, 3d or environment}}
+  // expected-error @+1 {{invalid kind attribute specification: "4d"}}
   %r, %a, %err = osl.texture "4d"(%s, %s) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c0, %c0, %c0, %c0, %c0) {candidates = [["a.tx"], ["default"], ["default"], ["default"], ["smartcubic"], [""]], nchannels = 1 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<f32>, !osl.varying<f32>, !osl.varying<i32>
   return
 }

@@ -7,8 +7,8 @@ func.func @globals_params_outputs() {
   %one = arith.constant 1.0 : f32
   // CHECK: osl.param "freq"(%{{.+}}) : f32
   %f = osl.param "freq"(%one) : f32
-  // CHECK: osl.noise "perlin"(%[[P]]) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
-  %n = osl.noise "perlin"(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  // CHECK: osl.noise perlin(%[[P]]) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  %n = osl.noise perlin(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
   // CHECK: osl.output "Cout" = %{{.+}} : !osl.varying<f32>
   osl.output "Cout" = %n : !osl.varying<f32>
   return
@@ -54,8 +54,8 @@ func.func @gabor_options(%bw: f32) {
   %dy = osl.deriv y %P : !osl.varying<vector<3xf32>>
   %one = arith.constant 1 : i32
   %dir = arith.constant dense<[0.0, 1.0, 0.0]> : vector<3xf32>
-  // CHECK: osl.noise "gabor"(%{{.+}}) derivs(%{{.+}}, %{{.+}} : !osl.varying<vector<3xf32>>, !osl.varying<vector<3xf32>>) anisotropic(%{{.+}} : i32) direction(%{{.+}} : vector<3xf32>) bandwidth(%{{.+}} : f32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
-  %n = osl.noise "gabor"(%P) derivs(%dx, %dy : !osl.varying<vector<3xf32>>, !osl.varying<vector<3xf32>>) anisotropic(%one : i32) direction(%dir : vector<3xf32>) bandwidth(%bw : f32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  // CHECK: osl.noise gabor(%{{.+}}) derivs(%{{.+}}, %{{.+}} : !osl.varying<vector<3xf32>>, !osl.varying<vector<3xf32>>) anisotropic(%{{.+}} : i32) direction(%{{.+}} : vector<3xf32>) bandwidth(%{{.+}} : f32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  %n = osl.noise gabor(%P) derivs(%dx, %dy : !osl.varying<vector<3xf32>>, !osl.varying<vector<3xf32>>) anisotropic(%one : i32) direction(%dir : vector<3xf32>) bandwidth(%bw : f32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
   osl.output "n" = %n : !osl.varying<f32>
   return
 }
@@ -64,9 +64,9 @@ func.func @gabor_options(%bw: f32) {
 func.func @texture_ops(%s: !osl.varying<f32>, %m: !osl.varying<i1>) {
   %zero = arith.constant 0.0 : f32
   %c0 = arith.constant 0 : i32
-  // CHECK: osl.texture "2d"(%{{.+}}, %{{.+}}) derivs
+  // CHECK: osl.texture texture(%{{.+}}, %{{.+}}) derivs
   // CHECK-SAME: mask %{{.+}} : !osl.varying<i1>
-  %r, %a, %err = osl.texture "2d"(%s, %s) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c0, %c0, %c0, %c0, %c0) mask %m : !osl.varying<i1> {candidates = [["a.tx"], ["default"], ["default"], ["default"], ["smartcubic"], [""]], nchannels = 1 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<f32>, !osl.varying<f32>, !osl.varying<i32>
+  %r, %a, %err = osl.texture texture(%s, %s) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c0, %c0, %c0, %c0, %c0) mask %m : !osl.varying<i1> {candidates = [["a.tx"], ["default"], ["default"], ["default"], ["smartcubic"], [""]], nchannels = 1 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<f32>, !osl.varying<f32>, !osl.varying<i32>
   // CHECK: osl.first_lane %{{.+}}, %{{.+}} : !osl.varying<f32>, !osl.varying<i1> -> f32
   %f = osl.first_lane %s, %m : !osl.varying<f32>, !osl.varying<i1> -> f32
   // CHECK: osl.gettextureinfo "a.tx", "resolution" : i32, (i32, i32)

@@ -100,7 +100,7 @@ func.func @triple_componentwise() {
 // CHECK: arith.xori %{{.+}}, %{{.+}} : vector<8xi32>
 func.func @noise_is_inlined() {
   %P = osl.global "P" : !osl.varying<vector<3xf32>>
-  %n = osl.noise "perlin"(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  %n = osl.noise perlin(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
   osl.output "n" = %n : !osl.varying<f32>
   return
 }
@@ -152,7 +152,7 @@ func.func @masked_loop() {
 // CHECK-COUNT-9: arith.mulf
 func.func @transform_to_object() {
   %P = osl.global "P" : !osl.varying<vector<3xf32>>
-  %t = osl.transform "common" to "object" "point" %P : !osl.varying<vector<3xf32>> -> !osl.varying<vector<3xf32>>
+  %t = osl.transform "common" to "object" point %P : !osl.varying<vector<3xf32>> -> !osl.varying<vector<3xf32>>
   osl.output "t" = %t : !osl.varying<vector<3xf32>>
   return
 }
@@ -181,7 +181,7 @@ func.func @logb_from_bits() {
 func.func @periodic_noise() {
   %P = osl.global "P" : !osl.varying<vector<3xf32>>
   %per = arith.constant dense<[4.0, 3.0, 5.0]> : vector<3xf32>
-  %n = osl.noise "perlin"(%P, %per) {periodic} : (!osl.varying<vector<3xf32>>, vector<3xf32>) -> !osl.varying<f32>
+  %n = osl.noise perlin(%P, %per) {periodic} : (!osl.varying<vector<3xf32>>, vector<3xf32>) -> !osl.varying<f32>
   osl.output "n" = %n : !osl.varying<f32>
   return
 }
@@ -288,7 +288,7 @@ func.func @texture_lookup() {
   %zero = arith.constant 0.0 : f32
   %c0 = arith.constant 0 : i32
   %c1 = arith.constant 1 : i32
-  %r, %a, %err = osl.texture "2d"(%u, %v) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c1, %c1, %c1, %c0, %c0) {candidates = [["ramp.tx"], ["clamp", "black"], ["clamp", "black"], ["clamp", "black"], ["smartcubic"], [""]], nchannels = 3 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<vector<3xf32>>, !osl.varying<f32>, !osl.varying<i32>
+  %r, %a, %err = osl.texture texture(%u, %v) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c1, %c1, %c1, %c0, %c0) {candidates = [["ramp.tx"], ["clamp", "black"], ["clamp", "black"], ["clamp", "black"], ["smartcubic"], [""]], nchannels = 3 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<vector<3xf32>>, !osl.varying<f32>, !osl.varying<i32>
   osl.output "C" = %r : !osl.varying<vector<3xf32>>
   return
 }
@@ -315,7 +315,7 @@ func.func @texture_lookup() {
 // W16: scf.while {{.+}} -> (vector<16xi32>, vector<16xf32>, vector<16xi32>, vector<16xi1>)
 func.func @gabor_noise() {
   %P = osl.global "P" : !osl.varying<vector<3xf32>>
-  %n = osl.noise "gabor"(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  %n = osl.noise gabor(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
   osl.output "n" = %n : !osl.varying<f32>
   return
 }
@@ -378,7 +378,7 @@ func.func @gabor_filtered_color() {
   %filter = arith.constant 1 : i32
   %dx = osl.deriv x %P : !osl.varying<vector<3xf32>>
   %dy = osl.deriv y %P : !osl.varying<vector<3xf32>>
-  %c = osl.noise "gabor"(%P) derivs(%dx, %dy : !osl.varying<vector<3xf32>>, !osl.varying<vector<3xf32>>) do_filter(%filter : i32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<vector<3xf32>>
+  %c = osl.noise gabor(%P) derivs(%dx, %dy : !osl.varying<vector<3xf32>>, !osl.varying<vector<3xf32>>) do_filter(%filter : i32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<vector<3xf32>>
   osl.output "c" = %c : !osl.varying<vector<3xf32>>
   return
 }

@@ -517,12 +517,12 @@ func.func @print_takes_the_arm_mask(%c: !osl.varying<i1>, %a: !osl.varying<f32>,
 // CHECK-LABEL: func.func @guarded_arm_without_values
 // CHECK: %[[ANY:.+]] = osl.any
 // CHECK: scf.if %[[ANY]] {
-// CHECK:   osl.noise "perlin"
+// CHECK:   osl.noise perlin
 // CHECK:   osl.print "printf"
 // CHECK-NEXT: }
 func.func @guarded_arm_without_values(%c: !osl.varying<i1>, %a: !osl.varying<f32>, %fmt: i32) {
   osl.if %c : !osl.varying<i1> {
-    %n = osl.noise "perlin"(%a) : (!osl.varying<f32>) -> !osl.varying<f32>
+    %n = osl.noise perlin(%a) : (!osl.varying<f32>) -> !osl.varying<f32>
     osl.print "printf" "sf"(%fmt, %n) : i32, !osl.varying<f32>
     osl.yield
   } else {

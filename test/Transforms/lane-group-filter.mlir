@@ -14,7 +14,7 @@
 // CHECK: %[[B:.+]] = osl.broadcast %[[LEAD]]
 // CHECK: %[[SAME:.+]] = osl.cmp eq, %[[WRAP]], %[[B]]
 // CHECK: %[[GROUP:.+]] = osl.and %[[L]], %[[SAME]]
-// CHECK: %[[R:.+]], %{{.+}}, %{{.+}} = osl.texture "2d"{{.*}} choices(%{{.+}}, %[[LEAD]], %[[LEAD]], %[[LEAD]], %{{.+}}, %{{.+}}) mask %[[GROUP]]
+// CHECK: %[[R:.+]], %{{.+}}, %{{.+}} = osl.texture texture{{.*}} choices(%{{.+}}, %[[LEAD]], %[[LEAD]], %[[LEAD]], %{{.+}}, %{{.+}}) mask %[[GROUP]]
 // CHECK: %[[NOT:.+]] = osl.not %[[SAME]]
 // CHECK: %[[REST:.+]] = osl.and %[[L]], %[[NOT]]
 // CHECK: osl.select %[[GROUP]], %[[R]], %[[ACC]]
@@ -29,7 +29,7 @@ func.func @varying_wrap() {
   %right = osl.cmp gt, %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
   %c1 = arith.constant 1 : i32
   %wrap = osl.select %right, %c1, %c0 : !osl.varying<i1>, i32, i32 -> !osl.varying<i32>
-  %r, %a, %err = osl.texture "2d"(%u, %v) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %wrap, %wrap, %wrap, %c0, %c0) {candidates = [["ramp.tx"], ["black", "clamp"], ["black", "clamp"], ["black", "clamp"], ["smartcubic"], [""]], nchannels = 3 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, !osl.varying<i32>, !osl.varying<i32>, !osl.varying<i32>, i32, i32) -> !osl.varying<vector<3xf32>>, !osl.varying<f32>, !osl.varying<i32>
+  %r, %a, %err = osl.texture texture(%u, %v) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %wrap, %wrap, %wrap, %c0, %c0) {candidates = [["ramp.tx"], ["black", "clamp"], ["black", "clamp"], ["black", "clamp"], ["smartcubic"], [""]], nchannels = 3 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, !osl.varying<i32>, !osl.varying<i32>, !osl.varying<i32>, i32, i32) -> !osl.varying<vector<3xf32>>, !osl.varying<f32>, !osl.varying<i32>
   osl.output "C" = %r : !osl.varying<vector<3xf32>>
   return
 }
@@ -57,7 +57,7 @@ func.func @varying_file_and_interp() {
   %top = osl.cmp gt, %v, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
   %file = osl.select %right, %c1, %c0 : !osl.varying<i1>, i32, i32 -> !osl.varying<i32>
   %interp = osl.select %top, %c1, %c0 : !osl.varying<i1>, i32, i32 -> !osl.varying<i32>
-  %r, %a, %err = osl.texture "2d"(%u, %v) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%file, %c0, %c0, %c0, %interp, %c0) {candidates = [["a.tx", "b.tx"], ["default"], ["default"], ["default"], ["closest", "linear"], [""]], nchannels = 1 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(!osl.varying<i32>, i32, i32, i32, !osl.varying<i32>, i32) -> !osl.varying<f32>, !osl.varying<f32>, !osl.varying<i32>
+  %r, %a, %err = osl.texture texture(%u, %v) derivs(%zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%file, %c0, %c0, %c0, %interp, %c0) {candidates = [["a.tx", "b.tx"], ["default"], ["default"], ["default"], ["closest", "linear"], [""]], nchannels = 1 : i32} : (!osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(!osl.varying<i32>, i32, i32, i32, !osl.varying<i32>, i32) -> !osl.varying<f32>, !osl.varying<f32>, !osl.varying<i32>
   osl.output "f" = %r : !osl.varying<f32>
   return
 }
@@ -67,7 +67,7 @@ func.func @varying_file_and_interp() {
 // Uniform choices: one call, no loop.
 // CHECK-LABEL: func.func @uniform_options
 // CHECK-NOT: scf.while
-// CHECK: osl.texture "3d"
+// CHECK: osl.texture texture3d
 // CHECK-NOT: mask
 func.func @uniform_options() {
   %P = osl.global "P" : !osl.varying<vector<3xf32>>
@@ -75,7 +75,7 @@ func.func @uniform_options() {
   %one = arith.constant 1.0 : f32
   %zero = arith.constant 0.0 : f32
   %c0 = arith.constant 0 : i32
-  %r, %a, %err = osl.texture "3d"(%x, %x, %x) derivs(%zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c0, %c0, %c0, %c0, %c0) {candidates = [["v.vdb"], ["clamp"], ["clamp"], ["clamp"], ["smartcubic"], ["density"]], nchannels = 1 : i32} : (!osl.varying<f32>, !osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32, f32, f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<f32>, !osl.varying<f32>, !osl.varying<i32>
+  %r, %a, %err = osl.texture texture3d(%x, %x, %x) derivs(%zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c0, %c0, %c0, %c0, %c0) {candidates = [["v.vdb"], ["clamp"], ["clamp"], ["clamp"], ["smartcubic"], ["density"]], nchannels = 1 : i32} : (!osl.varying<f32>, !osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32, f32, f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<f32>, !osl.varying<f32>, !osl.varying<i32>
   osl.output "f" = %r : !osl.varying<f32>
   return
 }

@@ -35,7 +35,7 @@ module {
       %one = arith.constant dense<1.0> : vector<3xf32>
       osl.yield %one : vector<3xf32>
     } else {
-      %n = osl.noise "perlin"(%p) : (!osl.varying<vector<3xf32>>) -> !osl.varying<vector<3xf32>>
+      %n = osl.noise perlin(%p) : (!osl.varying<vector<3xf32>>) -> !osl.varying<vector<3xf32>>
       osl.yield %n : !osl.varying<vector<3xf32>>
     }
     osl.output "Cout" = %r : !osl.varying<vector<3xf32>>
@@ -74,7 +74,7 @@ module {
       %one = arith.constant dense<1.0> : vector<3xf32>
       osl.yield %one : vector<3xf32>
     } else {
-      %n = osl.noise "perlin"(%p) : (!osl.varying<vector<3xf32>>) -> !osl.varying<vector<3xf32>>
+      %n = osl.noise perlin(%p) : (!osl.varying<vector<3xf32>>) -> !osl.varying<vector<3xf32>>
       osl.yield %n : !osl.varying<vector<3xf32>>
     }
     osl.output "Cout" = %r : !osl.varying<vector<3xf32>>

@@ -151,14 +151,12 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(NoiseOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
-    if (op.getKind() == "gabor") {
+    NoiseKind kind = op.getKind();
+    if (kind == NoiseKind::gabor) {
       Components lanes{rewriter, op.getLoc(), width};
       lowerGabor(op, adaptor, lanes, convert(op.getType()), rewriter);
       return success();
     }
-    std::optional<NoiseKind> kind = parseNoiseName(op.getKind());
-    if (!kind)
-      return op.emitError("noise type '") << op.getKind() << "' is not supported yet";
     Location loc = op.getLoc();
     bool varying = isVarying(op.getType());
     Components lanes{rewriter, loc, width};
@@ -171,23 +169,23 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
       ArrayRef<Value> periods = all.drop_front(all.size() / 2);
       if (isTriple(getUniformType(op.getType()))) {
         std::array<Value, 3> r =
-            buildPeriodicNoiseTriple(rewriter, loc, *kind, points, periods);
+            buildPeriodicNoiseTriple(rewriter, loc, kind, points, periods);
         if (!r[0])
-          return op.emitError("periodic '") << op.getKind() << "' noise is not defined";
+          return op.emitError("periodic '") << stringifyNoiseKind(kind) << "' noise is not defined";
         rewriter.replaceOp(op, lanes.pack(r, convert(op.getType())));
       } else {
-        Value r = buildPeriodicNoiseFloat(rewriter, loc, *kind, points, periods);
+        Value r = buildPeriodicNoiseFloat(rewriter, loc, kind, points, periods);
         if (!r)
-          return op.emitError("periodic '") << op.getKind() << "' noise is not defined";
+          return op.emitError("periodic '") << stringifyNoiseKind(kind) << "' noise is not defined";
         rewriter.replaceOp(op, r);
       }
       return success();
     }
     if (isTriple(getUniformType(op.getType()))) {
-      std::array<Value, 3> r = buildNoiseTriple(rewriter, loc, *kind, coords);
+      std::array<Value, 3> r = buildNoiseTriple(rewriter, loc, kind, coords);
       rewriter.replaceOp(op, lanes.pack(r, convert(op.getType())));
     } else {
-      rewriter.replaceOp(op, buildNoiseFloat(rewriter, loc, *kind, coords));
+      rewriter.replaceOp(op, buildNoiseFloat(rewriter, loc, kind, coords));
     }
     return success();
   }
@@ -278,7 +276,8 @@ struct SplineFamilyLowering : public OslPattern<Op> {
         r = SmallVector<Value>{*inv};
     }
     if (failed(r))
-      return op.emitError("spline basis '") << op.getBasis() << "' needs at least 4 knots";
+      return op.emitError("spline basis '")
+             << splineBasisName(op.getBasis()) << "' needs at least 4 knots";
     rewriter.replaceOp(op, lanes.pack(*r, this->convert(op.getType())));
     return success();
   }

@@ -234,9 +234,9 @@ struct TextureLowering : public OslPattern<TextureOp> {
     auto interpCode = [&](StringRef s) -> Value {
       return rewriter.create<arith::ConstantIntOp>(loc, ::osl::textureInterpCode(s), 32);
     };
-    int32_t kind = op.getKind() == "2d" ? ::osl::kTexture2D
-                   : op.getKind() == "3d" ? ::osl::kTexture3D
-                                          : ::osl::kTextureEnvironment;
+    int32_t kind = op.getKind() == TextureKind::texture     ? ::osl::kTexture2D
+                   : op.getKind() == TextureKind::texture3d ? ::osl::kTexture3D
+                                                            : ::osl::kTextureEnvironment;
     int32_t flags = (op.getHasMissingColor() ? ::osl::kTextureHasMissingColor : 0) |
                     (op.getHasMissingAlpha() ? ::osl::kTextureHasMissingAlpha : 0) |
                     (op.getWantsErrorMessage() ? ::osl::kTextureWantsErrorMessage : 0);
@@ -279,7 +279,7 @@ struct TextureLowering : public OslPattern<TextureOp> {
     // finds their slopes in the rows after the call (kTextureDsRow...).
     auto loadResultRow = [&](int64_t row) {
       Value v = loadRow(row, f32);
-      if (op.getKind() == "2d") {
+      if (op.getKind() == TextureKind::texture) {
         Operation *load = v.getDefiningOp();
         load->removeAttr(kNoDerivativeAttr);
         load->setAttr(kTextureResultRowAttr, rewriter.getI64IntegerAttr(row));
