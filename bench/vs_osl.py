@@ -14,9 +14,9 @@ parameters and outputs, one thread each:
   testsuite folders that run one testshade command writing images (no
   printf, textures or debug modes), when both tools run them.
 
-Shading time per point and pass is whole-process time at --passes passes
-minus that at 1 pass (best of the rounds each), the two tools interleaved
-shader by shader. Compile time: osl-run's source-to-kernel (--stats, no
+Shading time per point and pass is whole-process time at N passes minus
+that at 1 pass (best of the rounds each), the two tools interleaved shader
+by shader; N is --passes or more, so that OSL's N passes take about 0.5 s. Compile time: osl-run's source-to-kernel (--stats, no
 kernel cache) against OSL's "Runtime optimization cost" (testshade
 --runstats; OSL prints it to 10 ms) and against OSL's first-pass overhead
 (testshade's Run time at 1 pass minus one pass), which has 0.1 ms
@@ -47,8 +47,9 @@ SKIP_SOURCE = re.compile(r"\b(printf|fprintf|texture|texture3d|environment|gette
 
 
 class Case:
-    def __init__(self, name, src, args, folder):
+    def __init__(self, name, src, args, folder, cwd=None):
         self.name, self.src, self.args, self.folder = name, src, args, folder
+        self.cwd = cwd or folder
 
 
 def host_width():
@@ -73,7 +74,10 @@ def project_cases():
             for o in outs:
                 args += ["-o", o, o + ".exr"]
             name = os.path.relpath(src, ROOT)[:-4]
-            cases.append(Case(name, src, args, os.path.dirname(src)))
+            # Conformance shaders name textures from conformance/, the
+            # others from the repository root.
+            cwd = os.path.join(ROOT, "conformance") if name.startswith("conformance/") else ROOT
+            cases.append(Case(name, src, args, os.path.dirname(src), cwd=cwd))
     return cases
 
 
@@ -154,20 +158,28 @@ class Tools:
                            cwd=d, env=self.env, capture_output=True, text=True)
         return p.returncode == 0, p.stderr.strip().splitlines()[:1]
 
+    def outputs(self, case):
+        """case.args with each image written in the case's work directory."""
+        args, d = list(case.args), self.dir_of(case)
+        for i in range(len(args) - 2):
+            if args[i] == "-o":
+                args[i + 2] = os.path.join(d, args[i + 2])
+        return args
+
     def osl_cmd(self, case, res, passes, stats=False):
-        name = os.path.basename(case.src)[:-4]
+        name = os.path.join(self.dir_of(case), os.path.basename(case.src)[:-4])
         return ([self.testshade, "--batched", "-t", "1", "-g", str(res), str(res),
                  "--iters", str(passes)] + (["--runstats"] if stats else []) +
-                case.args + [name])
+                self.outputs(case) + [name])
 
     def ours_cmd(self, case, res, passes, stats=False):
         return ([OSL_RUN, "--width", str(self.a.width), "-t", "1", "-g", str(res), str(res),
                  "--iters", str(passes), "-I", case.folder] +
-                (["--stats", "--no-cache"] if stats else []) + case.args + [case.src])
+                (["--stats", "--no-cache"] if stats else []) + self.outputs(case) + [case.src])
 
     def run(self, which, case, res, passes, stats=False):
         cmd = (self.osl_cmd if which == "osl" else self.ours_cmd)(case, res, passes, stats)
-        return wall(cmd, self.dir_of(case), self.env)
+        return wall(cmd, case.cwd, self.env)
 
 
 def osl_opt_ms(stdout):
@@ -216,8 +228,8 @@ def main():
     cases = [c for c in cases if re.search(a.only, c.name)]
 
     print("osl-run --width %d against testshade --batched (batch %d), 1 thread, %dx%d, "
-          "shading = (%d passes - 1 pass) / %d, best of %d interleaved rounds"
-          % (a.width, a.width, a.res, a.res, a.passes, a.passes - 1, a.rounds), flush=True)
+          "shading = (N passes - 1 pass) / (N - 1), N >= %d, best of %d interleaved rounds"
+          % (a.width, a.width, a.res, a.res, a.passes, a.rounds), flush=True)
     runnable = []
     for c in cases:
         ok, err = tools.compile_oso(c)
@@ -232,10 +244,19 @@ def main():
                     why = "%s fails: %s" % (which, lines[-1] if lines else "rc %d" % p.returncode)
                     break
         if why:
-            print("  skip %-40s %s" % (c.name, why[:100]))
+            print("  skip %-40s %s" % (c.name, why[:100]), flush=True)
         else:
             runnable.append(c)
 
+    # Passes per shader: enough that the timed difference is about 0.5 s
+    # of OSL's shading (at least --passes), so cheap shaders are not lost
+    # in the noise of process start-up.
+    passes = {}
+    for c in runnable:
+        t1, _ = tools.run("osl", c, a.res, 1)
+        tn, _ = tools.run("osl", c, a.res, a.passes)
+        per_pass = max(tn - t1, 1e-3) / (a.passes - 1)
+        passes[c.name] = int(min(max(a.passes, 0.5 / per_pass + 1), 401))
     one = {(c.name, w): float("inf") for c in runnable for w in ("osl", "ours")}
     many = dict(one)
     opt = {c.name: float("inf") for c in runnable}
@@ -244,10 +265,13 @@ def main():
     for _ in range(a.rounds):
         for c in runnable:
             for which in ("osl", "ours"):
-                t1, p1 = tools.run(which, c, a.res, 1, stats=True)
-                tn, _ = tools.run(which, c, a.res, a.passes)
+                t1, _ = tools.run(which, c, a.res, 1)
+                tn, _ = tools.run(which, c, a.res, passes[c.name])
                 one[c.name, which] = min(one[c.name, which], t1)
                 many[c.name, which] = min(many[c.name, which], tn)
+                # Compile statistics from a run of their own: printing them
+                # (and osl-run's --no-cache) must not enter the timed runs.
+                _, p1 = tools.run(which, c, a.res, 1, stats=True)
                 if which == "osl":
                     opt[c.name] = min(opt[c.name], osl_opt_ms(p1.stdout))
                     first[c.name] = min(first[c.name], osl_run_ms(p1.stdout))
@@ -260,7 +284,7 @@ def main():
         "/opt", "/1st"))
     ratios, cratios, fratios = [], [], []
     for c in runnable:
-        ns = {w: max(many[c.name, w] - one[c.name, w], 0) / (a.passes - 1) / points * 1e9
+        ns = {w: max(many[c.name, w] - one[c.name, w], 0) / (passes[c.name] - 1) / points * 1e9
               for w in ("osl", "ours")}
         ratio = ns["ours"] / ns["osl"] if ns["osl"] > 0 else float("nan")
         pass_ms = ns["osl"] * points / 1e6

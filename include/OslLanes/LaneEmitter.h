@@ -149,11 +149,7 @@ public:
     return {select(c, t[0], e[0]), select(c, t[1], e[1]), select(c, t[2], e[2])};
   }
   /// True if any lane of `mask` is (a scalar mask is its own answer).
-  Value any(Value mask) {
-    if (!isa<VectorType>(mask.getType()))
-      return mask;
-    return b.create<vector::ReductionOp>(loc, vector::CombiningKind::OR, mask);
-  }
+  Value any(Value mask) { return lane::any(b, loc, mask); }
 
   //--- Conversions --------------------------------------------------------===//
 

@@ -56,6 +56,9 @@ Value constantLike(OpBuilder &b, Location loc, Value like, double value);
 Type withElement(Type laneType, Type element);
 /// Broadcasts a scalar to `width` lanes (width 0: leave scalar).
 Value broadcast(OpBuilder &b, Location loc, Value scalar, int64_t width);
+/// Whether any lane of the i1 lane value `mask` is set (a scalar is its own
+/// answer): the condition of loops that run while some lane needs them.
+Value any(OpBuilder &b, Location loc, Value mask);
 
 Value add(OpBuilder &b, Location loc, ValueRange x);
 Value sub(OpBuilder &b, Location loc, ValueRange x);

@@ -343,13 +343,6 @@ std::optional<LaneColor> fromRgb(ColorLanes &l, const ColorSystem &cs, StringRef
   return std::nullopt;
 }
 
-/// Whether any lane of the i1 lane value `cond` is set.
-Value anyLane(OpBuilder &b, Location loc, Value cond) {
-  if (!isa<VectorType>(cond.getType()))
-    return cond;
-  return b.create<vector::ReductionOp>(loc, vector::CombiningKind::OR, cond);
-}
-
 /// The symbol of a table that depends on the working space, and of one
 /// that does not.
 std::string tableSymbol(const ColorSystem &cs, StringRef what) {
@@ -484,7 +477,7 @@ LaneColor mlir::osl::buildBlackbody(OpBuilder &b, Location loc, const ColorSyste
   Value hot = l.ge(kelvin, l.cst(kelvin, kTableMaxKelvin));
   SpectrumTables spectrum(b, loc);
   auto ifHot = b.create<scf::IfOp>(
-      loc, anyLane(b, loc, hot),
+      loc, lane::any(b, loc, hot),
       [&](OpBuilder &tb, Location tl) {
         ColorLanes in(tb, tl);
         LaneColor r = blackbodyBySpectrum(in, cs, spectrum, kelvin);

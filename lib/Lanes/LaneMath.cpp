@@ -46,6 +46,12 @@ Value lane::broadcast(OpBuilder &b, Location loc, Value scalar, int64_t width) {
       loc, VectorType::get({width}, scalar.getType()), scalar);
 }
 
+Value lane::any(OpBuilder &b, Location loc, Value mask) {
+  if (!isa<VectorType>(mask.getType()))
+    return mask;
+  return b.create<vector::ReductionOp>(loc, vector::CombiningKind::OR, mask);
+}
+
 static bool isFloat(Value v) {
   return isa<FloatType>(getElementTypeOrSelf(v.getType()));
 }

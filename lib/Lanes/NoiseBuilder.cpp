@@ -306,8 +306,10 @@ SmallVector<Value, 3> noiseResults(Emitter &e, NoiseKind kind,
   case NoiseKind::simplex:
   case NoiseKind::usimplex:
     return simplexResults(e, coords, channels, kind == NoiseKind::usimplex);
+  case NoiseKind::gabor:
+    break; // GaborBuilder.h builds it
   }
-  llvm_unreachable("unknown noise kind");
+  llvm_unreachable("not a lattice noise");
 }
 
 SmallVector<Value, 3> periodicResults(Emitter &e, NoiseKind kind,
@@ -338,6 +340,7 @@ SmallVector<Value, 3> periodicResults(Emitter &e, NoiseKind kind,
   }
   case NoiseKind::simplex:
   case NoiseKind::usimplex:
+  case NoiseKind::gabor: // OSL defines no periodic simplex or Gabor noise
     return {};
   }
   llvm_unreachable("unknown noise kind");

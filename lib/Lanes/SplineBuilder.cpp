@@ -178,20 +178,25 @@ std::pair<Value, Value> invertSegment(LaneSpline &spline, Value y, Value xmin, V
   Value done = b.create<arith::OrIOp>(loc, notBracketed, closeEnough);
   Value x = selectLane(b, loc, bracketed, xmin, edge);
 
-  Value lb = b.create<arith::ConstantIndexOp>(loc, 0);
-  Value ub = b.create<arith::ConstantIndexOp>(loc, maxIters);
-  Value one = b.create<arith::ConstantIndexOp>(loc, 1);
-  auto loop = b.create<scf::ForOp>(loc, lb, ub, one,
-                                   ValueRange{xmin, xmax, v0, v1, x, done});
-  {
-        OpBuilder::InsertionGuard guard(b);
-        Block *body = loop.getBody();
-        if (!body->empty())
-          body->back().erase(); // the default empty yield, if any
-        b.setInsertionPointToEnd(body);
-        Value iter = loop.getInductionVar();
-        ValueRange st = loop.getRegionIterArgs();
-        Value lo = st[0], hi = st[1], f0 = st[2], f1 = st[3], xc = st[4], dn = st[5];
+  // Iterates while some lane is not done (at most maxIters times): a lane
+  // that is done keeps its values, so stopping when none is left changes no
+  // result, and a segment no lane brackets costs no iteration.
+  Value zero = b.create<arith::ConstantIntOp>(loc, 0, 32);
+  SmallVector<Value> init = {zero, xmin, xmax, v0, v1, x, done};
+  SmallVector<Type> types;
+  for (Value v : init)
+    types.push_back(v.getType());
+  auto loop = b.create<scf::WhileOp>(
+      loc, types, init,
+      [&](OpBuilder &b, Location loc, ValueRange st) {
+        Value more = b.create<arith::CmpIOp>(loc, arith::CmpIPredicate::slt, st[0],
+                                             b.create<arith::ConstantIntOp>(loc, maxIters, 32));
+        Value pending = lane::any(b, loc, lane::logicalNot(b, loc, {st[6]}));
+        b.create<scf::ConditionOp>(loc, b.create<arith::AndIOp>(loc, more, pending), st);
+      },
+      [&](OpBuilder &b, Location loc, ValueRange st) {
+        Value iter = st[0], lo = st[1], hi = st[2], f0 = st[3], f1 = st[4], xc = st[5],
+              dn = st[6];
         Value half = spline.floatConst(0.5);
         Value rf = b.create<arith::DivFOp>(loc, b.create<arith::SubFOp>(loc, y, f0),
                                            b.create<arith::SubFOp>(loc, f1, f0));
@@ -199,8 +204,8 @@ std::pair<Value, Value> invertSegment(LaneSpline &spline, Value y, Value xmin, V
             loc, cmpF(b, loc, P::OLE, rf, spline.floatConst(0)),
             cmpF(b, loc, P::OGE, rf, spline.floatConst(1)));
         rf = selectLane(b, loc, outside, half, rf);
-        Value useRf = b.create<arith::CmpIOp>(
-            loc, arith::CmpIPredicate::ult, iter, b.create<arith::ConstantIndexOp>(loc, rfIters));
+        Value useRf = b.create<arith::CmpIOp>(loc, arith::CmpIPredicate::slt, iter,
+                                              b.create<arith::ConstantIntOp>(loc, rfIters, 32));
         Value t = b.create<arith::SelectOp>(loc, useRf, rf, half);
         // lerp(lo, hi, t) = lo*(1-t) + hi*t
         Value xn = b.create<arith::AddFOp>(
@@ -221,14 +226,15 @@ std::pair<Value, Value> invertSegment(LaneSpline &spline, Value y, Value xmin, V
                  eps),
             cmpF(b, loc, P::OLT, lane::abs(b, loc, {b.create<arith::SubFOp>(loc, v, y)}), eps));
         // Lanes already done keep everything.
-        SmallVector<Value> next;
+        SmallVector<Value> next = {
+            b.create<arith::AddIOp>(loc, iter, b.create<arith::ConstantIntOp>(loc, 1, 32))};
         Value fresh[] = {nlo, nhi, nf0, nf1, xn}, old[] = {lo, hi, f0, f1, xc};
         for (int k = 0; k < 5; ++k)
           next.push_back(selectLane(b, loc, dn, old[k], fresh[k]));
         next.push_back(b.create<arith::OrIOp>(loc, dn, converged));
         b.create<scf::YieldOp>(loc, next);
-  }
-  return {loop.getResult(4), bracketed};
+      });
+  return {loop.getResult(5), bracketed};
 }
 
 } // namespace
