@@ -356,6 +356,28 @@ def Osl_InsertOp : Osl_Op<"insert", [Pure]> {
 // Library calls
 //===----------------------------------------------------------------------===//
 
+def Osl_DenseTableAttr : ElementsAttrBase<CPred<"::llvm::isa<::mlir::DenseElementsAttr>($_self)">,
+                                          "dense constant table"> {
+  let storageType = [{ ::mlir::DenseElementsAttr }];
+  let returnType = [{ ::mlir::DenseElementsAttr }];
+  let convertFromStorage = "$_self";
+}
+
+def Osl_TableReadOp : Osl_Op<"table_read", [Pure]> {
+  let summary = "an element of a constant table, by a uniform or per-point index";
+  let description = [{
+    `table[index]` for an array whose elements are all known at compile
+    time (a font, a palette, a list of primes): one load for a uniform
+    index, one gather for a varying one, where a chain of selects costs a
+    compare and a select per element. `index` (i32) must be within the
+    table: the front end clamps it, as OSL clamps an index out of range.
+  }];
+  let arguments = (ins Osl_DenseTableAttr:$table, Osl_Value:$index);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = "$table `[` $index `]` attr-dict `:` type($index) `->` type($result)";
+  let hasVerifier = 1;
+}
+
 def Osl_HashOp : Osl_Op<"hash", [Pure]> {
   let summary = "OSL's hash of numbers: an int from the keys' bits";
   let description = [{

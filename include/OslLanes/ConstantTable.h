@@ -22,12 +22,16 @@ namespace mlir::osl {
 LLVM::GlobalOp getConstantTable(OpBuilder &b, Location loc, StringRef symbol,
                                 ArrayRef<float> table);
 
+/// A constant global holding `table` (1-D, f32 or i32) in the enclosing
+/// module: one global per distinct table.
+LLVM::GlobalOp getConstantTable(OpBuilder &b, Location loc, DenseElementsAttr table);
+
 /// The address of a NUL-terminated constant copy of `value` in the
 /// enclosing module (one global per distinct string).
 Value constantStringAddress(OpBuilder &b, Location loc, StringRef value);
 
 /// `table[index]` for each lane of `index` (i32 or vector<W x i32>, every
-/// lane in range).
+/// lane in range), of the table's element type.
 Value lookupConstantTable(OpBuilder &b, Location loc, LLVM::GlobalOp table,
                           Value index);
 

@@ -186,6 +186,19 @@ LogicalResult InsertOp::verify() {
 // Library calls
 //===----------------------------------------------------------------------===//
 
+LogicalResult TableReadOp::verify() {
+  auto table = getTable();
+  Type element = table.getElementType();
+  if (table.getType().getRank() != 1 || table.getNumElements() == 0 ||
+      !(element.isF32() || element.isInteger(32)))
+    return emitOpError("the table must be a non-empty 1-D list of f32 or i32");
+  if (!getUniformType(getIndex().getType()).isInteger(32))
+    return emitOpError("the index must be i32");
+  if (getType() != withUniformity(element, isVarying(getIndex().getType())))
+    return emitOpError("the result must be the table's element, varying as the index");
+  return success();
+}
+
 std::optional<NoiseKind> mlir::osl::noiseKindFromName(StringRef name) {
   return llvm::StringSwitch<std::optional<NoiseKind>>(name)
       .Cases("perlin", "snoise", NoiseKind::perlin)

@@ -479,6 +479,8 @@ private:
   std::string indexRangeMessage(const Expr &e, const std::string &index, int length);
   /// Reads element `a` of an array (elems) or triple, index clamped, or a
   /// struct's field.
+  /// A per-point read of an array of constants as osl.table_read.
+  std::optional<RValue> readConstantTable(const RValue &cur, const Access &a, SrcLoc l);
   RValue readAccess(const RValue &cur, const Access &a, SrcLoc l);
   /// The type of field j of a struct or (one array per field) of an array
   /// of structs.

@@ -8,6 +8,7 @@
 #include "IRGen.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
+#include "mlir/IR/Matchers.h"
 #include "llvm/ADT/STLExtras.h"
 #include "llvm/ADT/StringSwitch.h"
 
@@ -166,6 +167,61 @@ static RValue matrixRow(const RValue &m, int i) {
   return row;
 }
 
+/// Arrays from this length on are read through osl.table_read when every
+/// element is a compile-time constant: one gather instead of a compare and
+/// a select per element.
+static constexpr int kTableMinLength = 8;
+
+/// The elements' constants, one list per component (one for numbers, three
+/// for triples), or none when an element is not a constant.
+static std::optional<std::vector<DenseElementsAttr>>
+constantComponents(OpBuilder &b, llvm::ArrayRef<Value> elems, int ncomp) {
+  std::vector<llvm::SmallVector<Attribute>> lists(ncomp);
+  for (Value v : elems) {
+    Attribute attr;
+    if (!matchPattern(v, m_Constant(&attr)))
+      return std::nullopt;
+    if (ncomp == 1) {
+      lists[0].push_back(attr);
+      continue;
+    }
+    auto triple = dyn_cast<DenseElementsAttr>(attr);
+    if (!triple)
+      return std::nullopt;
+    auto values = llvm::to_vector(triple.getValues<Attribute>());
+    for (int c = 0; c < ncomp; ++c)
+      lists[c].push_back(values[c]);
+  }
+  std::vector<DenseElementsAttr> tables;
+  for (auto &list : lists) {
+    Type element = cast<TypedAttr>(list.front()).getType();
+    tables.push_back(DenseElementsAttr::get(
+        RankedTensorType::get({int64_t(list.size())}, element), list));
+  }
+  return tables;
+}
+
+std::optional<RValue> IRGen::readConstantTable(const RValue &cur, const Access &a, SrcLoc l) {
+  OslType element = cur.type.element();
+  bool number = element.base == BaseType::Int || element.base == BaseType::Float;
+  if (a.component || a.length < kTableMinLength || !(number || element.isTriple()) ||
+      int(cur.elems.size()) != a.length)
+    return std::nullopt;
+  auto tables = constantComponents(b, cur.elems, number ? 1 : 3);
+  if (!tables)
+    return std::nullopt;
+  Location ml = loc(l);
+  Value index = b.create<ClampOp>(ml, a.index, constInt(0, l), constInt(a.length - 1, l));
+  bool varying = isVarying(index.getType());
+  SmallVector<Value, 3> parts;
+  for (DenseElementsAttr table : *tables)
+    parts.push_back(b.create<TableReadOp>(
+        ml, withUniformity(table.getElementType(), varying), table, index));
+  if (number)
+    return RValue::num(element, parts[0]);
+  return RValue::num(element, b.create<ConstructOp>(ml, parts[0], parts[1], parts[2]));
+}
+
 RValue IRGen::readAccess(const RValue &cur, const Access &a, SrcLoc l) {
   if (a.field >= 0)
     return cur.fields[a.field];
@@ -198,6 +254,8 @@ RValue IRGen::readAccess(const RValue &cur, const Access &a, SrcLoc l) {
   }
   if (a.constIndex >= 0)
     return elementAt(cur, a, int(a.constIndex), l);
+  if (auto table = readConstantTable(cur, a, l))
+    return *table;
   // Clamped index: a chain of selects from the last element down.
   RValue acc = elementAt(cur, a, a.length - 1, l);
   for (int k = a.length - 2; k >= 0; --k) {

@@ -22,11 +22,30 @@ LLVM::GlobalOp mlir::osl::getConstantTable(OpBuilder &b, Location loc, StringRef
                                   symbol, value, /*alignment=*/64);
 }
 
+LLVM::GlobalOp mlir::osl::getConstantTable(OpBuilder &b, Location loc,
+                                           DenseElementsAttr table) {
+  auto module = b.getInsertionBlock()->getParentOp()->getParentOfType<ModuleOp>();
+  unsigned count = 0;
+  for (auto g : module.getOps<LLVM::GlobalOp>()) {
+    if (!g.getSymName().starts_with("osl_table_"))
+      continue;
+    ++count;
+    if (g.getValueOrNull() == table) // attributes are uniqued
+      return g;
+  }
+  OpBuilder::InsertionGuard guard(b);
+  b.setInsertionPointToStart(module.getBody());
+  auto type = LLVM::LLVMArrayType::get(table.getElementType(), table.getNumElements());
+  return b.create<LLVM::GlobalOp>(loc, type, /*isConstant=*/true, LLVM::Linkage::Internal,
+                                  "osl_table_" + std::to_string(count), table,
+                                  /*alignment=*/64);
+}
+
 Value mlir::osl::lookupConstantTable(OpBuilder &b, Location loc, LLVM::GlobalOp global,
                                      Value index) {
   auto ptr = LLVM::LLVMPointerType::get(b.getContext());
   Value base = b.create<LLVM::AddressOfOp>(loc, global);
-  Type f32 = b.getF32Type();
+  Type f32 = cast<LLVM::LLVMArrayType>(global.getType()).getElementType();
   auto lanes = dyn_cast<VectorType>(index.getType());
   if (!lanes) {
     Value addr = b.create<LLVM::GEPOp>(loc, ptr, f32, base, ValueRange{index});
@@ -40,7 +59,7 @@ Value mlir::osl::lookupConstantTable(OpBuilder &b, Location loc, LLVM::GlobalOp 
   auto resultType = VectorType::get({width}, f32);
   Value all = b.create<arith::ConstantOp>(
       loc, DenseElementsAttr::get(VectorType::get({width}, b.getI1Type()), true));
-  Value zero = b.create<arith::ConstantOp>(loc, DenseElementsAttr::get(resultType, 0.0f));
+  Value zero = b.create<arith::ConstantOp>(loc, b.getZeroAttr(resultType));
   Operation *gather = b.create<LLVM::masked_gather>(loc, resultType, addrs, all,
                                                     ValueRange{zero}, b.getI32IntegerAttr(4));
   gather->setAttr(kNoDerivativeAttr, b.getUnitAttr());

@@ -410,3 +410,19 @@ func.func @if_uniform_into_varying(%c: !osl.varying<i1>, %a: f32, %b: !osl.varyi
   }
   return
 }
+
+// -----
+
+func.func @table_read_uniform_result_of_varying_index(%i: !osl.varying<i32>) {
+  // expected-error @+1 {{the result must be the table's element, varying as the index}}
+  %0 = osl.table_read dense<[1, 2]> : tensor<2xi32>[%i] : !osl.varying<i32> -> i32
+  return
+}
+
+// -----
+
+func.func @table_read_f64(%i: i32) {
+  // expected-error @+1 {{the table must be a non-empty 1-D list of f32 or i32}}
+  %0 = osl.table_read dense<[1.0, 2.0]> : tensor<2xf64>[%i] : i32 -> f32
+  return
+}

@@ -141,3 +141,12 @@ func.func @messages(%s: i32, %c: !osl.varying<vector<3xf32>>, %k: !osl.closure, 
   osl.set_message "c" "closure color" "k"(%k) : !osl.closure
   return
 }
+
+// CHECK-LABEL: func.func @table_read
+func.func @table_read(%i: !osl.varying<i32>, %j: i32) {
+  // CHECK: osl.table_read dense<[2, 3, 5, 7]> : tensor<4xi32>[%{{.+}}] : !osl.varying<i32> -> !osl.varying<i32>
+  %p = osl.table_read dense<[2, 3, 5, 7]> : tensor<4xi32>[%i] : !osl.varying<i32> -> !osl.varying<i32>
+  // CHECK: osl.table_read dense<[5.000000e-01, 2.500000e-01]> : tensor<2xf32>[%{{.+}}] : i32 -> f32
+  %f = osl.table_read dense<[0.5, 0.25]> : tensor<2xf32>[%j] : i32 -> f32
+  return
+}

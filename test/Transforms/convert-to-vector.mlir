@@ -364,6 +364,30 @@ func.func @int_division_by_uniform() {
 
 // -----
 
+// osl.table_read: the table is one constant global; a varying index reads
+// it with one gather, a uniform one with one load.
+// (The module's globals print before its function.)
+// CHECK: llvm.mlir.global internal constant @osl_table_0(dense<[2, 3, 5, 7, 11, 13, 17, 19]> : tensor<8xi32>)
+// CHECK-NOT: @osl_table_1
+// CHECK-LABEL: osl.shader_name = "table_read"
+// CHECK: llvm.intr.masked.gather {{.+}} : (!llvm.vec<8 x ptr>, vector<8xi1>, vector<8xi32>) -> vector<8xi32>
+// CHECK: llvm.load {{.+}} : !llvm.ptr -> i32
+func.func @table_read() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %m = osl.batch_mask : !osl.varying<i1>
+  %eight = arith.constant 8.0 : f32
+  %s = osl.mul %u, %eight : !osl.varying<f32>, f32 -> !osl.varying<f32>
+  %i = osl.convert %s : !osl.varying<f32> -> !osl.varying<i32>
+  %p = osl.table_read dense<[2, 3, 5, 7, 11, 13, 17, 19]> : tensor<8xi32>[%i] : !osl.varying<i32> -> !osl.varying<i32>
+  %j = osl.first_lane %i, %m : !osl.varying<i32>, !osl.varying<i1> -> i32
+  %q = osl.table_read dense<[2, 3, 5, 7, 11, 13, 17, 19]> : tensor<8xi32>[%j] : i32 -> i32
+  osl.output "p" = %p : !osl.varying<i32>
+  osl.output "q" = %q : i32
+  return
+}
+
+// -----
+
 // With Dx/Dy of the point, lanes where |Dx P x Dy P|^2 >= 1e-6 (and
 // do_filter != 0, uniform) filter their kernels. A color result evaluates
 // three times (seeds 0, 1, 2: three cell loops).

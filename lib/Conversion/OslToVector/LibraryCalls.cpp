@@ -131,6 +131,16 @@ void lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes, Type re
   }
 }
 
+struct TableReadLowering : public OslPattern<TableReadOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(TableReadOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    LLVM::GlobalOp table = getConstantTable(rewriter, op.getLoc(), op.getTable());
+    rewriter.replaceOp(op, lookupConstantTable(rewriter, op.getLoc(), table, adaptor.getIndex()));
+    return success();
+  }
+};
+
 struct HashLowering : public OslPattern<HashOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(HashOp op, OpAdaptor adaptor,
@@ -289,7 +299,8 @@ void mlir::osl::lowering::populateLibraryCallPatterns(const VaryingTypeConverter
                                                       RewritePatternSet &patterns) {
   patterns.add<GeometryLowering<DotOp>, GeometryLowering<LengthOp>,
                GeometryLowering<DistanceOp>, GeometryLowering<CrossOp>,
-               GeometryLowering<NormalizeOp>, NoiseLowering, HashLowering, TransformLowering,
+               GeometryLowering<NormalizeOp>, NoiseLowering, HashLowering, TableReadLowering,
+               TransformLowering,
                SplineFamilyLowering<SplineOp>, SplineFamilyLowering<SplineInverseOp>,
                ColorLowering<TransformcOp>, ColorLowering<BlackbodyOp>,
                ColorLowering<WavelengthColorOp>, ColorLowering<LuminanceOp>>(
