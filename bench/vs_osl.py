@@ -2,7 +2,7 @@
 """osl-run beside OSL's own batched backend, shader by shader (issue 17).
 
   bench/vs_osl.py [--osl PREFIX] [--width W] [--res N] [--rounds R]
-                  [--only REGEX] [--no-testsuite]
+                  [--only REGEX] [--skip REGEX] [--no-testsuite]
 
 Runs OSL 1.13.12's testshade (built outside the project by
 ../shared/tools/build-osl-reference.sh into PREFIX, default
@@ -213,6 +213,7 @@ def main():
     ap.add_argument("--passes", type=int, default=11)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--only", default="")
+    ap.add_argument("--skip", default="", help="leave out shaders matching this regex")
     ap.add_argument("--no-testsuite", action="store_true")
     ap.add_argument("--suite", default=SUITE)
     a = ap.parse_args()
@@ -225,7 +226,7 @@ def main():
     cases = project_cases()
     if not a.no_testsuite and os.path.isdir(a.suite):
         cases += suite_cases(a.suite)
-    cases = [c for c in cases if re.search(a.only, c.name)]
+    cases = [c for c in cases if re.search(a.only, c.name) and not (a.skip and re.search(a.skip, c.name))]
 
     print("osl-run --width %d against testshade --batched (batch %d), 1 thread, %dx%d, "
           "shading = (N passes - 1 pass) / (N - 1), N >= %d, best of %d interleaved rounds"

@@ -13,6 +13,7 @@
 #include "OslAbi/Print.h"
 
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -29,8 +30,16 @@ struct PrintedText {
 /// order): what testshade's journal holds.
 struct PrintLog {
   std::vector<PrintedText> texts;
+  /// The warnings and errors `texts` holds (appendPrints' record).
+  std::set<std::pair<int32_t, std::string>> reports;
   bool empty() const { return texts.empty(); }
 };
+
+/// Moves `more` to the end of `log`; unless `repeatReports`, a warning or
+/// error `log` already holds is left out, as emitPrints would leave it out:
+/// many passes of a shader that reports at every point keep one copy, not
+/// one per point and pass.
+void appendPrints(PrintLog &log, PrintLog &&more, bool repeatReports);
 
 /// Moves what this thread's kernels printed since the last call to the end
 /// of `log`, lane by lane.

@@ -46,6 +46,21 @@ void osl::takeBatchPrints(PrintLog &log) {
   texts.clear();
 }
 
+/// The key emitPrints reports a text once by: errors and warnings apart.
+static std::pair<int32_t, std::string> reportKey(const osl::PrintedText &t) {
+  return {t.stream != kWarning, t.text};
+}
+
+void osl::appendPrints(PrintLog &log, PrintLog &&more, bool repeatReports) {
+  for (PrintedText &t : more.texts) {
+    bool report = t.stream == kWarning || t.stream == kError || t.stream == kRendererError;
+    if (report && !repeatReports && !log.reports.insert(reportKey(t)).second)
+      continue;
+    log.texts.push_back(std::move(t));
+  }
+  more.texts.clear();
+}
+
 int osl::emitPrints(const PrintLog &log, const std::string &shaderName,
                     bool repeatReports) {
   int errors = 0;
@@ -67,7 +82,7 @@ int osl::emitPrints(const PrintLog &log, const std::string &shaderName,
                            : t.text;
     if (!repeatReports) {
       std::lock_guard<std::mutex> lock(reportedMutex);
-      if (!reported.insert({error, text}).second)
+      if (!reported.insert({int32_t(error), text}).second)
         continue;
     }
     errors += error;

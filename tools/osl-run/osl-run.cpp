@@ -289,8 +289,7 @@ bool shadePasses(const RunOptions &options, ShaderCompiler &compiler,
     // One set of images, allocated and paged in by the first pass.
     shadeGridInto(result, pass->kernel, pass->width, pass->outputs, options.grid, pool);
     shading += result.seconds;
-    for (PrintedText &t : result.printed.texts)
-      printed.texts.push_back(std::move(t));
+    appendPrints(printed, std::move(result.printed), options.errorRepeats);
   }
   stats.add("shading", shading);
   return true;
