@@ -175,7 +175,7 @@ static constexpr int kTableMinLength = 8;
 /// The elements' constants, one list per component (one for numbers, three
 /// for triples), or none when an element is not a constant.
 static std::optional<std::vector<DenseElementsAttr>>
-constantComponents(OpBuilder &b, llvm::ArrayRef<Value> elems, int ncomp) {
+constantComponents(llvm::ArrayRef<Value> elems, int ncomp) {
   std::vector<llvm::SmallVector<Attribute>> lists(ncomp);
   for (Value v : elems) {
     Attribute attr;
@@ -207,7 +207,7 @@ std::optional<RValue> IRGen::readConstantTable(const RValue &cur, const Access &
   if (a.component || a.length < kTableMinLength || !(number || element.isTriple()) ||
       int(cur.elems.size()) != a.length)
     return std::nullopt;
-  auto tables = constantComponents(b, cur.elems, number ? 1 : 3);
+  auto tables = constantComponents(cur.elems, number ? 1 : 3);
   if (!tables)
     return std::nullopt;
   Location ml = loc(l);

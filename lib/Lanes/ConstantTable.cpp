@@ -45,18 +45,18 @@ Value mlir::osl::lookupConstantTable(OpBuilder &b, Location loc, LLVM::GlobalOp 
                                      Value index) {
   auto ptr = LLVM::LLVMPointerType::get(b.getContext());
   Value base = b.create<LLVM::AddressOfOp>(loc, global);
-  Type f32 = cast<LLVM::LLVMArrayType>(global.getType()).getElementType();
+  Type element = cast<LLVM::LLVMArrayType>(global.getType()).getElementType();
   auto lanes = dyn_cast<VectorType>(index.getType());
   if (!lanes) {
-    Value addr = b.create<LLVM::GEPOp>(loc, ptr, f32, base, ValueRange{index});
-    Operation *load = b.create<LLVM::LoadOp>(loc, f32, addr, /*alignment=*/4);
+    Value addr = b.create<LLVM::GEPOp>(loc, ptr, element, base, ValueRange{index});
+    Operation *load = b.create<LLVM::LoadOp>(loc, element, addr, /*alignment=*/4);
     load->setAttr(kNoDerivativeAttr, b.getUnitAttr());
     return load->getResult(0);
   }
   int64_t width = lanes.getNumElements();
-  Value addrs = b.create<LLVM::GEPOp>(loc, LLVM::getVectorType(ptr, width), f32, base,
+  Value addrs = b.create<LLVM::GEPOp>(loc, LLVM::getVectorType(ptr, width), element, base,
                                       ValueRange{index});
-  auto resultType = VectorType::get({width}, f32);
+  auto resultType = VectorType::get({width}, element);
   Value all = b.create<arith::ConstantOp>(
       loc, DenseElementsAttr::get(VectorType::get({width}, b.getI1Type()), true));
   Value zero = b.create<arith::ConstantOp>(loc, b.getZeroAttr(resultType));

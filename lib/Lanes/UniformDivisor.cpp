@@ -1,5 +1,6 @@
 //===- UniformDivisor.cpp - int / and % of lanes by one divisor -----------===//
 #include "OslLanes/UniformDivisor.h"
+#include "OslLanes/LaneMath.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Math/IR/Math.h"
@@ -48,26 +49,23 @@ Divisor prepare(OpBuilder &b, Location loc, Value d) {
   return {multiplier, shift1, shift2, isZero};
 }
 
-Value splat(OpBuilder &b, Location loc, Value scalar, Type like) {
-  return b.create<vector::BroadcastOp>(loc, like, scalar);
-}
-
 /// The truncated quotient n / d of every lane, before OSL's x/0 rule.
 Value quotient(OpBuilder &b, Location loc, Value num, Value d, const Divisor &div) {
-  Type type = num.getType();
+  int64_t width = cast<VectorType>(num.getType()).getNumElements();
+  auto splat = [&](Value scalar) { return osl::lane::broadcast(b, loc, scalar, width); };
   // |n| as unsigned: |INT_MIN| = 2^31 keeps its bits.
   Value absN = b.create<math::AbsIOp>(loc, num);
-  Value high = b.create<arith::MulUIExtendedOp>(loc, absN, splat(b, loc, div.multiplier, type))
+  Value high = b.create<arith::MulUIExtendedOp>(loc, absN, splat(div.multiplier))
                    .getHigh();
   Value rest = b.create<arith::ShRUIOp>(loc, b.create<arith::SubIOp>(loc, absN, high),
-                                        splat(b, loc, div.shift1, type));
+                                        splat(div.shift1));
   Value absQ = b.create<arith::ShRUIOp>(loc, b.create<arith::AddIOp>(loc, high, rest),
-                                        splat(b, loc, div.shift2, type));
+                                        splat(div.shift2));
   // The sign of n xor d, as 0 or -1 in every bit: (q ^ s) - s negates
   // where the signs differ (INT_MIN / -1 wraps to INT_MIN, OSL's result).
   Value sign = b.create<arith::ShRSIOp>(
-      loc, b.create<arith::XOrIOp>(loc, num, splat(b, loc, d, type)),
-      splat(b, loc, i32(b, loc, 31), type));
+      loc, b.create<arith::XOrIOp>(loc, num, splat(d)),
+      splat(i32(b, loc, 31)));
   return b.create<arith::SubIOp>(loc, b.create<arith::XOrIOp>(loc, absQ, sign), sign);
 }
 
@@ -96,6 +94,8 @@ Value mlir::osl::lane::remainderByUniform(OpBuilder &b, Location loc, Value num,
   Value q = quotient(b, loc, num, d, div);
   // n - q*d wraps to 0 for d = -1 (INT_MIN too), OSL's x % -1.
   Value r = b.create<arith::SubIOp>(
-      loc, num, b.create<arith::MulIOp>(loc, q, splat(b, loc, d, num.getType())));
+      loc, num,
+      b.create<arith::MulIOp>(
+          loc, q, osl::lane::broadcast(b, loc, d, cast<VectorType>(num.getType()).getNumElements())));
   return zeroWhere(b, loc, div.isZero, r);
 }
