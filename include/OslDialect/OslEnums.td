@@ -13,7 +13,10 @@ include "mlir/IR/EnumAttr.td"
 
 def Osl_CmpPredicate : I32EnumAttr<"CmpPredicate", "the comparison of osl.cmp", [
     I32EnumAttrCase<"eq", 0>, I32EnumAttrCase<"ne", 1>, I32EnumAttrCase<"lt", 2>,
-    I32EnumAttrCase<"le", 3>, I32EnumAttrCase<"gt", 4>, I32EnumAttrCase<"ge", 5>]> {
+    I32EnumAttrCase<"le", 3>, I32EnumAttrCase<"gt", 4>, I32EnumAttrCase<"ge", 5>,
+    // Equal bit patterns: NaNs with one payload agree, 0.0 and -0.0 differ
+    // (lane-group filtering: a lane joins a group only with its own value).
+    I32EnumAttrCase<"same", 6>]> {
   let cppNamespace = "::mlir::osl";
 }
 

@@ -274,12 +274,14 @@ def Osl_CrossOp : Osl_BinaryOp<"cross", "Triple", "cross product">;
 def Osl_NormalizeOp : Osl_UnaryOp<"normalize", "Triple", "unit vector (0 stays 0)">;
 
 def Osl_CmpOp : Osl_LaneOp<"cmp", "Compare"> {
-  let summary = "comparison: eq, ne, lt, le, gt, ge";
+  let summary = "comparison: eq, ne, lt, le, gt, ge, same";
   let description = [{
     Floats compare ordered (false with a NaN) except `ne`, which is true with
     a NaN; with `unordered`, every predicate is true when either side is a
     NaN, as OSL's JIT compares a shader's own operands. The front end's
     library code (isinf, smoothstep, ...) needs ordered comparisons.
+    `same` compares bit patterns (a NaN equals a NaN of the same payload,
+    0.0 differs from -0.0): the lane-group filter groups lanes by it.
     Triples and matrices: `ne` is or-ed over the components, the others
     and-ed.
   }];
@@ -290,7 +292,7 @@ def Osl_CmpOp : Osl_LaneOp<"cmp", "Compare"> {
   let builders = [OpBuilder<(ins "::llvm::StringRef":$predicate, "::mlir::Value":$lhs,
                                 "::mlir::Value":$rhs, CArg<"bool", "false">:$unordered), [{
     std::optional<::mlir::osl::CmpPredicate> p = ::mlir::osl::symbolizeCmpPredicate(predicate);
-    assert(p && "osl.cmp predicates are eq, ne, lt, le, gt, ge");
+    assert(p && "osl.cmp predicates are eq, ne, lt, le, gt, ge, same");
     build($_builder, $_state, ::mlir::osl::inferLaneResultType(kLaneKind, {lhs, rhs}), *p, lhs,
           rhs, unordered);
   }]>];
@@ -400,8 +402,9 @@ def Osl_NoiseOp : Osl_Op<"noise", [Pure, AttrSizedOperandSegments]> {
     (OSL's pnoise) the coordinates are followed by one period of the same
     type per coordinate.
 
-    Gabor noise ("gabor") also takes OSL's noise options as uniform
-    operands, each optional (OSL's default when absent): `anisotropic`
+    Gabor noise ("gabor") also takes OSL's noise options as operands, each
+    optional (OSL's default when absent; per-point options are split into
+    lane groups by osl-lane-group-filter, the lowering needs them uniform): `anisotropic`
     (i32: 0 isotropic, 1 anisotropic, 2 hybrid), `direction` (triple),
     `bandwidth` and `impulses` (f32), `do_filter` (i32). `derivs` holds
     Dx then Dy of the lookup point's coordinates (the first one or two
@@ -431,6 +434,17 @@ def Osl_NoiseOp : Osl_Op<"noise", [Pure, AttrSizedOperandSegments]> {
             Value(), Value(), Value(), Value(), Value());
     }]>
   ];
+  let extraClassDeclaration = [{
+    /// Gabor's options that are present, in operand order.
+    ::llvm::SmallVector<::mlir::Value> getOptions() {
+      ::llvm::SmallVector<::mlir::Value> options;
+      for (::mlir::Value v : {getAnisotropic(), getDirection(), getBandwidth(), getImpulses(),
+                              getDoFilter()})
+        if (v)
+          options.push_back(v);
+      return options;
+    }
+  }];
   let hasVerifier = 1;
 }
 

@@ -111,7 +111,7 @@ def InsertMaskStack : Pass<"osl-insert-mask-stack", "::mlir::func::FuncOp"> {
 }
 
 def LaneGroupFilter : Pass<"osl-lane-group-filter", "::mlir::func::FuncOp"> {
-  let summary = "Run lookups whose per-call options vary once per group of agreeing lanes";
+  let summary = "Run lookups and Gabor noises whose per-call options vary once per group of agreeing lanes";
   let description = [{
     OpenImageIO takes a texture's file, wrap modes, interpolation and
     subimage once per call. An osl.texture whose choice of one of them is
@@ -120,6 +120,11 @@ def LaneGroupFilter : Pass<"osl-lane-group-filter", "::mlir::func::FuncOp"> {
     (osl.texture with the lead's uniform choices and the group as mask),
     and the group leaves the pending lanes; the loop ends when none is
     left. Lookups whose choices are uniform stay one call, with no loop.
+    Gabor noise's options (osl.noise gabor: anisotropic, direction,
+    bandwidth, impulses, do_filter) split the same way; the noise, a pure
+    op with no mask, is computed for every lane and kept for the group's.
+    Lanes agree when their values have the same bits (osl.cmp same), so a
+    lane always joins its own group and the loop ends, NaNs included.
     Runs after osl-insert-mask-stack; the loop's condition is uniform.
   }];
   let dependentDialects = ["::mlir::scf::SCFDialect", "::mlir::arith::ArithDialect"];

@@ -247,9 +247,6 @@ static LogicalResult verifyNoiseOptions(NoiseOp op, ArrayRef<Type> domain) {
     if (!o.ok)
       return op.emitOpError("noise option '")
              << o.name << "' has the wrong type " << o.value.getType();
-    if (o.value && isVarying(o.value.getType()))
-      return op.emitOpError("noise option '")
-             << o.name << "' must be uniform (the same at every point)";
   }
   if (op.getDerivs().empty())
     return success();

@@ -1,7 +1,7 @@
 //===- NoiseBuiltins.cpp - noise, snoise, cellnoise, pnoise, gabor ----------===//
 //
 // The noise family by name (a compile-time string, or one chosen per
-// point), with Gabor noise's options read as uniform values.
+// point), with Gabor noise's options (osl-lane-group-filter splits per-point ones).
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
@@ -21,7 +21,8 @@ struct NoiseOptionValues {
 };
 
 /// Reads (name, value) option pairs from args[at] on: names are constant
-/// strings, values uniform; anisotropic and do_filter are ints, direction a
+/// strings; values may differ per point (osl-lane-group-filter runs the
+/// noise once per group of lanes that agree); anisotropic and do_filter are ints, direction a
 /// triple, bandwidth and impulses an int or a float (made float).
 std::optional<NoiseOptionValues> parseNoiseOptions(IRGen &g, const Expr &call,
                                                    const std::vector<RValue> &args,
@@ -45,8 +46,6 @@ std::optional<NoiseOptionValues> parseNoiseOptions(IRGen &g, const Expr &call,
       g.error(valueLoc, "noise option '" + name.str + "' takes " + what);
       return std::nullopt;
     };
-    if (v.type.isNumeric() && isVarying(v.value.getType()))
-      return bad("a uniform value (the same at every point)");
     if (name.str == "anisotropic" || name.str == "do_filter") {
       if (!v.type.isInt())
         return bad("an int");

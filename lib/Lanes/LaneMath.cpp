@@ -582,6 +582,14 @@ Value lane::compareComponents(OpBuilder &b, Location loc, StringRef predicate,
 /// front end builds from osl.cmp, need ordered ones.
 Value lane::compare(OpBuilder &b, Location loc, StringRef p, Value lhs, Value rhs,
                     bool unordered) {
+  if (isFloat(lhs) && p == "same") {
+    // Compare the bits: the same float bits make the same results.
+    Type bits = b.getIntegerType(getElementTypeOrSelf(lhs.getType()).getIntOrFloatBitWidth());
+    if (auto v = dyn_cast<VectorType>(lhs.getType()))
+      bits = VectorType::get(v.getShape(), bits);
+    return icmp(b, loc, arith::CmpIPredicate::eq, b.create<arith::BitcastOp>(loc, bits, lhs),
+                b.create<arith::BitcastOp>(loc, bits, rhs));
+  }
   if (isFloat(lhs)) {
     using P = arith::CmpFPredicate;
     auto pred = llvm::StringSwitch<P>(p)
@@ -594,7 +602,7 @@ Value lane::compare(OpBuilder &b, Location loc, StringRef p, Value lhs, Value rh
     return fcmp(b, loc, pred, lhs, rhs);
   }
   auto pred = llvm::StringSwitch<arith::CmpIPredicate>(p)
-                  .Case("eq", arith::CmpIPredicate::eq)
+                  .Cases("eq", "same", arith::CmpIPredicate::eq)
                   .Case("ne", arith::CmpIPredicate::ne)
                   .Case("lt", arith::CmpIPredicate::slt)
                   .Case("le", arith::CmpIPredicate::sle)

@@ -193,14 +193,6 @@ func.func @gabor_float_anisotropic(%p: vector<3xf32>, %m: f32) {
 
 // -----
 
-func.func @gabor_varying_bandwidth(%p: vector<3xf32>, %b: !osl.varying<f32>) {
-  // expected-error @+1 {{noise option 'bandwidth' must be uniform}}
-  %0 = osl.noise gabor(%p) bandwidth(%b : !osl.varying<f32>) : (vector<3xf32>) -> f32
-  return
-}
-
-// -----
-
 func.func @gabor_one_deriv(%x: f32, %y: f32) {
   // expected-error @+1 {{derivs must be Dx then Dy of each point coordinate}}
   %0 = osl.noise gabor(%x, %y) derivs(%x, %y : f32, f32) : (f32, f32) -> f32

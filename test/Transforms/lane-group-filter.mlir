@@ -12,7 +12,7 @@
 // CHECK: ^bb0(%[[L:.+]]: !osl.varying<i1>, %[[ACC:.+]]: !osl.varying<vector<3xf32>>, %{{.+}}: !osl.varying<f32>, %{{.+}}: !osl.varying<i32>):
 // CHECK: %[[LEAD:.+]] = osl.first_lane %[[WRAP:.+]], %[[L]] : !osl.varying<i32>, !osl.varying<i1> -> i32
 // CHECK: %[[B:.+]] = osl.broadcast %[[LEAD]]
-// CHECK: %[[SAME:.+]] = osl.cmp eq, %[[WRAP]], %[[B]]
+// CHECK: %[[SAME:.+]] = osl.cmp same, %[[WRAP]], %[[B]]
 // CHECK: %[[GROUP:.+]] = osl.and %[[L]], %[[SAME]]
 // CHECK: %[[R:.+]], %{{.+}}, %{{.+}} = osl.texture texture{{.*}} choices(%{{.+}}, %[[LEAD]], %[[LEAD]], %[[LEAD]], %{{.+}}, %{{.+}}) mask %[[GROUP]]
 // CHECK: %[[NOT:.+]] = osl.not %[[SAME]]
@@ -40,9 +40,9 @@ func.func @varying_wrap() {
 // only when both of its choices equal the lead's.
 // CHECK-LABEL: func.func @varying_file_and_interp
 // CHECK: %[[LF:.+]] = osl.first_lane %[[FILE:[^,]+]], %[[L:[^ ]+]]
-// CHECK: %[[EQF:.+]] = osl.cmp eq, %[[FILE]]
+// CHECK: %[[EQF:.+]] = osl.cmp same, %[[FILE]]
 // CHECK: %[[LI:.+]] = osl.first_lane %[[INTERP:[^,]+]], %[[L]]
-// CHECK: %[[EQI:.+]] = osl.cmp eq, %[[INTERP]]
+// CHECK: %[[EQI:.+]] = osl.cmp same, %[[INTERP]]
 // CHECK: %[[SAME:.+]] = osl.and %[[EQF]], %[[EQI]]
 // CHECK: choices(%[[LF]], %{{.+}}, %{{.+}}, %{{.+}}, %[[LI]], %{{.+}})
 func.func @varying_file_and_interp() {
@@ -77,5 +77,53 @@ func.func @uniform_options() {
   %c0 = arith.constant 0 : i32
   %r, %a, %err = osl.texture texture3d(%x, %x, %x) derivs(%zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero, %zero) options(%zero, %zero, %zero, %one, %one, %one, %zero, %one, %zero, %zero, %zero) channel %c0 subimage %c0 choices(%c0, %c0, %c0, %c0, %c0, %c0) {candidates = [["v.vdb"], ["clamp"], ["clamp"], ["clamp"], ["smartcubic"], ["density"]], nchannels = 1 : i32} : (!osl.varying<f32>, !osl.varying<f32>, !osl.varying<f32>) (f32, f32, f32, f32, f32, f32, f32, f32, f32) (f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) i32, i32(i32, i32, i32, i32, i32, i32) -> !osl.varying<f32>, !osl.varying<f32>, !osl.varying<i32>
   osl.output "f" = %r : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// Gabor noise with a bandwidth and a direction chosen per point: the noise
+// (pure, no mask) runs once per group of lanes whose options have the same
+// bits, with the lead's options as uniform operands; the coordinates stay
+// varying and the group keeps its lanes' values.
+// CHECK-LABEL: func.func @varying_gabor_options
+// CHECK: %[[PENDING:.+]] = osl.batch_mask : !osl.varying<i1>
+// CHECK: scf.while (%[[LEFT:.+]] = %[[PENDING]], %{{.+}} = %{{.+}})
+// CHECK: ^bb0(%[[L:.+]]: !osl.varying<i1>, %[[ACC:.+]]: !osl.varying<f32>):
+// CHECK: %[[LD:.+]] = osl.first_lane %[[DIR:[^,]+]], %[[L]] : !osl.varying<vector<3xf32>>, !osl.varying<i1> -> vector<3xf32>
+// CHECK: %[[SD:.+]] = osl.cmp same, %[[DIR]]
+// CHECK: %[[LB:.+]] = osl.first_lane %[[BW:[^,]+]], %[[L]] : !osl.varying<f32>, !osl.varying<i1> -> f32
+// CHECK: %[[SB:.+]] = osl.cmp same, %[[BW]]
+// CHECK: %[[SAME:.+]] = osl.and %[[SD]], %[[SB]]
+// CHECK: %[[GROUP:.+]] = osl.and %[[L]], %[[SAME]]
+// CHECK: %[[N:.+]] = osl.noise gabor(%[[P:.+]]) direction(%[[LD]] : vector<3xf32>) bandwidth(%[[LB]] : f32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+// CHECK: osl.select %[[GROUP]], %[[N]], %[[ACC]]
+// CHECK: scf.yield
+func.func @varying_gabor_options() {
+  %p = osl.global "P" : !osl.varying<vector<3xf32>>
+  %u = osl.global "u" : !osl.varying<f32>
+  %half = arith.constant 0.5 : f32
+  %right = osl.cmp gt, %u, %half : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %two = arith.constant 2.0 : f32
+  %four = arith.constant 4.0 : f32
+  %bw = osl.select %right, %two, %four : !osl.varying<i1>, f32, f32 -> !osl.varying<f32>
+  %x = arith.constant dense<[1.0, 0.0, 0.0]> : vector<3xf32>
+  %y = arith.constant dense<[0.0, 1.0, 0.0]> : vector<3xf32>
+  %dir = osl.select %right, %x, %y : !osl.varying<i1>, vector<3xf32>, vector<3xf32> -> !osl.varying<vector<3xf32>>
+  %n = osl.noise gabor(%p) direction(%dir : !osl.varying<vector<3xf32>>) bandwidth(%bw : !osl.varying<f32>) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  osl.output "f" = %n : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// Uniform Gabor options: one noise, no loop.
+// CHECK-LABEL: func.func @uniform_gabor_options
+// CHECK-NOT: scf.while
+// CHECK: osl.noise gabor
+func.func @uniform_gabor_options(%bw: f32) {
+  %p = osl.global "P" : !osl.varying<vector<3xf32>>
+  %n = osl.noise gabor(%p) bandwidth(%bw : f32) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  osl.output "f" = %n : !osl.varying<f32>
   return
 }

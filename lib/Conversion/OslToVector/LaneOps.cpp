@@ -181,7 +181,7 @@ struct FirstLaneLowering : public OslPattern<FirstLaneOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(FirstLaneOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
-    if (!isa<VectorType>(adaptor.getValue().getType())) {
+    if (!isVarying(op.getValue().getType())) {
       rewriter.replaceOp(op, adaptor.getValue());
       return success();
     }
@@ -191,7 +191,12 @@ struct FirstLaneLowering : public OslPattern<FirstLaneOp> {
       mask = lane::broadcast(rewriter, loc, mask, width);
     Value bits = maskBits(rewriter, loc, mask);
     Value lead = rewriter.create<LLVM::CountTrailingZerosOp>(loc, bits.getType(), bits, false);
-    rewriter.replaceOpWithNewOp<vector::ExtractElementOp>(op, adaptor.getValue(), lead);
+    // Each component (a triple's three) at the lead lane.
+    Components lanes{rewriter, loc, width};
+    SmallVector<Value> leads;
+    for (Value c : lanes.unpack(adaptor.getValue(), op.getValue().getType(), true))
+      leads.push_back(rewriter.create<vector::ExtractElementOp>(loc, c, lead));
+    rewriter.replaceOp(op, lanes.pack(leads, convert(op.getType())));
     return success();
   }
 };

@@ -78,7 +78,7 @@ struct GeometryLowering : public OslPattern<OpTy> {
 };
 
 /// Gabor noise: the point (and its derivatives and period) made 3D, the
-/// options read as scalars (the verifier keeps them uniform).
+/// options read as scalars (osl-lane-group-filter made them uniform).
 void lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes, Type resultType,
                 ConversionPatternRewriter &rewriter) {
   Location loc = op.getLoc();
@@ -163,6 +163,10 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
                                 ConversionPatternRewriter &rewriter) const override {
     NoiseKind kind = op.getKind();
     if (kind == NoiseKind::gabor) {
+      for (Value option : op.getOptions())
+        if (isVarying(option.getType()))
+          return op.emitError("gabor options chosen per point must be split into lane "
+                              "groups first (osl-lane-group-filter)");
       Components lanes{rewriter, op.getLoc(), width};
       lowerGabor(op, adaptor, lanes, convert(op.getType()), rewriter);
       return success();
