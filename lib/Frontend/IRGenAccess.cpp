@@ -458,6 +458,26 @@ bool IRGen::checkWritable(const LValue &lv, SrcLoc l, const llvm::Twine &how) {
                               how.str());
 }
 
+/// OSL assigns an array of another length but the same element type
+/// (not structs) element by element, as far as the shorter one goes.
+static bool isShorterOrLongerArray(const OslType &from, const OslType &to) {
+  return from.isArray() && to.isArray() && from.arrayLen > 0 && to.arrayLen > 0 &&
+         from.arrayLen != to.arrayLen && from.base == to.base && !to.isStructLike();
+}
+
+/// `target` with its first elements replaced by `source`'s; the rest keep
+/// their values.
+static RValue copyArrayPrefix(RValue target, const RValue &source) {
+  size_t n = std::min(target.type.arrayLen, source.type.arrayLen);
+  for (size_t k = 0; k < n; ++k) {
+    if (k < target.elems.size() && k < source.elems.size())
+      target.elems[k] = source.elems[k];
+    if (k < target.fields.size() && k < source.fields.size())
+      target.fields[k] = source.fields[k];
+  }
+  return target;
+}
+
 std::optional<RValue> IRGen::emitAssign(const Expr &e) {
   auto lv = emitLValue(*e.args[0]);
   if (!lv || !checkWritable(*lv, e.loc))
@@ -485,6 +505,8 @@ std::optional<RValue> IRGen::emitAssign(const Expr &e) {
                      "' of type '" + lv->type.str() + "'");
     return std::nullopt;
   }
+  if (isShorterOrLongerArray(value->type, lv->type))
+    value = copyArrayPrefix(loadLValue(*lv, e.loc), *value);
   auto c = coerceForAssignment(*value, lv->type, e.args[1]->begin,
                                "in assignment to '" + target + "'");
   if (!c)
