@@ -77,10 +77,19 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
       knots.push_back((*args)[k]);
     }
   }
-  if (knots.size() < 4) {
-    g.error(knotLoc, "'" + fn + "' needs at least 4 knots, got " +
-                         llvm::Twine(knots.size()));
+  if (knots.empty()) {
+    g.error(knotLoc, "'" + fn + "' needs at least 4 knots, got none");
     return std::nullopt;
+  }
+  if (knots.size() < 4) {
+    // oslc accepts it and OSL reads past the knots; here the last knot
+    // repeats, so a spline of one knot is that knot.
+    if (!g.diagnostics().warning(knotLoc, ("'" + fn + "' needs at least 4 knots, got " +
+                                              std::to_string(knots.size()) +
+                                              "; the last one is repeated").str()))
+      return std::nullopt;
+    while (knots.size() < 4)
+      knots.push_back(knots.back());
   }
   OslType knotType(BaseType::Float);
   for (const RValue &k : knots)
