@@ -44,6 +44,13 @@ void osl_rt_gettextureinfo_lanes(const int32_t *handles, const char *name, int32
                                  int32_t count, void *data, int32_t *found, int32_t width,
                                  uint32_t laneMask);
 
+/// A UDIM pattern's tile at (s, t): point i's file is the string whose
+/// handle is handles[i]; tiles[i] gets the handle of the concrete tile's
+/// file name, of "" where the pattern has no tile there, or handles[i]
+/// itself where the file is not a UDIM pattern.
+void osl_rt_udim_tile_lanes(const int32_t *handles, const float *s, const float *t,
+                            int32_t *tiles, int32_t width, uint32_t laneMask);
+
 //--- Strings (Strings.h) and printing (Print.h) ------------------------------//
 
 /// The handle of `text` (NUL-terminated), interned on first use.
@@ -111,6 +118,7 @@ void osl_rt_closure_add(int32_t *rows, int32_t width, uint32_t laneMask);
   X(osl_rt_texture)                                                                          \
   X(osl_rt_gettextureinfo)                                                                   \
   X(osl_rt_gettextureinfo_lanes)                                                             \
+  X(osl_rt_udim_tile_lanes)                                                                  \
   X(osl_rt_string_intern)                                                                    \
   X(osl_rt_string_call)                                                                      \
   X(osl_rt_print)                                                                            \

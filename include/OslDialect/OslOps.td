@@ -530,6 +530,23 @@ def Osl_GetTextureInfoOp : Osl_Op<"gettextureinfo", [Pure]> {
   let hasVerifier = 1;
 }
 
+def Osl_UdimTileOp : Osl_Op<"udim_tile", [Pure]> {
+  let summary = "the file of a UDIM pattern's tile at (s, t)";
+  let description = [{
+    `file` is a string handle (i32). The result is the handle of the file
+    name of the pattern's tile at (s, t) ("file.<UDIM>.tx" at s = 1.5,
+    t = 0.2 is "file.1002.tx", as OpenImageIO resolves it), of "" where the
+    pattern has no tile there, or `file` itself where it is not a UDIM
+    pattern. gettextureinfo(file, s, t, name, dest) asks about it.
+  }];
+  let arguments = (ins Osl_Value:$file, Osl_Value:$s, Osl_Value:$t);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = [{
+    $file `at` `(` $s `,` $t `)` attr-dict `:` type($file) `,` type($s) `,` type($t) `->` type($result)
+  }];
+  let hasVerifier = 1;
+}
+
 def Osl_FirstLaneOp : Osl_Op<"first_lane", [Pure]> {
   let summary = "the value of the first lane of `mask` that is set";
   let description = [{

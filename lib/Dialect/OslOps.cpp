@@ -358,6 +358,18 @@ LogicalResult GetTextureInfoOp::verify() {
   return success();
 }
 
+LogicalResult UdimTileOp::verify() {
+  if (!getUniformType(getFile().getType()).isInteger(32) ||
+      !getUniformType(getResult().getType()).isInteger(32))
+    return emitOpError("file and result must be i32 string handles");
+  if (!getUniformType(getS().getType()).isF32() || !getUniformType(getT().getType()).isF32())
+    return emitOpError("s and t must be f32");
+  bool varying = llvm::any_of(getOperands(), [](Value v) { return isVarying(v.getType()); });
+  if (varying != isVarying(getResult().getType()))
+    return emitOpError("result must be varying exactly when an operand is");
+  return success();
+}
+
 //===----------------------------------------------------------------------===//
 // Strings
 //===----------------------------------------------------------------------===//

@@ -413,29 +413,67 @@ TextureInfoAnswer askTextureInfo(IRGen &g, const Expr &call, const std::string &
   return {op.getFound(), updated};
 }
 
-/// gettextureinfo(file, name, output dest): the destination's type says
-/// what to ask for; it is left unchanged when the texture system does not
-/// know the answer, as in OSL. A file or name chosen per point (among
-/// strings known when the shader is compiled) asks about each choice, and
-/// each point takes its own answer.
+/// gettextureinfo's s and t, as floats.
+std::optional<std::pair<Value, Value>> udimCoordinates(IRGen &g, const Expr &call) {
+  Value st[2];
+  for (int k = 0; k < 2; ++k) {
+    const Expr &arg = *call.args[1 + k];
+    auto v = g.emitExpr(arg);
+    if (!v)
+      return std::nullopt;
+    if (!v->type.isFloat() && !v->type.isInt()) {
+      g.error(arg.loc, std::string("'gettextureinfo' expects a float ") + (k ? "t" : "s") +
+                           " here, got '" + v->type.str() + "'");
+      return std::nullopt;
+    }
+    st[k] = g.convert(v->value, g.builder().getF32Type(), arg.loc);
+  }
+  return std::make_pair(st[0], st[1]);
+}
+
+/// gettextureinfo(file, [s, t,] name, output dest): the destination's
+/// type says what to ask for; it is left unchanged when the texture system
+/// does not know the answer, as in OSL. With s and t, a UDIM pattern's file
+/// is its tile at (s, t). A file or name chosen per point (among strings
+/// known when the shader is compiled) asks about each choice, and each
+/// point takes its own answer.
 std::optional<RValue> emitGetTextureInfo(IRGen &g, const Expr &call) {
   const char *usage = "wrong arguments to 'gettextureinfo'; candidates: int gettextureinfo("
                       "string file, string name, output int|float|triple|string|matrix|int[]|"
-                      "float[] dest)";
-  if (call.args.size() != 3) {
+                      "float[] dest); int gettextureinfo(string file, float s, float t, "
+                      "string name, output ... dest)";
+  if (call.args.size() != 3 && call.args.size() != 5) {
     g.error(call.loc, usage);
     return std::nullopt;
   }
+  bool atST = call.args.size() == 5;
+  const size_t argOf[2] = {0, atST ? 3u : 1u}; // the file's and the name's
+  const Expr &destArg = *call.args.back();
   std::vector<std::string> choices[2];
   Value index[2];
   Value fileHandle; // a file name computed at run time
   for (int k = 0; k < 2; ++k) {
-    auto v = g.emitExpr(*call.args[k]);
+    const Expr &arg = *call.args[argOf[k]];
+    auto v = g.emitExpr(arg);
     if (!v)
       return std::nullopt;
     if (!v->type.isString()) {
-      g.error(call.args[k]->loc, usage);
+      g.error(arg.loc, usage);
       return std::nullopt;
+    }
+    if (k == 0 && atST) {
+      // The tile's file, known per point at run time.
+      auto st = udimCoordinates(g, call);
+      if (!st)
+        return std::nullopt;
+      Value handle = g.stringHandle(*v, arg.loc);
+      Type type = withUniformity(g.builder().getI32Type(),
+                                 isVarying(handle.getType()) || isVarying(st->first.getType()) ||
+                                     isVarying(st->second.getType()));
+      fileHandle = g.builder().create<UdimTileOp>(g.loc(call.loc), type, handle, st->first,
+                                                  st->second);
+      choices[k] = {""};
+      continue;
     }
     if (k == 0 && v->isRuntimeString()) {
       fileHandle = v->value;
@@ -443,7 +481,7 @@ std::optional<RValue> emitGetTextureInfo(IRGen &g, const Expr &call) {
       continue;
     }
     if (v->isRuntimeString()) {
-      g.error(call.args[k]->loc, "'gettextureinfo' needs the name of what it asks known when "
+      g.error(arg.loc, "'gettextureinfo' needs the name of what it asks known when "
                                  "the shader is compiled (or chosen per point among such "
                                  "strings); this one is computed at run time");
       return std::nullopt;
@@ -455,14 +493,14 @@ std::optional<RValue> emitGetTextureInfo(IRGen &g, const Expr &call) {
       choices[k] = {v->str};
     }
   }
-  auto dest = g.emitLValue(*call.args[2]);
+  auto dest = g.emitLValue(destArg);
   if (!dest)
     return std::nullopt;
   OslType t = dest->type;
   OslType element = t.isArray() ? t.element() : t;
   bool numeric = element.isInt() || element.isFloat() || element.isTriple();
   if (!(t.isString() || t.isMatrix() || numeric) || (t.isArray() && element.isTriple())) {
-    g.error(call.args[2]->loc, "'gettextureinfo' cannot answer into a '" + t.str() + "'");
+    g.error(destArg.loc, "'gettextureinfo' cannot answer into a '" + t.str() + "'");
     return std::nullopt;
   }
   RValue old = g.loadLValue(*dest, call.loc);

@@ -246,6 +246,19 @@ extern "C" int32_t osl_rt_gettextureinfo(const char *file, const char *name, int
   return 1;
 }
 
+extern "C" void osl_rt_udim_tile_lanes(const int32_t *handles, const float *s, const float *t,
+                                       int32_t *tiles, int32_t width, uint32_t laneMask) {
+  std::string error;
+  const osl::OiioModuleApi *api = osl::oiioModule(error);
+  for (int32_t lane = 0; lane < width; ++lane) {
+    if (!(laneMask >> lane & 1u))
+      continue;
+    const char *tile =
+        api ? api->udimTile(osl::stringText(handles[lane]).c_str(), s[lane], t[lane]) : nullptr;
+    tiles[lane] = tile ? osl_rt_string_intern(tile) : handles[lane];
+  }
+}
+
 extern "C" void osl_rt_gettextureinfo_lanes(const int32_t *handles, const char *name,
                                             int32_t kind, int32_t count, void *data,
                                             int32_t *found, int32_t width, uint32_t laneMask) {
@@ -253,7 +266,8 @@ extern "C" void osl_rt_gettextureinfo_lanes(const int32_t *handles, const char *
   auto *values = static_cast<int32_t *>(data);
   std::vector<int32_t> answer(size_t(std::max(count, 0)));
   osl::forEachFileNamed(handles, width, laneMask, [&](const char *file, uint32_t lanes) {
-    int32_t known = osl_rt_gettextureinfo(file, name, kind, count, answer.data());
+    // No file (a UDIM pattern without a tile at the point): nothing known.
+    int32_t known = *file ? osl_rt_gettextureinfo(file, name, kind, count, answer.data()) : 0;
     for (int32_t lane = 0; lane < width; ++lane) {
       if (!(lanes >> lane & 1u))
         continue;

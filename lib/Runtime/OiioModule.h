@@ -41,6 +41,9 @@ struct OiioModuleApi {
   bool (*readImage)(const std::string &path, ImageData &image, std::string &error);
   decltype(&osl_rt_texture) texture;
   decltype(&osl_rt_gettextureinfo) gettextureinfo;
+  /// The file of `pattern`'s UDIM tile at (s, t) ("" where there is none),
+  /// or nullptr where `pattern` is not a UDIM pattern. The text lasts.
+  const char *(*udimTile)(const char *pattern, float s, float t);
   int (*textureFileErrors)();
   void (*setTextureCacheMegabytes)(float megabytes);
 };

@@ -12,7 +12,8 @@ osl_oiio_module(const osl::OiioModuleHost *host) {
   using namespace osl::oiio;
   static const osl::OiioModuleApi api = {
       openImage,      writeRows, closeImage,         readImage,
-      texture,        gettextureinfo, textureFileErrors, setTextureCacheMegabytes,
+      texture,        gettextureinfo, udimTile,          textureFileErrors,
+      setTextureCacheMegabytes,
   };
   theHost = *host;
   return &api;

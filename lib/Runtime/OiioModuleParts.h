@@ -19,6 +19,7 @@ void texture(const char *where, const char *file, const char *subimageName, int3
              int32_t interp, int32_t flags, float *rows, int32_t width, uint32_t laneMask);
 int32_t gettextureinfo(const char *file, const char *name, int32_t kind, int32_t count,
                        void *data);
+const char *udimTile(const char *pattern, float s, float t);
 int textureFileErrors();
 void setTextureCacheMegabytes(float megabytes);
 

@@ -193,4 +193,14 @@ int32_t gettextureinfo(const char *file, const char *name, int32_t kind, int32_t
   return 0;
 }
 
+const char *udimTile(const char *pattern, float s, float t) {
+  TextureSystem &ts = sharedTextureSystem();
+  ustring file(pattern);
+  if (!ts.is_udim(file))
+    return nullptr;
+  TextureSystem::TextureHandle *tile = ts.resolve_udim(file, s, t);
+  // A ustring's text lasts as long as the process.
+  return tile ? ts.filename_from_handle(tile).c_str() : "";
+}
+
 } // namespace osl::oiio

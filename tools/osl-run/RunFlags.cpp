@@ -13,6 +13,7 @@
 #include "llvm/Support/MemoryBuffer.h"
 #include "llvm/Support/Path.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 
@@ -125,6 +126,27 @@ bool gridFlag(FlagParser &p) {
       o.grid.xres < 1 || o.grid.yres < 1)
     return p.fail("-g needs two positive integers");
   o.gridGiven = true;
+  p.i += 2;
+  return true;
+}
+
+/// A finite float (no trailing text).
+bool parseFiniteFloat(const char *text, float &out) {
+  char *end = nullptr;
+  float v = std::strtof(text, &end);
+  if (!*text || *end || !std::isfinite(v))
+    return false;
+  out = v;
+  return true;
+}
+
+/// testshade's --scaleuv U V and --offsetuv U V: u = U * u0 + offset.
+template <float GridOptions::*U, float GridOptions::*V> bool uvPairFlag(FlagParser &p) {
+  if (!p.need(2))
+    return false;
+  if (!parseFiniteFloat(p.argv[p.i + 1], p.o.grid.*U) ||
+      !parseFiniteFloat(p.argv[p.i + 2], p.o.grid.*V))
+    return p.fail(p.flag + " needs two finite numbers");
   p.i += 2;
   return true;
 }
@@ -494,6 +516,8 @@ const Flag kFlags[] = {
     {{"-t"}, threadsFlag},
     {{"--iters"}, itersFlag},
     {{"--center"}, setGridFlag<&GridOptions::center>},
+    {{"--scaleuv"}, uvPairFlag<&GridOptions::uscale, &GridOptions::vscale>},
+    {{"--offsetuv"}, uvPairFlag<&GridOptions::uoffset, &GridOptions::voffset>},
     {{"--vary_udxdy"}, setGridFlag<&GridOptions::varyUdxdy>},
     {{"--vary_vdxdy"}, setGridFlag<&GridOptions::varyVdxdy>},
     {{"--vary_pdxdy"}, setGridFlag<&GridOptions::varyPdxdy>},

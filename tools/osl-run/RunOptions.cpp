@@ -79,6 +79,8 @@ const char *const osl::kUsage =
     "                         double: precise math and all arithmetic in f64\n"
     "                         (a reference for measuring errors)\n"
     "  --center               shade pixel centres: u = (x+0.5)/X\n"
+    "  --scaleuv U V, --offsetuv U V  scale, then offset u and v (and P,\n"
+    "                         dudx, dvdy) as testshade does\n"
     "  -I DIR                 search DIR for #include files\n"
     "  -D NAME[=VALUE], -U NAME  define or undefine a macro, as oslc does\n"
     "  -Werror                warnings are errors, as with oslc -Werror\n"
@@ -141,7 +143,7 @@ namespace {
 /// the single-dash forms become the double-dash ones osl-run parses.
 std::string testshadeSpelling(std::string a) {
   static const char *const kLong[] = {
-      "param", "layer", "connect", "center", "iters", "entry", "reparam", "group",
+      "param", "layer", "connect", "center", "scaleuv", "offsetuv", "iters", "entry", "reparam", "group",
       "shader", "od", "vary_udxdy", "vary_vdxdy", "vary_pdxdy", "colorspace",
       "options", "debug", "res", "raytype", "raytype_opt", "groupoutputs",
       "batched", "groupname", "jbufferMB", "inbuffer", "userdata_isconnected"};

@@ -392,11 +392,53 @@ struct GetTextureInfoLowering : public OslPattern<GetTextureInfoOp> {
   }
 };
 
+/// osl.udim_tile: rows of the file handles, s and t, and the tiles the
+/// runtime writes.
+struct UdimTileLowering : public OslPattern<UdimTileOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(UdimTileOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    bool varying = isVarying(op.getType());
+    int64_t lanes = varying ? width : 1;
+    Value block = entryBlockRows(rewriter, loc, op, 4 * lanes);
+    Components unpacker{rewriter, loc, width};
+    auto storeRow = [&](int64_t row, Value converted, Value original) {
+      Value v = unpacker.unpack(converted, original.getType(), varying)[0];
+      rewriter.create<LLVM::StoreOp>(loc, v, rowAddress(rewriter, loc, block, row, lanes), 4);
+    };
+    storeRow(0, adaptor.getFile(), op.getFile());
+    storeRow(1, adaptor.getS(), op.getS());
+    storeRow(2, adaptor.getT(), op.getT());
+    Value mask = varying ? activeLanes(rewriter, loc, op, width)
+                         : rewriter.create<arith::CmpIOp>(
+                                   loc, arith::CmpIPredicate::sgt, kernelArg(op, 2),
+                                   rewriter.create<arith::ConstantIntOp>(loc, 0, 32))
+                               .getResult();
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, entry::osl_rt_udim_tile_lanes);
+    rewriter.create<LLVM::CallOp>(
+        loc, callee,
+        ValueRange{rowAddress(rewriter, loc, block, 0, lanes),
+                   rowAddress(rewriter, loc, block, 1, lanes),
+                   rowAddress(rewriter, loc, block, 2, lanes),
+                   rowAddress(rewriter, loc, block, 3, lanes),
+                   rewriter.create<arith::ConstantIntOp>(loc, lanes, 32),
+                   maskBits(rewriter, loc, mask)});
+    Type i32 = rewriter.getI32Type();
+    Type laneType = varying ? Type(VectorType::get({lanes}, i32)) : i32;
+    auto load = rewriter.create<LLVM::LoadOp>(loc, laneType,
+                                              rowAddress(rewriter, loc, block, 3, lanes), 4);
+    load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+    rewriter.replaceOp(op, load.getResult());
+    return success();
+  }
+};
+
 } // namespace
 
 void mlir::osl::lowering::populateRuntimeCallPatterns(const VaryingTypeConverter &converter,
                                                       RewritePatternSet &patterns) {
   patterns.add<CountLanesLowering, MessageLowering<SetMessageOp>, MessageLowering<GetMessageOp>,
-               TextureLowering, GetTextureInfoLowering, StringConstantLowering,
+               TextureLowering, GetTextureInfoLowering, UdimTileLowering, StringConstantLowering,
                StringCallLowering, PrintLowering>(converter, patterns.getContext());
 }
