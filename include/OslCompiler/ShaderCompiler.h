@@ -51,6 +51,8 @@ struct CompileOptions {
   /// oslc's -Werror (warnings are errors) and osl-run's -w (no warnings).
   bool warningsAsErrors = false;
   bool showWarnings = true;
+  /// testshade's --debugnan (FrontendOptions::debugNan).
+  bool debugNan = false;
   /// Reference mode (osl-run --interpret): one point at a time with
   /// ordinary branches and no masks; implies width 1.
   bool reference = false;

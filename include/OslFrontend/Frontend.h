@@ -71,6 +71,9 @@ struct FrontendOptions {
   /// hidden, or errors (oslc's -Werror).
   bool warningsAsErrors = false;
   bool showWarnings = true;
+  /// testshade's --debugnan: report where a value stored into a variable
+  /// has a NaN or infinite component (DebugNan.cpp).
+  bool debugNan = false;
   /// What isconnected() answers: this layer's inputs an upstream layer's
   /// output feeds, and its outputs a downstream layer or the renderer reads
   /// (names, with ".field" for a struct's field); with

@@ -85,6 +85,7 @@ ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
   frontend.layerIndex = layerIndex;
   frontend.groupName = options.groupName;
   frontend.warningsAsErrors = options.warningsAsErrors;
+  frontend.debugNan = options.debugNan;
   frontend.connectedInputs = connections.inputs;
   frontend.connectedOutputs = connections.outputs;
   frontend.connectedArrayLengths = connections.arrayLengths;
@@ -305,7 +306,7 @@ std::string ShaderCompiler::optionsKey() const {
     os << "\nuserdata " << d.type << " " << d.name << " " << d.value;
   os
      // -Werror decides whether a shader with warnings compiles at all.
-     << "\nwerror " << options.warningsAsErrors
+     << "\nwerror " << options.warningsAsErrors << "\ndebugnan " << options.debugNan
      << "\ncamera " << options.camera.xres << " "
      << options.camera.yres << "\n";
   return key;

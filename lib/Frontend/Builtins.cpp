@@ -709,6 +709,8 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
     return emitSincos(g, call);
   if (name == "fresnel")
     return emitFresnel(g, call);
+  if (name == "artistic_ior")
+    return emitArtisticIor(g, call);
   if (name == "isconstant") {
     auto args = emitArgs(g, call);
     if (!args)

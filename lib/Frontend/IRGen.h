@@ -184,6 +184,11 @@ public:
     return diags.fileName(l.file).str() + ":" + std::to_string(l.line);
   }
   Diagnostics &diagnostics() { return diags; }
+  /// --debugnan (DebugNan.cpp): reports the points where `v`, stored into
+  /// variable `name` from `source` by `assignOp` ("=", "*=", ...; "" for an
+  /// initializer), has a NaN or infinite component.
+  bool checkNotNan(const std::string &name, const RValue &v, const Expr &source,
+                   llvm::StringRef assignOp, SrcLoc l);
   mlir::Location loc(SrcLoc l);
   bool error(SrcLoc l, const llvm::Twine &msg) {
     diags.error(l, msg);
@@ -620,6 +625,7 @@ mlir::Value derivOf(IRGen &gen, SrcLoc l, mlir::Value v, char axis);
 std::optional<RValue> emitSpline(IRGen &gen, const Expr &call, bool inverse);
 /// sincos() (SincosBuiltin.cpp).
 std::optional<RValue> emitSincos(IRGen &gen, const Expr &call);
+std::optional<RValue> emitArtisticIor(IRGen &gen, const Expr &call);
 /// getattribute() (AttributeBuiltins.cpp).
 std::optional<RValue> emitGetAttribute(IRGen &gen, const Expr &call);
 

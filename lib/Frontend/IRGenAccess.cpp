@@ -512,6 +512,8 @@ std::optional<RValue> IRGen::emitAssign(const Expr &e) {
   if (!c)
     return std::nullopt;
   storeLValue(*lv, *c, e.loc);
+  if (!checkNotNan(target, *c, *e.args[1], e.name, e.loc))
+    return std::nullopt;
   return c;
 }
 

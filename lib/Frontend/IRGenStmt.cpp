@@ -257,7 +257,7 @@ bool IRGen::emitDecl(const Stmt &s) {
     RValue init;
     if (d.init) {
       auto v = emitInitializer(*d.init, t, d.name, d.loc);
-      if (!v)
+      if (!v || !checkNotNan(d.name, *v, *d.init, "", d.loc))
         return false;
       init = *v;
     } else {

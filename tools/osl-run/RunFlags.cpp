@@ -539,6 +539,7 @@ const Flag kFlags[] = {
     {{"--verify-each"}, setCompileFlag<&CompileOptions::verifyEachPass>},
     {{"--lane-stats"}, setCompileFlag<&CompileOptions::countLanes>},
     {{"-Werror"}, setCompileFlag<&CompileOptions::warningsAsErrors>},
+    {{"--debugnan"}, setCompileFlag<&CompileOptions::debugNan>},
     {{"-w"}, noWarningsFlag},
     {{"-I"}, includeFlag},
     {{"-D", "-U"}, macroFlag},

@@ -84,6 +84,8 @@ const char *const osl::kUsage =
     "  -I DIR                 search DIR for #include files\n"
     "  -D NAME[=VALUE], -U NAME  define or undefine a macro, as oslc does\n"
     "  -Werror                warnings are errors, as with oslc -Werror\n"
+    "  --debugnan             report the points where a value stored into a\n"
+    "                         variable has a NaN or infinite component\n"
     "  -w                     print no warnings\n"
     "  --verify-each          verify the IR after every compiler pass (for\n"
     "                         debugging the compiler; slower)\n"
@@ -143,7 +145,7 @@ namespace {
 /// the single-dash forms become the double-dash ones osl-run parses.
 std::string testshadeSpelling(std::string a) {
   static const char *const kLong[] = {
-      "param", "layer", "connect", "center", "scaleuv", "offsetuv", "iters", "entry", "reparam", "group",
+      "param", "layer", "connect", "center", "debugnan", "scaleuv", "offsetuv", "iters", "entry", "reparam", "group",
       "shader", "od", "vary_udxdy", "vary_vdxdy", "vary_pdxdy", "colorspace",
       "options", "debug", "res", "raytype", "raytype_opt", "groupoutputs",
       "batched", "groupname", "jbufferMB", "inbuffer", "userdata_isconnected"};
