@@ -115,6 +115,11 @@ std::optional<std::string> shaderInfoText(llvm::StringRef source, llvm::StringRe
                                           llvm::ArrayRef<std::string> includePaths = {},
                                           llvm::ArrayRef<std::string> defines = {});
 
+/// The source of shader `name` among `dirs`: NAME.osl, else the first .osl
+/// file (in name order) that declares a shader of that name, as oslc names
+/// its output after the shader (ShaderSearch.cpp). Empty if there is none.
+std::string findShaderSource(llvm::StringRef name, llvm::ArrayRef<std::string> dirs);
+
 } // namespace osl
 
 #endif // OSLFRONTEND_FRONTEND_H

@@ -7,6 +7,7 @@
 #include "OslAbi/GlobalsLayout.h"
 #include "OslRuntime/Progress.h"
 #include "OslRuntime/ThreadPool.h"
+#include "OslFrontend/Frontend.h"
 
 #include "llvm/Support/FileSystem.h"
 #include "llvm/Support/MemoryBuffer.h"
@@ -371,21 +372,14 @@ bool Renderer::compileShaders(const std::vector<std::string> &searchPaths,
                               Stats *stats) {
   kernels.clear();
   for (const SceneGroup &group : scene.shaders) {
-    // Each layer's shader is found as NAME.osl on the search paths.
+    // Each layer's shader is found on the search paths: NAME.osl, or a
+    // source declaring shader NAME.
     std::vector<std::string> found;
     for (const ShaderInstance &inst : group.layers) {
-      std::string path;
-      for (const std::string &dir : searchPaths) {
-        llvm::SmallString<256> candidate(dir);
-        llvm::sys::path::append(candidate, inst.shader + ".osl");
-        if (llvm::sys::fs::exists(candidate)) {
-          path = std::string(candidate);
-          break;
-        }
-      }
+      std::string path = findShaderSource(inst.shader, searchPaths);
       if (path.empty()) {
         errs << "error: shader '" << inst.shader << "' (scene line " << group.line
-             << "): no " << inst.shader << ".osl in";
+             << "): no " << inst.shader << ".osl, nor a source declaring it, in";
         for (const std::string &dir : searchPaths)
           errs << " " << dir;
         errs << " (use --path DIR)\n";

@@ -7,6 +7,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "RunFlags.h"
+#include "OslFrontend/Frontend.h"
 
 #include "llvm/ADT/STLExtras.h"
 #include "llvm/Support/FileSystem.h"
@@ -29,9 +30,13 @@ bool osl::parseInt(const char *text, int &out) {
 }
 
 std::string osl::shaderFile(std::string name) {
-  if (!llvm::StringRef(name).ends_with(".osl") && !llvm::sys::fs::is_regular_file(name))
-    name += ".osl";
-  return name;
+  if (llvm::StringRef(name).ends_with(".osl") || llvm::sys::fs::is_regular_file(name))
+    return name;
+  // NAME.osl, or a source in NAME's directory declaring shader NAME.
+  llvm::StringRef dir = llvm::sys::path::parent_path(name);
+  std::string found = findShaderSource(llvm::sys::path::filename(name),
+                                       {dir.empty() ? std::string(".") : dir.str()});
+  return found.empty() ? name + ".osl" : found;
 }
 
 namespace {
