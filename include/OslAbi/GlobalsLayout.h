@@ -30,10 +30,33 @@ inline constexpr GlobalSlot kGlobalSlots[] = {
     {"v", 34, 1},      {"dudx", 35, 1},   {"dudy", 36, 1},  {"dvdx", 37, 1},
     {"dvdy", 38, 1},   {"time", 39, 1},   {"dtime", 40, 1}, {"surfacearea", 41, 1},
     {"backfacing", 42, 1},
+    // The ray's types as bits (kRayTypes), as a float: not an OSL global
+    // (raytype() reads it where the renderer decides per point).
+    {"raytype", 43, 1},
 };
 
 /// Number of float rows in one batch of globals (multiply by the width).
-inline constexpr int32_t kGlobalRows = 43;
+inline constexpr int32_t kGlobalRows = 44;
+
+/// The ray types raytype() names, as bits of the "raytype" row. A renderer
+/// (osl-run --scene) sets them per point; osl-run on a grid shades one ray
+/// type, known when the shader is compiled.
+struct RayType {
+  std::string_view name;
+  int32_t bit;
+};
+inline constexpr RayType kRayTypes[] = {
+    {"camera", 1},   {"shadow", 2},  {"reflection", 4},  {"refraction", 8},
+    {"diffuse", 16}, {"glossy", 32}, {"subsurface", 64}, {"displacement", 128},
+};
+
+/// The bit of ray type `name`, or 0 for a name no ray has.
+inline constexpr int32_t rayTypeBit(std::string_view name) {
+  for (const RayType &t : kRayTypes)
+    if (t.name == name)
+      return t.bit;
+  return 0;
+}
 
 /// The slot of a global by OSL name, or nullptr.
 inline const GlobalSlot *findGlobal(std::string_view name) {

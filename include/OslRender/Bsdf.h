@@ -59,6 +59,7 @@ struct BsdfSample {
   Vec3 weight;    // f * cos / pdf, times the lobe's weight over its pick probability
   float pdf = 0;  // infinity for a specular (delta) lobe
   bool delta = false;
+  bool diffuse = false; // from a diffuse lobe (Lambert, Oren-Nayar, translucent, Burley)
 };
 
 struct ShadingResult {

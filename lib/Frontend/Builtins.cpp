@@ -12,6 +12,7 @@
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
 #include "OslAbi/Closures.h"
+#include "OslAbi/GlobalsLayout.h"
 #include "OslAbi/Strings.h"
 #include "OslLanes/ColorBuilder.h"
 
@@ -689,10 +690,20 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
                                    "compiled; this string is computed at run time");
       return std::nullopt;
     }
-    // A name chosen per point answers for each choice.
+    // A name chosen per point answers for each choice. Without a ray type
+    // (a renderer's shaders), the "raytype" row holds each point's bits.
     return g.forEachStringChoice((*args)[0], call.loc, [&](const std::string &name) {
-      return std::optional<RValue>(RValue::num(
-          OslType(BaseType::Int), g.constInt(name == g.rayType() ? 1 : 0, call.loc)));
+      if (!g.rayType().empty() || !::osl::rayTypeBit(name))
+        return std::optional<RValue>(RValue::num(
+            OslType(BaseType::Int), g.constInt(name == g.rayType() ? 1 : 0, call.loc)));
+      OpBuilder &b = g.builder();
+      Value bits = g.convert(g.getGlobal("raytype", b.getF32Type(), call.loc), b.getI32Type(),
+                             call.loc);
+      Value bit = g.constInt(::osl::rayTypeBit(name), call.loc);
+      Value set = b.create<BitAndOp>(g.loc(call.loc), bits, bit);
+      Value isSet = b.create<CmpOp>(g.loc(call.loc), "ne", set, g.constInt(0, call.loc));
+      return std::optional<RValue>(RValue::num(OslType(BaseType::Int),
+                                               classifyResult(g, call.loc, isSet)));
     });
   }
   if (name == "getattribute")

@@ -393,6 +393,8 @@ BsdfSample ShadingResult::sample(Vec3 wo, float rx, float ry, float s) const {
   // What is left of s, rescaled, is a fresh number for the lobe's own choice.
   float rz = std::clamp(s / chosen->pick, 0.0f, 0.99999994f);
   BsdfSample smp = sampleLobe(*chosen, wo, rx, ry, rz);
+  smp.diffuse = chosen->model == Lobe::Diffuse || chosen->model == Lobe::OrenNayar ||
+                chosen->model == Lobe::Translucent || chosen->model == Lobe::Burley;
   if (smp.delta) {
     smp.weight = smp.weight * chosen->weight / chosen->pick;
     return smp;

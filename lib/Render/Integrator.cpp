@@ -47,6 +47,8 @@ struct Path {
   Vec3 o, d, throughput{1, 1, 1}, radiance;
   float bsdfPdf = kInf; // of the last bounce; infinite for the camera and specular lobes
   int bounce = 0, self = -1;
+  /// What raytype() answers for the points the ray reaches (kRayTypes bits).
+  int32_t rayType = rayTypeBit("camera");
   bool alive = true;
   Hit hit;
   Sampler rng;
@@ -59,6 +61,7 @@ struct ShadeRequest {
   float u = 0, v = 0;
   float area = 0; // the primitive's (surfacearea())
   bool backfacing = false;
+  int32_t rayType = 0; // kRayTypes bits
   Vec3 contrib; // light queries: what the light's emission is multiplied by
 };
 
@@ -133,6 +136,7 @@ private:
             rowDPdu = findGlobal("dPdu")->row, rowDPdv = findGlobal("dPdv")->row,
             rowU = findGlobal("u")->row, rowV = findGlobal("v")->row,
             rowBackfacing = findGlobal("backfacing")->row,
+            rowRayType = findGlobal("raytype")->row,
             rowSurfaceArea = findGlobal("surfacearea")->row;
 };
 
@@ -154,6 +158,7 @@ void PathWave::shade(int shader, const std::vector<ShadeRequest> &requests,
       setRow(rowU, lane, q.u);
       setRow(rowV, lane, q.v);
       setRow(rowBackfacing, lane, q.backfacing ? 1.0f : 0.0f);
+      setRow(rowRayType, lane, float(q.rayType));
       setRow(rowSurfaceArea, lane, q.area);
     }
     std::fill(outputs.begin(), outputs.end(), 0.0f);
@@ -250,6 +255,7 @@ bool PathWave::intersectPaths() {
         q.path = i;
         q.i = p.d;
         q.p = p.d;
+        q.rayType = p.rayType;
         misses.push_back(q);
       }
       continue;
@@ -261,6 +267,7 @@ bool PathWave::intersectPaths() {
     }
     ShadeRequest q = hitRequest(scene.prims[p.hit.prim], p.o, p.d, p.hit.t);
     q.path = i;
+    q.rayType = p.rayType;
     queues[shader].push_back(q);
   }
   return any;
@@ -308,6 +315,11 @@ void PathWave::scatter(const ShadeRequest &q, int bounce) {
   p.o = q.p;
   p.d = smp.wi;
   p.self = p.hit.prim;
+  // The next ray: diffuse or glossy (sharp lobes are glossy), reflected to
+  // the side the light left by or refracted through.
+  bool reflected = dot(smp.wi, q.ng) * dot(wo, q.ng) > 0;
+  p.rayType = rayTypeBit(smp.diffuse ? "diffuse" : "glossy") |
+              rayTypeBit(reflected ? "reflection" : "refraction");
   if (!(p.throughput.x > 0) && !(p.throughput.y > 0) && !(p.throughput.z > 0)) {
     p.alive = false;
     return;
@@ -345,6 +357,7 @@ void PathWave::sampleLights(const ShadeRequest &q, Vec3 wo) {
     ShadeRequest lq = hitRequest(light, q.p, ls.dir, shadow.t);
     lq.path = q.path;
     lq.contrib = contrib;
+    lq.rayType = rayTypeBit("shadow"); // lights are seen along shadow rays
     lightQueries[light.shader].push_back(lq);
   }
 }
@@ -368,8 +381,11 @@ void PathWave::accumulate(float *sum) {
 //===----------------------------------------------------------------------===//
 
 bool Renderer::compileShaders(const std::vector<std::string> &searchPaths,
-                              const CompileOptions &compile, llvm::raw_ostream &errs,
+                              const CompileOptions &sceneOptions, llvm::raw_ostream &errs,
                               Stats *stats) {
+  // raytype() reads each point's ray types, which the paths set.
+  CompileOptions compile = sceneOptions;
+  compile.rayType = "";
   kernels.clear();
   for (const SceneGroup &group : scene.shaders) {
     // Each layer's shader is found on the search paths: NAME.osl, or a
