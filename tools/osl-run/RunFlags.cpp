@@ -32,7 +32,10 @@ bool osl::parseInt(const char *text, int &out) {
 std::string osl::shaderFile(std::string name) {
   if (llvm::StringRef(name).ends_with(".osl") || llvm::sys::fs::is_regular_file(name))
     return name;
-  // NAME.osl, or a source in NAME's directory declaring shader NAME.
+  if (llvm::sys::fs::is_regular_file(name + ".osl"))
+    // Keep the path as given: messages name the file as testshade's do.
+    return name + ".osl";
+  // Else a source in NAME's directory declaring shader NAME.
   llvm::StringRef dir = llvm::sys::path::parent_path(name);
   std::string found = findShaderSource(llvm::sys::path::filename(name),
                                        {dir.empty() ? std::string(".") : dir.str()});
