@@ -27,6 +27,8 @@ struct CachedKernel {
   std::vector<OutputSpec> outputs;
   /// A relocatable object file for the host, defining osl_batch.
   std::string object;
+  /// The objects of the library functions it calls (LibraryObjects.h).
+  std::vector<std::string> libraries;
   /// The front end's warnings when it was compiled, printed again on a hit.
   std::string warnings;
   /// Reports asked for (optimization warnings), printed again on a hit

@@ -11,6 +11,7 @@
 #ifndef OSLCOMPILER_SHADERCOMPILER_H
 #define OSLCOMPILER_SHADERCOMPILER_H
 
+#include "OslCompiler/LibraryObjects.h"
 #include "OslCompiler/ShaderGroup.h"
 #include "OslFrontend/Frontend.h"
 #include "OslAbi/GlobalsLayout.h"
@@ -33,6 +34,9 @@ class Module;
 } // namespace llvm
 
 namespace osl {
+
+struct CachedKernel;
+
 
 struct CompileOptions {
   /// Lanes per batch: 1, 4, 8 or 16; 0 picks the widest the host supports.
@@ -60,6 +64,9 @@ struct CompileOptions {
   /// reproduces OSL, `Fast` uses MLIR's approximations, `Precise` is within
   /// 1 ULP. Bit-identical across widths at each level.
   mlir::osl::MathLevel math = mlir::osl::MathLevel::Default;
+  /// osl-run --inline-library: noise routines inline in each kernel instead
+  /// of functions compiled once and shared (OslCompiler/LibraryObjects.h).
+  bool inlineLibrary = false;
   /// The renderer's image (testshade: the -g grid), which fixes the
   /// "screen", "NDC" and "raster" spaces.
   mlir::osl::CameraImage camera;
@@ -170,6 +177,12 @@ public:
   std::string cacheKey(llvm::StringRef source, llvm::StringRef filename) const;
   CacheUse cacheUse() const { return cacheUsed; }
 
+  /// For --emit=llvm/asm: translate() leaves the library functions in the
+  /// module, optimized with the kernel, instead of compiling them apart.
+  void keepLibraryInModule() { splitLibrary = false; }
+  /// Where the last translate() found the library functions' objects.
+  const LibraryUse &libraryUse() const { return library; }
+
   mlir::ModuleOp module() { return mlirModule.get(); }
   llvm::Module *llvmModule() { return llvmIR.get(); }
   int width() const { return options.width; }
@@ -195,14 +208,18 @@ private:
                                                 llvm::StringRef layerName = "",
                                                 int layerIndex = 0,
                                                 const LayerConnections &connections = {});
-  std::unique_ptr<CompiledShader> loadObject(std::string object, std::string name,
-                                             std::vector<OutputSpec> outputs);
+  std::unique_ptr<CompiledShader> loadObject(const CachedKernel &entry);
   bool defineRuntimeSymbols(Jit &target);
 
   CompileOptions options;
   CacheUse cacheUsed = CacheUse::Off;
   /// Keep the object code of the kernel (for the cache).
   bool keepObject = false;
+  /// Compile the library functions apart (LibraryObjects.h).
+  bool splitLibrary = true;
+  /// The library functions the kernel calls: their objects and where
+  /// they came from.
+  LibraryUse library;
   llvm::raw_ostream &errs;
   /// What the front end warned of in this compile.
   std::string warnings;

@@ -29,6 +29,9 @@ struct OslToLLVMPipelineOptions {
   /// How math ops are computed (osl-approximate-math's level; Double also
   /// runs osl-evaluate-in-double).
   MathLevel math = MathLevel::Default;
+  /// Library routines (noise) inline at each call, not in functions the
+  /// JIT compiles once (osl-outline-library's outline=false).
+  bool inlineLibrary = false;
 };
 
 /// The whole chain.

@@ -66,6 +66,12 @@ public:
   /// `pipeline` with the host TargetMachine.
   llvm::Error optimize(llvm::Module &module, LlvmPipeline pipeline = LlvmPipeline::O3);
 
+  /// `module` optimized like a kernel (optimize) and compiled for the host:
+  /// an object file for addObject, e.g. a library function compiled once
+  /// for many kernels.
+  static llvm::Expected<std::string> compileObject(llvm::Module &module,
+                                                   LlvmPipeline pipeline);
+
   /// Hands `module` to the JIT; code is generated at the first lookup of
   /// one of its symbols. Sets the JIT's DataLayout if the module has none.
   llvm::Error addModule(std::unique_ptr<llvm::Module> module,

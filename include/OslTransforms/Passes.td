@@ -155,6 +155,29 @@ def Derivatives : Pass<"osl-derivatives", "::mlir::ModuleOp"> {
                            "::mlir::vector::VectorDialect", "::mlir::LLVM::LLVMDialect"];
 }
 
+def OutlineLibrary : Pass<"osl-outline-library", "::mlir::ModuleOp"> {
+  let summary = "Make each library region one private function of the kernel";
+  let description = [{
+    osl-convert-to-vector lowers expensive library routines (Perlin,
+    simplex and Gabor noise) inside `scf.execute_region` ops marked
+    `osl.library = "name"`, and osl-derivatives inlines those a derivative
+    needs. This pass replaces the others by calls: each region becomes a
+    private function taking the values it uses from outside, named after the
+    routine and a hash of its signature and of how its body uses those
+    values, so that call sites of one routine with one signature share one
+    function. The JIT compiles a function once and keeps its object across
+    shaders (OslCompiler/LibraryObjects.h), so a shader's compile time no
+    longer grows with each noise call it makes. Run after osl-derivatives
+    and before canonicalization (which would inline the regions).
+
+    With `outline=false` (--math=double, whose f64 rewrite stays within
+    the kernel) every region's code is moved in place instead.
+  }];
+  let options = [Option<"outline", "outline", "bool", "true",
+                        "make functions; false: inline every library region">];
+  let dependentDialects = ["::mlir::func::FuncDialect"];
+}
+
 def ApproximateMath : Pass<"osl-approximate-math", "::mlir::ModuleOp"> {
   let summary = "Expand math ops into the arithmetic that computes them, before folding";
   let description = [{

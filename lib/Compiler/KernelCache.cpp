@@ -17,7 +17,7 @@ using namespace osl;
 
 namespace {
 
-constexpr char kMagic[8] = {'O', 'S', 'L', 'K', 'R', 'N', '0', '1'};
+constexpr char kMagic[8] = {'O', 'S', 'L', 'K', 'R', 'N', '0', '2'};
 
 void putField(std::string &out, llvm::StringRef field) {
   uint64_t size = field.size();
@@ -121,10 +121,10 @@ CacheLookup KernelCache::lookup(llvm::StringRef key, CachedKernel &entry) const 
     return CacheLookup::Corrupt;
 
   FieldReader reader{body.drop_front(sizeof kMagic)};
-  llvm::StringRef storedKey, name, outputs, object, warnings, reports;
+  llvm::StringRef storedKey, name, outputs, object, libraries, warnings, reports;
   if (!reader.next(storedKey) || !reader.next(name) || !reader.next(outputs) ||
-      !reader.next(object) || !reader.next(warnings) || !reader.next(reports) ||
-      !reader.rest.empty())
+      !reader.next(object) || !reader.next(libraries) || !reader.next(warnings) ||
+      !reader.next(reports) || !reader.rest.empty())
     return CacheLookup::Corrupt;
   if (storedKey != key)
     return CacheLookup::Corrupt; // a hash collision or a foreign file
@@ -133,6 +133,12 @@ CacheLookup KernelCache::lookup(llvm::StringRef key, CachedKernel &entry) const 
     return CacheLookup::Corrupt;
   entry.shaderName = name.str();
   entry.object = object.str();
+  for (FieldReader each{libraries}; !each.rest.empty();) {
+    llvm::StringRef library;
+    if (!each.next(library) || library.empty())
+      return CacheLookup::Corrupt;
+    entry.libraries.push_back(library.str());
+  }
   entry.warnings = warnings.str();
   entry.reports = reports.str();
   return CacheLookup::Hit;
@@ -149,6 +155,10 @@ bool KernelCache::store(llvm::StringRef key, const CachedKernel &entry,
   putField(data, entry.shaderName);
   putField(data, outputsText(entry.outputs));
   putField(data, entry.object);
+  std::string libraries;
+  for (const std::string &library : entry.libraries)
+    putField(libraries, library);
+  putField(data, libraries);
   putField(data, entry.warnings);
   putField(data, entry.reports);
   uint64_t checksum = llvm::xxh3_64bits(data);

@@ -1,6 +1,7 @@
 //===- ShaderCompiler.cpp - OSL source to a callable batch kernel ---------===//
 #include "OslCompiler/ShaderCompiler.h"
 #include "OslCompiler/KernelCache.h"
+#include "OslCompiler/LibraryObjects.h"
 #include "GroupInputs.h"
 #include "OptimizationWarnings.h"
 
@@ -154,7 +155,8 @@ bool ShaderCompiler::lower() {
   // report the shader's errors. The lowering (most of the passes' time) is
   // verified once at its end unless asked (CompileOptions::verifyEachPass).
   mlir::osl::OslToLLVMPipelineOptions pipeline{options.width, options.reference,
-                                               options.countLanes, options.math};
+                                               options.countLanes, options.math,
+                                               options.inlineLibrary};
   mlir::PassManager oslLevel(&context);
   mlir::osl::buildOslLevelPipeline(oslLevel, pipeline);
   mlir::PassManager lowering(&context);
@@ -194,6 +196,15 @@ bool ShaderCompiler::translate() {
     return false;
   }
   jit = std::move(*created);
+  library = LibraryUse();
+  if (splitLibrary) {
+    auto split = splitLibraryFunctions(*llvmIR, options.llvmPipeline, options.cacheDir, stats);
+    if (!split) {
+      errs << "error: " << llvm::toString(split.takeError()) << "\n";
+      return false;
+    }
+    library = std::move(*split);
+  }
   if (llvm::Error e = jit->optimize(*llvmIR, options.llvmPipeline)) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return false;
@@ -213,8 +224,24 @@ bool ShaderCompiler::defineRuntimeSymbols(Jit &target) {
   return true;
 }
 
+/// The library functions' objects a kernel calls, handed to its JIT.
+static bool addLibraryObjects(Jit &target, llvm::ArrayRef<llvm::StringRef> objects,
+                              llvm::raw_ostream &errs) {
+  for (llvm::StringRef object : objects)
+    if (llvm::Error e = target.addObject(llvm::MemoryBuffer::getMemBufferCopy(object))) {
+      errs << "error: " << llvm::toString(std::move(e)) << "\n";
+      return false;
+    }
+  return true;
+}
+
 std::unique_ptr<CompiledShader> ShaderCompiler::load() {
   if (!defineRuntimeSymbols(*jit))
+    return nullptr;
+  std::vector<llvm::StringRef> objects;
+  for (const auto &object : library.objects)
+    objects.push_back(*object);
+  if (!addLibraryObjects(*jit, objects, errs))
     return nullptr;
   if (llvm::Error e = jit->addModule(std::move(llvmIR), std::move(llvmContext))) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
@@ -241,9 +268,7 @@ std::unique_ptr<CompiledShader> ShaderCompiler::compileStages(llvm::StringRef so
   return load();
 }
 
-std::unique_ptr<CompiledShader>
-ShaderCompiler::loadObject(std::string object, std::string name,
-                           std::vector<OutputSpec> outputs) {
+std::unique_ptr<CompiledShader> ShaderCompiler::loadObject(const CachedKernel &entry) {
   auto created = Jit::create(stats);
   if (!created) {
     errs << "error: " << llvm::toString(created.takeError()) << "\n";
@@ -252,7 +277,11 @@ ShaderCompiler::loadObject(std::string object, std::string name,
   std::unique_ptr<Jit> cachedJit = std::move(*created);
   if (!defineRuntimeSymbols(*cachedJit))
     return nullptr;
-  if (llvm::Error e = cachedJit->addObject(llvm::MemoryBuffer::getMemBufferCopy(object))) {
+  std::vector<llvm::StringRef> libraries(entry.libraries.begin(), entry.libraries.end());
+  if (!addLibraryObjects(*cachedJit, libraries, errs))
+    return nullptr;
+  if (llvm::Error e =
+          cachedJit->addObject(llvm::MemoryBuffer::getMemBufferCopy(entry.object))) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return nullptr;
   }
@@ -264,8 +293,8 @@ ShaderCompiler::loadObject(std::string object, std::string name,
   auto shader = std::make_unique<CompiledShader>();
   shader->kernel = reinterpret_cast<BatchKernel>(*symbol);
   shader->width = options.width;
-  shader->name = std::move(name);
-  shader->outputs = std::move(outputs);
+  shader->name = entry.shaderName;
+  shader->outputs = entry.outputs;
   shader->jit = std::move(cachedJit);
   return shader;
 }
@@ -294,7 +323,8 @@ std::string ShaderCompiler::optionsKey() const {
      << "\nllvm " LLVM_VERSION_STRING "\nhost " << Jit::hostDescription()
      << "\nwidth " << options.width << "\nreference " << options.reference
      << "\ncount lanes " << options.countLanes
-     << "\nmath " << mlir::osl::mathLevelName(options.math) << "\nllvm pipeline "
+     << "\nmath " << mlir::osl::mathLevelName(options.math)
+     << "\ninline library " << options.inlineLibrary << "\nllvm pipeline "
      << int(options.llvmPipeline)
      << "\ncolorspace " << options.colorSpace << "\nraytype " << options.rayType
      << "\ngroup name " << options.groupName
@@ -336,7 +366,7 @@ ShaderCompiler::compileCached(const std::string &key,
     found = cache.lookup(key, entry);
   }
   if (found == CacheLookup::Hit) {
-    if (auto shader = loadObject(std::move(entry.object), entry.shaderName, entry.outputs)) {
+    if (auto shader = loadObject(entry)) {
       cacheUsed = CacheUse::Hit;
       // The same warnings as the compile that stored it.
       if (options.showWarnings)
@@ -355,7 +385,9 @@ ShaderCompiler::compileCached(const std::string &key,
   ScopedTimer timer(stats, "kernel cache");
   std::string error;
   CachedKernel stored{shader->name, shader->outputs, shader->jit->compiledObject().str(),
-                      warnings, reports};
+                      {}, warnings, reports};
+  for (const auto &object : library.objects)
+    stored.libraries.push_back(*object);
   // A cache that cannot be written costs the next run a compile, nothing
   // more: say so and go on.
   if (!cache.store(key, stored, error))

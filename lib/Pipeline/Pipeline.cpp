@@ -28,8 +28,11 @@ struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
                        clEnumValN(osl::MathLevel::Double, "double",
                                   "everything in f64 (reference)"))};
 
+  Option<bool> inlineLibrary{*this, "inline-library",
+                             llvm::cl::desc("library routines inline at each call"),
+                             llvm::cl::init(false)};
   osl::OslToLLVMPipelineOptions get() const {
-    return {width, reference, countLanes, math};
+    return {width, reference, countLanes, math, inlineLibrary};
   }
 };
 } // namespace
@@ -69,6 +72,11 @@ void mlir::osl::buildLoweringPipeline(OpPassManager &pm,
   vectorOptions.referenceMode = options.reference;
   pm.addPass(createConvertToVector(vectorOptions));
   pm.addPass(createDerivatives());
+  // Not in double evaluation: its rewrite of every f32 value stays within
+  // one function.
+  OutlineLibraryOptions outlineOptions;
+  outlineOptions.outline = math != MathLevel::Double && !options.inlineLibrary;
+  pm.addPass(createOutlineLibrary(outlineOptions));
   ApproximateMathOptions mathOptions;
   mathOptions.level = math;
   pm.addPass(createApproximateMath(mathOptions));

@@ -198,8 +198,9 @@ llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats, bool keepObject) 
   return jit;
 }
 
-llvm::Error Jit::optimize(llvm::Module &module, LlvmPipeline pipeline) {
-  ScopedTimer timer(stats, "llvm opt");
+/// Verifies `module`, retargets it to the calling thread's host machine and
+/// runs `pipeline`.
+static llvm::Error optimizeForHost(llvm::Module &module, LlvmPipeline pipeline) {
   auto tm = threadTargetMachine();
   if (!tm)
     return tm.takeError();
@@ -233,6 +234,23 @@ llvm::Error Jit::optimize(llvm::Module &module, LlvmPipeline pipeline) {
   }
   mpm.run(module, mam);
   return llvm::Error::success();
+}
+
+llvm::Error Jit::optimize(llvm::Module &module, LlvmPipeline pipeline) {
+  ScopedTimer timer(stats, "llvm opt");
+  return optimizeForHost(module, pipeline);
+}
+
+llvm::Expected<std::string> Jit::compileObject(llvm::Module &module, LlvmPipeline pipeline) {
+  if (llvm::Error err = optimizeForHost(module, pipeline))
+    return std::move(err);
+  auto tm = threadTargetMachine();
+  if (!tm)
+    return tm.takeError();
+  auto object = llvm::orc::SimpleCompiler(*tm)(module);
+  if (!object)
+    return object.takeError();
+  return (*object)->getBuffer().str();
 }
 
 llvm::Error Jit::addModule(std::unique_ptr<llvm::Module> module,

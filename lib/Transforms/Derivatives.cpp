@@ -6,13 +6,15 @@
 // the globals block, and applies the chain rule forward. Only the values a
 // derivative is asked of are differentiated (null means "derivative 0"), so
 // a shader without Dx pays nothing. Library functions (noise, splines) are
-// already arithmetic here, so they differentiate like anything else.
+// already arithmetic here, so they differentiate like anything else (a
+// library region a derivative needs is inlined first).
 //
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslAbi/GlobalsLayout.h"
 #include "OslAbi/Texture.h"
 #include "OslLanes/LaneMath.h"
+#include "OslLanes/LibraryRegion.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
@@ -53,6 +55,12 @@ public:
       return Value();
     if (auto it = memo.find(v); it != memo.end())
       return it->second;
+    // A library routine differentiates as the code it holds, moved in
+    // place (that call site is then not outlined).
+    if (scf::ExecuteRegionOp region = libraryRegionDefining(v)) {
+      unsigned i = cast<OpResult>(v).getResultNumber();
+      return derive(inlineLibraryRegion(region)[i], user);
+    }
     if (auto ifOp = v.getDefiningOp<scf::IfOp>()) // memoizes the rebuilt branch
       return deriveIfResult(ifOp, cast<OpResult>(v), user);
     // Likewise a loop's result (v dies with the loop it rebuilds: a memo

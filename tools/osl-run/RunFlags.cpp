@@ -561,6 +561,7 @@ const Flag kFlags[] = {
     {{"--texture-cache-mb"}, textureCacheFlag},
     {{"--cache-dir"}, cacheDirFlag},
     {{"--no-cache"}, setFlag<&RunOptions::noCache>},
+    {{"--inline-library"}, setCompileFlag<&CompileOptions::inlineLibrary>},
     {{"--stats"}, setFlag<&RunOptions::stats>},
     {{"-h", "--help"}, helpFlag},
 };

@@ -123,6 +123,7 @@ bool emit(ShaderCompiler &compiler, const RunOptions &options, llvm::StringRef s
     compiler.module().print(llvm::outs());
     return true;
   }
+  compiler.keepLibraryInModule(); // the whole kernel, noise included
   if (!compiler.translate())
     return false;
   if (options.emit == "llvm") {
@@ -352,6 +353,10 @@ void reportRun(const RunOptions &options, ShaderCompiler &compiler,
                  << " iteration(s)\n";
     stats.print(llvm::errs());
     llvm::errs() << "kernel cache: " << cacheUseText(compiler.cacheUse()) << "\n";
+    if (const LibraryUse &lib = compiler.libraryUse(); !lib.objects.empty())
+      llvm::errs() << "library functions: " << lib.objects.size() << " ("
+                   << lib.compiled << " compiled, " << lib.fromDisk << " from the cache, "
+                   << lib.fromMemory << " compiled earlier in this run)\n";
     const GroupStats &g = compiler.groupStats();
     if (options.isGroup && g.opsBefore > 0)
       llvm::errs() << "group: before specialisation " << g.layersBefore << " layers, "

@@ -59,6 +59,8 @@ struct ConvertToVectorPass
     ConversionTarget target(*ctx);
     target.addIllegalDialect<OslDialect>();
     target.addLegalOp<LaneDerivOp>();
+    // Library regions (OslLanes/LibraryRegion.h) hold converted code.
+    target.addLegalOp<scf::ExecuteRegionOp>();
     target.addLegalDialect<arith::ArithDialect, math::MathDialect,
                            vector::VectorDialect, LLVM::LLVMDialect,
                            func::FuncDialect>();

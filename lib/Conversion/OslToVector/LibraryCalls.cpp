@@ -13,6 +13,7 @@
 #include "OslLanes/GaborBuilder.h"
 #include "OslLanes/LaneMath.h"
 #include "OslLanes/LibraryBuilders.h"
+#include "OslLanes/LibraryRegion.h"
 #include "OslLanes/NoiseBuilder.h"
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Math/IR/Math.h"
@@ -79,8 +80,8 @@ struct GeometryLowering : public OslPattern<OpTy> {
 
 /// Gabor noise: the point (and its derivatives and period) made 3D, the
 /// options read as scalars (osl-lane-group-filter made them uniform).
-void lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes, Type resultType,
-                ConversionPatternRewriter &rewriter) {
+Value lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes, Type resultType,
+                 OpBuilder &rewriter) {
   Location loc = op.getLoc();
   bool varying = isVarying(op.getType());
   SmallVector<Value> flat;
@@ -123,12 +124,33 @@ void lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes, Type re
     SmallVector<Value> dir = lanes.unpack(adaptor.getDirection(), op.getDirection().getType(), false);
     options.direction = {dir[0], dir[1], dir[2]};
   }
-  if (isTriple(getUniformType(op.getType()))) {
-    std::array<Value, 3> r = buildGaborTriple(rewriter, loc, point, options);
-    rewriter.replaceOp(op, lanes.pack(r, resultType));
-  } else {
-    rewriter.replaceOp(op, buildGaborFloat(rewriter, loc, point, options));
+  if (isTriple(getUniformType(op.getType())))
+    return lanes.pack(buildGaborTriple(rewriter, loc, point, options), resultType);
+  return buildGaborFloat(rewriter, loc, point, options);
+}
+
+/// The noise of a non-Gabor kind; null for a periodic kind OSL does not
+/// define.
+Value lowerNoise(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes, Type resultType,
+                 OpBuilder &b) {
+  NoiseKind kind = op.getKind();
+  Location loc = op.getLoc();
+  SmallVector<Value> coords;
+  for (auto &c : lanes.unpackAll(adaptor.getCoords(), op.getCoords(), isVarying(op.getType())))
+    llvm::append_range(coords, c);
+  bool triple = isTriple(getUniformType(op.getType()));
+  if (op.getPeriodic()) {
+    ArrayRef<Value> all(coords);
+    ArrayRef<Value> points = all.take_front(all.size() / 2);
+    ArrayRef<Value> periods = all.drop_front(all.size() / 2);
+    if (!triple)
+      return buildPeriodicNoiseFloat(b, loc, kind, points, periods);
+    std::array<Value, 3> r = buildPeriodicNoiseTriple(b, loc, kind, points, periods);
+    return r[0] ? lanes.pack(r, resultType) : Value();
   }
+  if (triple)
+    return lanes.pack(buildNoiseTriple(b, loc, kind, coords), resultType);
+  return buildNoiseFloat(b, loc, kind, coords);
 }
 
 struct TableReadLowering : public OslPattern<TableReadOp> {
@@ -157,50 +179,39 @@ struct HashLowering : public OslPattern<HashOp> {
   }
 };
 
+/// Noise in a library region (LibraryRegion.h): one function per kind and
+/// signature in the kernel, compiled once and cached. Cell and hash noise
+/// stay inline.
 struct NoiseLowering : public OslPattern<NoiseOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(NoiseOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
     NoiseKind kind = op.getKind();
-    if (kind == NoiseKind::gabor) {
+    if (kind == NoiseKind::gabor)
       for (Value option : op.getOptions())
         if (isVarying(option.getType()))
           return op.emitError("gabor options chosen per point must be split into lane "
                               "groups first (osl-lane-group-filter)");
+    if (op.getPeriodic() && (kind == NoiseKind::simplex || kind == NoiseKind::usimplex))
+      return op.emitError("periodic '") << stringifyNoiseKind(kind) << "' noise is not defined";
+    Type resultType = convert(op.getType());
+    if (kind == NoiseKind::cell || kind == NoiseKind::hash) {
+      // A hash or two: cheaper inline than called.
       Components lanes{rewriter, op.getLoc(), width};
-      lowerGabor(op, adaptor, lanes, convert(op.getType()), rewriter);
+      rewriter.replaceOp(op, lowerNoise(op, adaptor, lanes, resultType, rewriter));
       return success();
     }
-    Location loc = op.getLoc();
-    bool varying = isVarying(op.getType());
-    Components lanes{rewriter, loc, width};
-    SmallVector<Value> coords;
-    for (auto &c : lanes.unpackAll(adaptor.getCoords(), op.getCoords(), varying))
-      llvm::append_range(coords, c);
-    if (op.getPeriodic()) {
-      ArrayRef<Value> all(coords);
-      ArrayRef<Value> points = all.take_front(all.size() / 2);
-      ArrayRef<Value> periods = all.drop_front(all.size() / 2);
-      if (isTriple(getUniformType(op.getType()))) {
-        std::array<Value, 3> r =
-            buildPeriodicNoiseTriple(rewriter, loc, kind, points, periods);
-        if (!r[0])
-          return op.emitError("periodic '") << stringifyNoiseKind(kind) << "' noise is not defined";
-        rewriter.replaceOp(op, lanes.pack(r, convert(op.getType())));
-      } else {
-        Value r = buildPeriodicNoiseFloat(rewriter, loc, kind, points, periods);
-        if (!r)
-          return op.emitError("periodic '") << stringifyNoiseKind(kind) << "' noise is not defined";
-        rewriter.replaceOp(op, r);
-      }
-      return success();
-    }
-    if (isTriple(getUniformType(op.getType()))) {
-      std::array<Value, 3> r = buildNoiseTriple(rewriter, loc, kind, coords);
-      rewriter.replaceOp(op, lanes.pack(r, convert(op.getType())));
-    } else {
-      rewriter.replaceOp(op, buildNoiseFloat(rewriter, loc, kind, coords));
-    }
+    std::string name = ("noise_" + stringifyNoiseKind(kind)).str();
+    if (op.getPeriodic())
+      name += "_periodic";
+    SmallVector<Value> r = buildLibraryRegion(
+        rewriter, op.getLoc(), name, resultType, [&](OpBuilder &b) -> SmallVector<Value> {
+          Components inner{b, op.getLoc(), width};
+          if (kind == NoiseKind::gabor)
+            return {lowerGabor(op, adaptor, inner, resultType, b)};
+          return {lowerNoise(op, adaptor, inner, resultType, b)};
+        });
+    rewriter.replaceOp(op, r);
     return success();
   }
 };

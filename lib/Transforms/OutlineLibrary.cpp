@@ -1,0 +1,107 @@
+//===- OutlineLibrary.cpp - Library regions become kernel functions -------===//
+//
+// One private function per routine and signature: a kernel calling Perlin
+// noise eight times compiles it once, and the JIT reuses its object in
+// every kernel that calls the same function.
+//
+//===----------------------------------------------------------------------===//
+#include "OslAbi/Library.h"
+#include "OslLanes/LibraryRegion.h"
+#include "OslTransforms/Passes.h"
+
+#include "mlir/Dialect/Func/IR/FuncOps.h"
+#include "mlir/IR/SymbolTable.h"
+#include "mlir/Transforms/RegionUtils.h"
+#include "llvm/Support/Format.h"
+#include "llvm/Support/xxhash.h"
+
+namespace mlir::osl {
+#define GEN_PASS_DEF_OUTLINELIBRARY
+#include "OslTransforms/Passes.h.inc"
+} // namespace mlir::osl
+
+using namespace mlir;
+using namespace mlir::osl;
+
+namespace {
+
+/// A name for the function of `region`: the routine's, then a hash of the
+/// function type and of which outside value each use inside reads. Two
+/// regions built by one routine from operands of the same types get the
+/// same name unless an operand aliases another in one of them.
+std::string functionName(scf::ExecuteRegionOp region, FunctionType type,
+                         const SetVector<Value> &captured) {
+  std::string text;
+  llvm::raw_string_ostream os(text);
+  os << type;
+  DenseMap<Value, int64_t> argOf;
+  for (auto [i, v] : llvm::enumerate(captured))
+    argOf[v] = int64_t(i);
+  int64_t opIndex = 0;
+  region.getRegion().walk([&](Operation *op) {
+    for (OpOperand &use : op->getOpOperands())
+      if (auto it = argOf.find(use.get()); it != argOf.end())
+        os << " " << opIndex << ":" << use.getOperandNumber() << "=" << it->second;
+    ++opIndex;
+  });
+  os << " ops " << opIndex;
+  std::string name = ::osl::abi::kLibrarySymbolPrefix +
+                     region->getAttrOfType<StringAttr>(kLibraryAttr).getValue().str() + ".";
+  llvm::raw_string_ostream(name) << llvm::format_hex_no_prefix(llvm::xxh3_64bits(text), 16);
+  return name;
+}
+
+/// The region's code as the body of a new private function `name`.
+func::FuncOp makeFunction(ModuleOp module, scf::ExecuteRegionOp region, StringRef name,
+                          FunctionType type, const SetVector<Value> &captured) {
+  OpBuilder b = OpBuilder::atBlockEnd(module.getBody());
+  auto func = b.create<func::FuncOp>(region.getLoc(), name, type);
+  func.setPrivate();
+  Block *body = func.addEntryBlock();
+  body->getOperations().splice(body->end(), region.getRegion().front().getOperations());
+  for (auto [value, arg] : llvm::zip(captured, body->getArguments()))
+    replaceAllUsesInRegionWith(value, arg, func.getBody());
+  auto yield = cast<scf::YieldOp>(body->getTerminator());
+  OpBuilder(yield).create<func::ReturnOp>(yield.getLoc(), yield.getOperands());
+  yield.erase();
+  return func;
+}
+
+struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLibraryPass> {
+  using OutlineLibraryBase::OutlineLibraryBase;
+
+  void runOnOperation() override {
+    ModuleOp module = getOperation();
+    SmallVector<scf::ExecuteRegionOp> regions;
+    module.walk([&](scf::ExecuteRegionOp r) {
+      if (r->hasAttr(kLibraryAttr))
+        regions.push_back(r);
+    });
+    if (!outline) {
+      for (scf::ExecuteRegionOp region : regions)
+        inlineLibraryRegion(region);
+      return;
+    }
+    SymbolTable symbols(module);
+    for (scf::ExecuteRegionOp region : regions) {
+      SetVector<Value> captured;
+      getUsedValuesDefinedAbove(region.getRegion(), captured);
+      SmallVector<Type> argTypes;
+      for (Value v : captured)
+        argTypes.push_back(v.getType());
+      auto type = FunctionType::get(&getContext(), argTypes, region.getResultTypes());
+      std::string name = functionName(region, type, captured);
+      auto func = symbols.lookup<func::FuncOp>(name);
+      if (!func) {
+        func = makeFunction(module, region, name, type, captured);
+        symbols.insert(func);
+      }
+      OpBuilder b(region);
+      auto call = b.create<func::CallOp>(region.getLoc(), func, captured.getArrayRef());
+      region.replaceAllUsesWith(call.getResults());
+      region.erase();
+    }
+  }
+};
+
+} // namespace

@@ -1,0 +1,108 @@
+// RUN: osl-opt %s -split-input-file --osl-outline-library | FileCheck %s
+// RUN: osl-opt %s -split-input-file --osl-outline-library=outline=false | FileCheck %s --check-prefix=INLINE
+
+// Two calls of one routine with one signature share one private function
+// taking the outside values the region read; its body is the region's code.
+// CHECK-LABEL: func.func @same_signature_shares
+// CHECK: %[[A:.+]] = call @[[F:osl\.lib\.noise_perlin\.[0-9a-f]+]](%arg0) : (vector<4xf32>) -> vector<4xf32>
+// CHECK: %[[B:.+]] = call @[[F]](%arg1) : (vector<4xf32>) -> vector<4xf32>
+// CHECK: arith.addf %[[A]], %[[B]]
+// CHECK-NOT: scf.execute_region
+// CHECK: func.func private @[[F]](%[[X:.+]]: vector<4xf32>) -> vector<4xf32>
+// CHECK-NEXT: %[[Y:.+]] = arith.mulf %[[X]], %[[X]]
+// CHECK-NEXT: return %[[Y]]
+// CHECK-NOT: func.func private
+// INLINE-LABEL: func.func @same_signature_shares
+// INLINE-NOT: scf.execute_region
+// INLINE: arith.mulf %arg0, %arg0
+// INLINE: arith.mulf %arg1, %arg1
+// INLINE-NOT: call
+func.func @same_signature_shares(%x: vector<4xf32>, %y: vector<4xf32>) -> vector<4xf32> {
+  %a = scf.execute_region -> vector<4xf32> {
+    %m = arith.mulf %x, %x : vector<4xf32>
+    scf.yield %m : vector<4xf32>
+  } {osl.library = "noise_perlin"}
+  %b = scf.execute_region -> vector<4xf32> {
+    %m = arith.mulf %y, %y : vector<4xf32>
+    scf.yield %m : vector<4xf32>
+  } {osl.library = "noise_perlin"}
+  %s = arith.addf %a, %b : vector<4xf32>
+  return %s : vector<4xf32>
+}
+
+// -----
+
+// Another width (a uniform call: scalars) is another function.
+// CHECK-LABEL: func.func @other_types_other_function
+// CHECK: call @[[V:osl\.lib\.noise_perlin\.[0-9a-f]+]](%arg0) : (vector<4xf32>)
+// CHECK: call @[[S:osl\.lib\.noise_perlin\.[0-9a-f]+]](%arg1) : (f32)
+// CHECK-DAG: func.func private @[[V]](%{{.+}}: vector<4xf32>) -> vector<4xf32>
+// CHECK-DAG: func.func private @[[S]](%{{.+}}: f32) -> f32
+func.func @other_types_other_function(%x: vector<4xf32>, %y: f32) -> (vector<4xf32>, f32) {
+  %a = scf.execute_region -> vector<4xf32> {
+    %m = arith.mulf %x, %x : vector<4xf32>
+    scf.yield %m : vector<4xf32>
+  } {osl.library = "noise_perlin"}
+  %b = scf.execute_region -> f32 {
+    %m = arith.mulf %y, %y : f32
+    scf.yield %m : f32
+  } {osl.library = "noise_perlin"}
+  return %a, %b : vector<4xf32>, f32
+}
+
+// -----
+
+// One operand passed twice: the region reads one outside value where the
+// other read two, so the bodies differ and so must the functions.
+// CHECK-LABEL: func.func @aliased_operands
+// CHECK: call @[[TWO:osl\.lib\.noise_uperlin\.[0-9a-f]+]](%arg0, %arg1) : (f32, f32) -> f32
+// CHECK: call @[[ONE:osl\.lib\.noise_uperlin\.[0-9a-f]+]](%arg0) : (f32) -> f32
+// CHECK-DAG: func.func private @[[TWO]](%{{.+}}: f32, %{{.+}}: f32) -> f32
+// CHECK-DAG: func.func private @[[ONE]](%{{.+}}: f32) -> f32
+func.func @aliased_operands(%x: f32, %y: f32) -> (f32, f32) {
+  %a = scf.execute_region -> f32 {
+    %m = arith.subf %x, %y : f32
+    scf.yield %m : f32
+  } {osl.library = "noise_uperlin"}
+  %b = scf.execute_region -> f32 {
+    %m = arith.subf %x, %x : f32
+    scf.yield %m : f32
+  } {osl.library = "noise_uperlin"}
+  return %a, %b : f32, f32
+}
+
+// -----
+
+// Two routines read the same two values in swapped roles: the same types,
+// but not the same function.
+// CHECK-LABEL: func.func @swapped_roles
+// CHECK: call @[[F:osl\.lib\.noise_simplex\.[0-9a-f]+]](%arg0, %arg1)
+// CHECK-NOT: call @[[F]]
+// CHECK: call @osl.lib.noise_simplex
+func.func @swapped_roles(%x: f32, %y: f32) -> (f32, f32) {
+  %a = scf.execute_region -> f32 {
+    %m = arith.subf %x, %y : f32
+    scf.yield %m : f32
+  } {osl.library = "noise_simplex"}
+  %b = scf.execute_region -> f32 {
+    %c = arith.constant 2.0 : f32
+    %m = arith.mulf %y, %c : f32
+    %n = arith.subf %m, %x : f32
+    scf.yield %n : f32
+  } {osl.library = "noise_simplex"}
+  return %a, %b : f32, f32
+}
+
+// -----
+
+// A region without the library attribute is not touched.
+// CHECK-LABEL: func.func @plain_region
+// CHECK: scf.execute_region
+// CHECK-NOT: call
+func.func @plain_region(%x: f32) -> f32 {
+  %a = scf.execute_region -> f32 {
+    %m = arith.mulf %x, %x : f32
+    scf.yield %m : f32
+  }
+  return %a : f32
+}
