@@ -163,9 +163,10 @@ def OutlineLibrary : Pass<"osl-outline-library", "::mlir::ModuleOp"> {
     `osl.library = "name"`, and osl-derivatives inlines those a derivative
     needs. This pass replaces the others by calls: each region becomes a
     private function taking the values it uses from outside, named after the
-    routine and a hash of its signature and of how its body uses those
+    routine and a hash of its signature, its ops and how they use those
     values, so that call sites of one routine with one signature share one
-    function. The JIT compiles a function once and keeps its object across
+    function (a body that differs only in attributes, e.g. a builder's
+    constant option, gets the same name numbered .1, .2, ...). The JIT compiles a function once and keeps its object across
     shaders (OslCompiler/LibraryObjects.h), so a shader's compile time no
     longer grows with each noise call it makes. Run after osl-derivatives
     and before canonicalization (which would inline the regions).

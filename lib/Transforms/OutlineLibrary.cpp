@@ -12,7 +12,8 @@
 #include "mlir/Dialect/Func/IR/FuncOps.h"
 #include "mlir/IR/SymbolTable.h"
 #include "mlir/Transforms/RegionUtils.h"
-#include "llvm/Support/Format.h"
+#include "llvm/ADT/StringExtras.h"
+#include "llvm/ADT/StringMap.h"
 #include "llvm/Support/xxhash.h"
 
 namespace mlir::osl {
@@ -25,30 +26,39 @@ using namespace mlir::osl;
 
 namespace {
 
-/// A name for the function of `region`: the routine's, then a hash of the
-/// function type and of which outside value each use inside reads. Two
-/// regions built by one routine from operands of the same types get the
-/// same name unless an operand aliases another in one of them.
-std::string functionName(scf::ExecuteRegionOp region, FunctionType type,
-                         const SetVector<Value> &captured) {
+/// What identifies a region's code: `stable`, a hash of the function type,
+/// of the ops' names and of which outside value each use inside reads,
+/// is the same in every process (it names the function, and the name is
+/// part of the key of the cached object); `exact` also covers the ops'
+/// attributes and result types (a builder may specialise on a constant
+/// option), for this module only (attributes hash by address).
+struct RegionIdentity {
+  uint64_t stable;
+  llvm::hash_code exact;
+};
+
+RegionIdentity identify(scf::ExecuteRegionOp region, FunctionType type,
+                        const SetVector<Value> &captured) {
   std::string text;
   llvm::raw_string_ostream os(text);
   os << type;
   DenseMap<Value, int64_t> argOf;
   for (auto [i, v] : llvm::enumerate(captured))
     argOf[v] = int64_t(i);
+  llvm::hash_code exact = 0;
   int64_t opIndex = 0;
   region.getRegion().walk([&](Operation *op) {
+    os << " " << op->getName().getStringRef();
     for (OpOperand &use : op->getOpOperands())
       if (auto it = argOf.find(use.get()); it != argOf.end())
         os << " " << opIndex << ":" << use.getOperandNumber() << "=" << it->second;
+    exact = llvm::hash_combine(exact, op->getAttrDictionary(), op->getNumRegions());
+    for (Type t : op->getResultTypes())
+      exact = llvm::hash_combine(exact, t);
     ++opIndex;
   });
-  os << " ops " << opIndex;
-  std::string name = ::osl::abi::kLibrarySymbolPrefix +
-                     region->getAttrOfType<StringAttr>(kLibraryAttr).getValue().str() + ".";
-  llvm::raw_string_ostream(name) << llvm::format_hex_no_prefix(llvm::xxh3_64bits(text), 16);
-  return name;
+  uint64_t stable = llvm::xxh3_64bits(text);
+  return {stable, llvm::hash_combine(exact, stable)};
 }
 
 /// The region's code as the body of a new private function `name`.
@@ -83,6 +93,8 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
       return;
     }
     SymbolTable symbols(module);
+    DenseMap<llvm::hash_code, func::FuncOp> byCode;
+    llvm::StringMap<int> namesUsed;
     for (scf::ExecuteRegionOp region : regions) {
       SetVector<Value> captured;
       getUsedValuesDefinedAbove(region.getRegion(), captured);
@@ -90,9 +102,16 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
       for (Value v : captured)
         argTypes.push_back(v.getType());
       auto type = FunctionType::get(&getContext(), argTypes, region.getResultTypes());
-      std::string name = functionName(region, type, captured);
-      auto func = symbols.lookup<func::FuncOp>(name);
+      RegionIdentity id = identify(region, type, captured);
+      func::FuncOp &func = byCode[id.exact];
       if (!func) {
+        std::string name = ::osl::abi::kLibrarySymbolPrefix +
+                           region->getAttrOfType<StringAttr>(kLibraryAttr).getValue().str() +
+                           "." + llvm::utohexstr(id.stable, /*LowerCase=*/true, 16);
+        // Another body under the same stable identity: numbered in order
+        // of appearance, so the names stay the same from run to run.
+        if (int n = namesUsed[name]++)
+          name += "." + std::to_string(n);
         func = makeFunction(module, region, name, type, captured);
         symbols.insert(func);
       }

@@ -106,3 +106,35 @@ func.func @plain_region(%x: f32) -> f32 {
   }
   return %a : f32
 }
+
+// -----
+
+// The same ops on the same values with another constant (a builder may
+// specialise on a constant option): another body, so another function,
+// numbered after the first.
+// CHECK-LABEL: func.func @other_constant_other_function
+// CHECK: call @[[F:osl\.lib\.noise_gabor\.[0-9a-f]+]](%arg0)
+// CHECK: call @[[F]].1(%arg0)
+// CHECK: call @[[F]](%arg0)
+// CHECK: func.func private @[[F]](
+// CHECK: arith.constant 2.0
+// CHECK: func.func private @[[F]].1(
+// CHECK: arith.constant 3.0
+func.func @other_constant_other_function(%x: f32) -> (f32, f32, f32) {
+  %a = scf.execute_region -> f32 {
+    %c = arith.constant 2.0 : f32
+    %m = arith.mulf %x, %c : f32
+    scf.yield %m : f32
+  } {osl.library = "noise_gabor"}
+  %b = scf.execute_region -> f32 {
+    %c = arith.constant 3.0 : f32
+    %m = arith.mulf %x, %c : f32
+    scf.yield %m : f32
+  } {osl.library = "noise_gabor"}
+  %d = scf.execute_region -> f32 {
+    %c = arith.constant 2.0 : f32
+    %m = arith.mulf %x, %c : f32
+    scf.yield %m : f32
+  } {osl.library = "noise_gabor"}
+  return %a, %b, %d : f32, f32, f32
+}
