@@ -33,7 +33,10 @@ void writeFile(const std::string &path, const std::string &data) {
 }
 
 CachedKernel sampleEntry() {
-  return {"sample", {{"Cout", 3}, {"f", 1}}, std::string("\x7f" "ELF object bytes", 17)};
+  return {"sample",
+          {{"Cout", 3}, {"f", 1}},
+          std::string("\x7f" "ELF object bytes", 17),
+          {"library object one", std::string("two\0bytes", 9)}};
 }
 
 TEST(KernelCacheTest, StoredEntryReadsBack) {
@@ -50,6 +53,7 @@ TEST(KernelCacheTest, StoredEntryReadsBack) {
   EXPECT_EQ(entry.outputs[0].channels, 3);
   EXPECT_EQ(entry.outputs[1].name, "f");
   EXPECT_EQ(entry.object, sampleEntry().object);
+  EXPECT_EQ(entry.libraries, sampleEntry().libraries);
   EXPECT_EQ(cache.lookup("other key", entry), CacheLookup::Miss);
 }
 
