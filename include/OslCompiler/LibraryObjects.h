@@ -1,7 +1,7 @@
 //===- LibraryObjects.h - Library functions compiled once -------*- C++ -*-===//
 //
-// osl-outline-library makes each expensive library routine (Perlin, simplex
-// and Gabor noise) of a kernel one function named `osl.lib.*` (OslAbi/Library.h). Before the
+// osl-outline-library makes each library routine (noise of every kind) of a
+// kernel one function named `osl.lib.*` (OslAbi/Library.h). Before the
 // kernel is optimized, those definitions move out of its LLVM module into
 // modules of their own, each compiled once per process and host and kept
 // as an object: in memory for the process, and in the kernel cache's

@@ -158,8 +158,8 @@ def Derivatives : Pass<"osl-derivatives", "::mlir::ModuleOp"> {
 def OutlineLibrary : Pass<"osl-outline-library", "::mlir::ModuleOp"> {
   let summary = "Make each library region one private function of the kernel";
   let description = [{
-    osl-convert-to-vector lowers expensive library routines (Perlin,
-    simplex and Gabor noise) inside `scf.execute_region` ops marked
+    osl-convert-to-vector lowers library routines (noise of every kind)
+    inside `scf.execute_region` ops marked
     `osl.library = "name"`, and osl-derivatives inlines those a derivative
     needs. This pass replaces the others by calls: each region becomes a
     private function taking the values it uses from outside, named after the

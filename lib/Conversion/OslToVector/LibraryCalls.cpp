@@ -181,7 +181,7 @@ struct HashLowering : public OslPattern<HashOp> {
 
 /// Noise in a library region (LibraryRegion.h): one function per kind and
 /// signature in the kernel, compiled once and cached. Cell and hash noise
-/// stay inline.
+/// too: a call costs a few ns a batch, their codegen tens of ms a shader.
 struct NoiseLowering : public OslPattern<NoiseOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(NoiseOp op, OpAdaptor adaptor,
@@ -195,12 +195,6 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
     if (op.getPeriodic() && (kind == NoiseKind::simplex || kind == NoiseKind::usimplex))
       return op.emitError("periodic '") << stringifyNoiseKind(kind) << "' noise is not defined";
     Type resultType = convert(op.getType());
-    if (kind == NoiseKind::cell || kind == NoiseKind::hash) {
-      // A hash or two: cheaper inline than called.
-      Components lanes{rewriter, op.getLoc(), width};
-      rewriter.replaceOp(op, lowerNoise(op, adaptor, lanes, resultType, rewriter));
-      return success();
-    }
     std::string name = ("noise_" + stringifyNoiseKind(kind)).str();
     if (op.getPeriodic())
       name += "_periodic";
