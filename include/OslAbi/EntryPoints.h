@@ -56,6 +56,16 @@ void osl_rt_udim_tile_lanes(const int32_t *handles, const float *s, const float 
 /// The handle of `text` (NUL-terminated), interned on first use.
 int32_t osl_rt_string_intern(const char *text);
 
+/// osl_rt_string_intern for a constant: `*slot` (the kernel's own, -1 until
+/// then) keeps the handle after the first call, so later batches skip the
+/// intern table's lock and hash.
+int32_t osl_rt_string_intern_cached(const char *text, int32_t *slot);
+
+/// The bytes of the string `handle` names ("" for a handle never issued),
+/// its length in `*length`. They stay valid and unchanged for the process's
+/// life: the intern table never moves or frees a string.
+const char *osl_rt_string_bytes(int32_t handle, int32_t *length);
+
 /// Calls string function `function` (an index into kStringFunctions) for the
 /// lanes in `laneMask`. `kinds` names the operands' kinds (s, i, f, t;
 /// NUL-terminated); `rows` holds their rows then the result row. Lanes not
@@ -120,6 +130,8 @@ void osl_rt_closure_add(int32_t *rows, int32_t width, uint32_t laneMask);
   X(osl_rt_gettextureinfo_lanes)                                                             \
   X(osl_rt_udim_tile_lanes)                                                                  \
   X(osl_rt_string_intern)                                                                    \
+  X(osl_rt_string_intern_cached)                                                             \
+  X(osl_rt_string_bytes)                                                                     \
   X(osl_rt_string_call)                                                                      \
   X(osl_rt_print)                                                                            \
   X(osl_rt_count_lanes)                                                                      \

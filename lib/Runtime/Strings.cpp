@@ -173,28 +173,40 @@ std::string closureText(int32_t handle) {
   return out;
 }
 
-/// Lane `lane`'s operands from rows of `width` 32-bit values: a string's
-/// handle becomes its text, a closure's its printed text (kept in
-/// `closureTexts`).
-void readLane(const char *kinds, const int32_t *rows, int32_t width, int32_t lane,
-              std::vector<StringValue> &out, std::vector<std::string> &closureTexts) {
-  out.clear();
-  closureTexts.clear();
-  closureTexts.reserve(std::strlen(kinds));
-  int32_t row = 0;
-  for (const char *k = kinds; *k; ++k) {
-    auto next = [&] { return rows[size_t(row++) * size_t(width) + size_t(lane)]; };
-    StringValue &o = out.emplace_back();
-    o.kind = *k;
-    for (int32_t c = 0; c < osl::stringOperandRows(o.kind); ++c) {
-      int32_t bits = next();
-      o.i = bits;
-      o.f[c] = floatBits(bits);
+/// What a call's lanes share: the operand vector and closure texts are
+/// reused from lane to lane and call to call on a thread (a string call runs
+/// once per batch in hot shaders, so allocating per lane cost more than the
+/// function itself), and the kinds are measured once per call.
+struct LaneOperands {
+  std::vector<StringValue> values;
+  std::vector<std::string> closureTexts;
+};
+
+LaneOperands &threadLaneOperands() {
+  static thread_local LaneOperands operands;
+  return operands;
+}
+
+/// Lane `lane`'s operands from rows of `width` 32-bit values (`nkinds`
+/// kinds): a string's handle becomes its text, a closure's its printed text.
+void readLane(const char *kinds, size_t nkinds, const int32_t *rows, int32_t width,
+              int32_t lane, LaneOperands &out) {
+  out.values.resize(nkinds);
+  out.closureTexts.clear();
+  out.closureTexts.reserve(nkinds); // string_views into it must not move
+  const int32_t *at = rows + lane;
+  for (size_t k = 0; k < nkinds; ++k) {
+    StringValue &o = out.values[k];
+    o = StringValue();
+    o.kind = kinds[k];
+    for (int32_t c = 0; c < osl::stringOperandRows(o.kind); ++c, at += width) {
+      o.i = *at;
+      o.f[c] = floatBits(*at);
     }
     if (o.kind == 's')
       o.s = internTable().text(o.i);
     else if (o.kind == 'k')
-      o.s = closureTexts.emplace_back(closureText(o.i));
+      o.s = out.closureTexts.emplace_back(closureText(o.i));
   }
 }
 
@@ -305,6 +317,22 @@ int osl::stringErrors() {
 
 extern "C" int32_t osl_rt_string_intern(const char *text) { return intern(text); }
 
+extern "C" int32_t osl_rt_string_intern_cached(const char *text, int32_t *slot) {
+  // Threads racing on the first call store the same handle.
+  int32_t handle = __atomic_load_n(slot, __ATOMIC_ACQUIRE);
+  if (handle >= 0)
+    return handle;
+  handle = intern(text);
+  __atomic_store_n(slot, handle, __ATOMIC_RELEASE);
+  return handle;
+}
+
+extern "C" const char *osl_rt_string_bytes(int32_t handle, int32_t *length) {
+  std::string_view text = internTable().text(handle);
+  *length = int32_t(text.size());
+  return text.data();
+}
+
 extern "C" void osl_rt_string_call(const char *where, int32_t function, const char *kinds,
                                    int32_t *rows, int32_t width, uint32_t laneMask) {
   size_t nkinds = std::strlen(kinds);
@@ -312,15 +340,14 @@ extern "C" void osl_rt_string_call(const char *where, int32_t function, const ch
   for (size_t k = 0; k < nkinds; ++k)
     resultRow += osl::stringOperandRows(kinds[k]);
   int32_t *result = rows + size_t(resultRow) * size_t(width);
-  std::vector<StringValue> operands;
-  std::vector<std::string> closureTexts;
+  LaneOperands &operands = threadLaneOperands();
   for (int32_t lane = 0; lane < width; ++lane) {
     result[lane] = 0;
     if (!(laneMask >> lane & 1))
       continue;
-    readLane(kinds, rows, width, lane, operands, closureTexts);
+    readLane(kinds, nkinds, rows, width, lane, operands);
     std::string error;
-    int32_t value = callLane(function, operands, error);
+    int32_t value = callLane(function, operands.values, error);
     if (!error.empty() && osl::isDictionaryFunction(osl::kStringFunctions[function].name)) {
       // A dictionary that cannot be read: reported in the shader's output
       // as OSL's renderer reports it (dict_find answers -1), and it counts
@@ -339,12 +366,13 @@ extern "C" void osl_rt_string_call(const char *where, int32_t function, const ch
 extern "C" void osl_rt_print(const char *where, int32_t stream, const char *kinds,
                              int32_t *rows, int32_t width, uint32_t laneMask) {
   size_t leading = std::strlen(osl::kPrintStreams[stream].operands);
-  std::vector<StringValue> operands;
-  std::vector<std::string> closureTexts;
+  size_t nkinds = std::strlen(kinds);
+  LaneOperands &scratch = threadLaneOperands();
+  const std::vector<StringValue> &operands = scratch.values;
   for (int32_t lane = 0; lane < width; ++lane) {
     if (!(laneMask >> lane & 1))
       continue;
-    readLane(kinds, rows, width, lane, operands, closureTexts);
+    readLane(kinds, nkinds, rows, width, lane, scratch);
     std::string error;
     std::string text = osl::formatValues(operands[leading - 1].s, operands.data() + leading,
                                          operands.size() - leading, error);

@@ -415,13 +415,17 @@ func.func @gabor_filtered_color() {
 // osl.string_call: each operand's lanes are a row of 32-bit values in a
 // block on the stack (a uniform operand is broadcast), the runtime runs
 // the active lanes and the result row is read back. A compile-time string
-// is interned once per batch; a call on uniform operands is one lane.
+// is interned by the first batch, which keeps its handle in a slot of the
+// kernel's; a call on uniform operands is one lane.
 // CHECK-LABEL: llvm.func @osl_rt_string_call(!llvm.ptr, i32, !llvm.ptr, !llvm.ptr, i32, i32)
+// CHECK: llvm.mlir.global internal @[[SLOT:osl_string_[0-9]+_handle]](-1 : i32)
+// CHECK-LABEL: llvm.func @osl_rt_string_intern_cached(!llvm.ptr, !llvm.ptr) -> i32
 // CHECK-LABEL: osl.shader_name = "string_call"
 // CHECK: %[[STOF:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
 // CHECK: %[[FORMAT:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
 // CHECK: %[[STRLEN:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
-// CHECK: %[[PRE:.+]] = llvm.call @osl_rt_string_intern(%{{.+}}) : (!llvm.ptr) -> i32
+// CHECK: %[[SLOTADDR:.+]] = llvm.mlir.addressof @[[SLOT]] : !llvm.ptr
+// CHECK: %[[PRE:.+]] = llvm.call @osl_rt_string_intern_cached(%{{.+}}, %[[SLOTADDR]]) : (!llvm.ptr, !llvm.ptr) -> i32
 // CHECK: llvm.store %[[PRE]], %{{.+}} {alignment = 4 : i64} : i32, !llvm.ptr
 // CHECK: %[[ONE:.+]] = arith.constant 1 : i32
 // CHECK: llvm.call @osl_rt_string_call(%{{.+}}, %{{.+}}, %{{.+}}, %[[STRLEN]], %[[ONE]], %{{.+}})
@@ -445,6 +449,33 @@ func.func @string_call() {
   %f = osl.string_call "stof" "s"(%s) : (!osl.varying<i32>) -> !osl.varying<f32>
   osl.output "f" = %f : !osl.varying<f32>
   osl.output "n" = %n : i32
+  return
+}
+
+// -----
+
+// getchar of one string for the whole batch at a varying index (a font's
+// text): the string's bytes are asked for once and each active lane in the
+// string gathers its byte, sign-extended; lanes outside it get 0.
+// CHECK-LABEL: osl.shader_name = "getchar_uniform_string"
+// CHECK-NOT: osl_rt_string_call(
+// CHECK: %[[LEN:.+]] = llvm.alloca %{{.+}} x i32 {alignment = 64 : i64}
+// CHECK: %[[BYTES:.+]] = llvm.call @osl_rt_string_bytes(%{{.+}}, %[[LEN]]) : (i32, !llvm.ptr) -> !llvm.ptr
+// CHECK: %[[N:.+]] = llvm.load %[[LEN]] {alignment = 4 : i64} : !llvm.ptr -> i32
+// CHECK: %[[NS:.+]] = vector.splat %[[N]] : vector<8xi32>
+// CHECK: %[[LOW:.+]] = arith.cmpi sge, %[[I:.+]], %{{.+}} : vector<8xi32>
+// CHECK: %[[HIGH:.+]] = arith.cmpi slt, %[[I]], %[[NS]] : vector<8xi32>
+// CHECK: %[[IN:.+]] = arith.andi %[[LOW]], %[[HIGH]] : vector<8xi1>
+// CHECK: %[[READ:.+]] = arith.andi %[[IN]], %{{.+}} : vector<8xi1>
+// CHECK: %[[ADDRS:.+]] = llvm.getelementptr %[[BYTES]][%[[I]]] : (!llvm.ptr, vector<8xi32>) -> !llvm.vec<8 x ptr>, i8
+// CHECK: %[[B:.+]] = llvm.intr.masked.gather %[[ADDRS]], %[[READ]], %{{.+}} {alignment = 1 : i32, osl.no_derivative} : (!llvm.vec<8 x ptr>, vector<8xi1>, vector<8xi8>) -> vector<8xi8>
+// CHECK: arith.extsi %[[B]] : vector<8xi8> to vector<8xi32>
+func.func @getchar_uniform_string() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %text = osl.string_constant "Hello" : i32
+  %i = osl.convert %u : !osl.varying<f32> -> !osl.varying<i32>
+  %c = osl.string_call "getchar" "si"(%text, %i) : (i32, !osl.varying<i32>) -> !osl.varying<i32>
+  osl.output "c" = %c : !osl.varying<i32>
   return
 }
 

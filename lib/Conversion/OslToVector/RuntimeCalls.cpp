@@ -15,6 +15,7 @@
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Func/IR/FuncOps.h"
+#include "mlir/Dialect/Vector/IR/VectorOps.h"
 
 using namespace mlir;
 using namespace mlir::osl;
@@ -22,16 +23,34 @@ using namespace mlir::osl::lowering;
 
 namespace {
 
+/// The kernel's slot for the handle of the constant string at `text` (an
+/// osl_string_N global): an internal i32 global, -1 until the first batch
+/// asks the intern table.
+Value internSlotAddress(OpBuilder &b, Location loc, Operation *op, Value text) {
+  auto module = op->getParentOfType<ModuleOp>();
+  std::string name = (text.getDefiningOp<LLVM::AddressOfOp>().getGlobalName() + "_handle").str();
+  auto slot = module.lookupSymbol<LLVM::GlobalOp>(name);
+  if (!slot) {
+    OpBuilder::InsertionGuard guard(b);
+    b.setInsertionPointToStart(module.getBody());
+    slot = b.create<LLVM::GlobalOp>(loc, b.getI32Type(), /*isConstant=*/false,
+                                    LLVM::Linkage::Internal, name, b.getI32IntegerAttr(-1));
+  }
+  return b.create<LLVM::AddressOfOp>(loc, slot);
+}
+
 /// osl.string_constant: the handle the runtime's intern table gives the
-/// text (looked up once per batch).
+/// text, asked for once and then kept in the kernel's slot for it.
 struct StringConstantLowering : public OslPattern<StringConstantOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(StringConstantOp op, OpAdaptor,
                                 ConversionPatternRewriter &rewriter) const override {
     Location loc = op.getLoc();
-    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, entry::osl_rt_string_intern);
+    LLVM::LLVMFuncOp callee =
+        runtimeDeclaration(rewriter, op, entry::osl_rt_string_intern_cached);
     Value text = constantStringAddress(rewriter, loc, op.getValue());
-    rewriter.replaceOpWithNewOp<LLVM::CallOp>(op, callee, ValueRange{text});
+    Value slot = internSlotAddress(rewriter, loc, op, text);
+    rewriter.replaceOpWithNewOp<LLVM::CallOp>(op, callee, ValueRange{text, slot});
     return success();
   }
 };
@@ -62,6 +81,11 @@ struct StringCallLowering : public OslPattern<StringCallOp> {
                                 ConversionPatternRewriter &rewriter) const override {
     Location loc = op.getLoc();
     bool varying = isVarying(op.getType());
+    if (varying && op.getCallee() == "getchar" && !isVarying(op.getArgs()[0].getType())) {
+      rewriter.replaceOp(op, getcharOfUniformString(rewriter, loc, op, adaptor.getArgs()[0],
+                                                    adaptor.getArgs()[1]));
+      return success();
+    }
     int64_t lanes = varying ? width : 1;
     StringRef kinds = op.getKinds();
     auto [block, resultRow] = operandRows(rewriter, loc, op, op.getArgs(), adaptor.getArgs(),
@@ -86,6 +110,39 @@ struct StringCallLowering : public OslPattern<StringCallOp> {
     load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
     rewriter.replaceOp(op, load.getResult());
     return success();
+  }
+
+private:
+  /// getchar(s, i) with one string for the batch (draw_string's text): the
+  /// string's bytes are asked for once and each lane's byte gathered, 0
+  /// where i is outside the string, as the runtime's getchar answers.
+  Value getcharOfUniformString(ConversionPatternRewriter &rewriter, Location loc,
+                               StringCallOp op, Value handle, Value index) const {
+    Type i32 = rewriter.getI32Type(), i8 = rewriter.getI8Type();
+    auto ptr = LLVM::LLVMPointerType::get(rewriter.getContext());
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, entry::osl_rt_string_bytes);
+    Value lengthSlot = entryBlockRows(rewriter, loc, op, 1);
+    Value bytes =
+        rewriter.create<LLVM::CallOp>(loc, callee, ValueRange{handle, lengthSlot}).getResult();
+    Value length = rewriter.create<LLVM::LoadOp>(loc, i32, lengthSlot, 4);
+    auto lanes = VectorType::get({width}, i32);
+    if (!isa<VectorType>(index.getType()))
+      index = rewriter.create<vector::SplatOp>(loc, lanes, index);
+    Value zero = rewriter.create<arith::ConstantOp>(loc, rewriter.getZeroAttr(lanes));
+    Value lengths = rewriter.create<vector::SplatOp>(loc, lanes, length);
+    Value inString = rewriter.create<arith::AndIOp>(
+        loc, rewriter.create<arith::CmpIOp>(loc, arith::CmpIPredicate::sge, index, zero),
+        rewriter.create<arith::CmpIOp>(loc, arith::CmpIPredicate::slt, index, lengths));
+    Value read = rewriter.create<arith::AndIOp>(loc, inString, activeLanes(rewriter, loc, op, width));
+    Value addrs = rewriter.create<LLVM::GEPOp>(loc, LLVM::getVectorType(ptr, width), i8, bytes,
+                                               ValueRange{index});
+    auto byteLanes = VectorType::get({width}, i8);
+    Value noBytes = rewriter.create<arith::ConstantOp>(loc, rewriter.getZeroAttr(byteLanes));
+    Operation *gather = rewriter.create<LLVM::masked_gather>(
+        loc, byteLanes, addrs, read, ValueRange{noBytes}, rewriter.getI32IntegerAttr(1));
+    gather->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
+    // A byte is a (signed) char, as the runtime's getchar and OSL's answer it.
+    return rewriter.create<arith::ExtSIOp>(loc, lanes, gather->getResult(0));
   }
 };
 
