@@ -1,6 +1,7 @@
 //===- Jit.cpp - Host JIT for compiled shader kernels ----------------------===//
 
 #include "OslRuntime/Jit.h"
+#include "MaskPhis.h"
 #include "OslRuntime/Stats.h"
 
 #include "llvm/ExecutionEngine/ObjectCache.h"
@@ -233,6 +234,13 @@ static llvm::Error optimizeForHost(llvm::Module &module, LlvmPipeline pipeline) 
       return err;
   }
   mpm.run(module, mam);
+  // AVX-512 keeps masks in its mask registers; other x86 targets want them
+  // as full-width lanes across loop back edges (MaskPhis.h).
+  if (tm->getTargetTriple().isX86() &&
+      !tm->getTargetFeatureString().contains("+avx512f"))
+    for (llvm::Function &f : module)
+      if (!f.isDeclaration())
+        widenMaskPhis(f);
   return llvm::Error::success();
 }
 
