@@ -93,7 +93,9 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
       return;
     }
     SymbolTable symbols(module);
-    DenseMap<llvm::hash_code, func::FuncOp> byCode;
+    // Functions by their regions' exact hash; a hash only narrows the
+    // search: a body is reused when it is equivalent op for op.
+    DenseMap<llvm::hash_code, SmallVector<func::FuncOp, 1>> byCode;
     llvm::StringMap<int> namesUsed;
     for (scf::ExecuteRegionOp region : regions) {
       SetVector<Value> captured;
@@ -103,8 +105,18 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
         argTypes.push_back(v.getType());
       auto type = FunctionType::get(&getContext(), argTypes, region.getResultTypes());
       RegionIdentity id = identify(region, type, captured);
-      func::FuncOp &func = byCode[id.exact];
-      if (!func) {
+      func::FuncOp candidate = makeFunction(module, region, "", type, captured);
+      func::FuncOp func;
+      for (func::FuncOp existing : byCode[id.exact])
+        if (OperationEquivalence::isRegionEquivalentTo(&existing.getBody(),
+                                                       &candidate.getBody(),
+                                                       OperationEquivalence::IgnoreLocations)) {
+          func = existing;
+          break;
+        }
+      if (func) {
+        candidate.erase();
+      } else {
         std::string name = ::osl::abi::kLibrarySymbolPrefix +
                            region->getAttrOfType<StringAttr>(kLibraryAttr).getValue().str() +
                            "." + llvm::utohexstr(id.stable, /*LowerCase=*/true, 16);
@@ -112,8 +124,10 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
         // of appearance, so the names stay the same from run to run.
         if (int n = namesUsed[name]++)
           name += "." + std::to_string(n);
-        func = makeFunction(module, region, name, type, captured);
-        symbols.insert(func);
+        candidate.setSymName(name);
+        symbols.insert(candidate);
+        byCode[id.exact].push_back(candidate);
+        func = candidate;
       }
       OpBuilder b(region);
       auto call = b.create<func::CallOp>(region.getLoc(), func, captured.getArrayRef());
