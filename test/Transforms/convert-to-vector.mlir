@@ -655,3 +655,27 @@ func.func @messages() {
   osl.output "o" = %v : !osl.varying<vector<3xf32>>
   return
 }
+
+// -----
+
+// splineinverse is a library routine: its bisection is lowered inside a
+// region marked with its basis, which osl-outline-library makes one
+// function per basis and signature. spline itself stays inline (constant
+// knots fold into it).
+// CHECK-LABEL: osl.shader_name = "splineinverse_region"
+// CHECK: scf.execute_region -> vector<8xf32>
+// CHECK: scf.while
+// CHECK: } {osl.library = "splineinverse_catmull_rom"}
+// CHECK-NOT: osl.library
+func.func @splineinverse_region() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %k0 = arith.constant 0.0 : f32
+  %k1 = arith.constant 0.25 : f32
+  %k2 = arith.constant 0.75 : f32
+  %k3 = arith.constant 1.0 : f32
+  %x = osl.splineinverse catmullrom %u [%k0, %k1, %k2, %k3] : !osl.varying<f32>, f32, f32, f32, f32 -> !osl.varying<f32>
+  %y = osl.spline catmullrom %u [%k0, %k1, %k2, %k3] : !osl.varying<f32>, f32, f32, f32, f32 -> !osl.varying<f32>
+  osl.output "x" = %x : !osl.varying<f32>
+  osl.output "y" = %y : !osl.varying<f32>
+  return
+}

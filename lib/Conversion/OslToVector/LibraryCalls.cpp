@@ -286,17 +286,26 @@ struct SplineFamilyLowering : public OslPattern<Op> {
     }
     SmallVector<SmallVector<Value>> knots =
         lanes.unpackAll(adaptor.getKnots(), op.getKnots(), false);
-    FailureOr<SmallVector<Value>> r;
-    if constexpr (std::is_same_v<Op, SplineOp>) {
-      r = buildSpline(rewriter, loc, op.getBasis(), x, count, knots);
-    } else {
-      FailureOr<Value> inv = buildSplineInverse(rewriter, loc, op.getBasis(), x, count, knots);
-      if (succeeded(inv))
-        r = SmallVector<Value>{*inv};
-    }
-    if (failed(r))
+    if (knots.size() < 4)
       return op.emitError("spline basis '")
              << splineBasisName(op.getBasis()) << "' needs at least 4 knots";
+    FailureOr<SmallVector<Value>> r;
+    if constexpr (std::is_same_v<Op, SplineOp>) {
+      // Inline: a color ramp's constant knots fold into its code.
+      r = buildSpline(rewriter, loc, op.getBasis(), x, count, knots);
+    } else {
+      // A library function (LibraryRegion.h) per basis and signature: its
+      // bisection is a loop around a whole spline evaluation, costly to
+      // compile at every call and cheap to call.
+      Type resultType = x.getType();
+      std::string name = ("splineinverse_" + splineBasisName(op.getBasis())).str();
+      std::replace(name.begin(), name.end(), '-', '_');
+      r = buildLibraryRegion(rewriter, loc, name, resultType,
+                             [&](OpBuilder &b) -> SmallVector<Value> {
+                               return {*buildSplineInverse(b, loc, op.getBasis(), x, count,
+                                                           knots)};
+                             });
+    }
     rewriter.replaceOp(op, lanes.pack(*r, this->convert(op.getType())));
     return success();
   }
