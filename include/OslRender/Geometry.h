@@ -5,6 +5,7 @@
 #include "OslRender/Scene.h"
 
 #include <limits>
+#include <vector>
 
 namespace osl::render {
 
@@ -17,6 +18,21 @@ struct Hit {
 /// ray leaves) is skipped, except a sphere's far side: a ray refracted into
 /// a sphere leaves through it.
 Hit intersect(const Scene &scene, Vec3 o, Vec3 d, int self);
+
+/// Rays as structure of arrays: origins, directions and the primitive each
+/// leaves (-1: none).
+struct RayBatch {
+  std::vector<float> ox, oy, oz, dx, dy, dz;
+  std::vector<int> self;
+  void push(Vec3 o, Vec3 d, int leaving);
+  void clear();
+  size_t size() const { return self.size(); }
+};
+
+/// intersect() of every ray of `rays` into `hits`, `width` rays at a time
+/// (1, 4, 8 or 16 SIMD lanes; the hits are the same at every width).
+void intersectBatch(const Scene &scene, const RayBatch &rays, int width,
+                    std::vector<Hit> &hits);
 
 /// A hit point's geometry as the shader sees it.
 struct SurfaceGeometry {

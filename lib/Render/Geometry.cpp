@@ -9,57 +9,7 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
-/// Nearest positive distance to a sphere; `self` keeps the far root only.
-float hitSphere(const Primitive &s, Vec3 o, Vec3 d, bool self) {
-  Vec3 oc = s.center - o;
-  double b = dot(oc, d);
-  double det = b * b - double(dot(oc, oc)) + double(s.radius) * s.radius;
-  if (det < 0)
-    return -1;
-  det = std::sqrt(det);
-  double near = b - det, far = b + det;
-  // Leaving the surface, the near root is ~0 (or the far one, going out):
-  // a hit must be a real distance away.
-  double eps = 1e-4 * s.radius;
-  if (self)
-    return far > eps && b > 0 ? float(far) : -1;
-  if (near > eps)
-    return float(near);
-  return far > eps ? float(far) : -1;
-}
-
-float hitQuad(const Primitive &q, Vec3 o, Vec3 d) {
-  Vec3 n = cross(q.edgeX, q.edgeY);
-  float dn = dot(d, n);
-  if (dn == 0)
-    return -1;
-  float t = dot(q.corner - o, n) / dn;
-  if (!(t > 0))
-    return -1;
-  Vec3 h = o + d * t - q.corner;
-  float u = dot(h, q.edgeX) / dot(q.edgeX, q.edgeX);
-  float v = dot(h, q.edgeY) / dot(q.edgeY, q.edgeY);
-  return u >= 0 && u <= 1 && v >= 0 && v <= 1 ? t : -1;
-}
-
 } // namespace
-
-Hit intersect(const Scene &scene, Vec3 o, Vec3 d, int self) {
-  Hit hit;
-  for (int i = 0; i < int(scene.prims.size()); ++i) {
-    const Primitive &p = scene.prims[i];
-    float t;
-    if (p.kind == Primitive::Sphere)
-      t = hitSphere(p, o, d, i == self);
-    else
-      t = i == self ? -1 : hitQuad(p, o, d);
-    if (t > 0 && t < hit.t) {
-      hit.t = t;
-      hit.prim = i;
-    }
-  }
-  return hit;
-}
 
 SurfaceGeometry surfaceAt(const Primitive &prim, Vec3 p) {
   SurfaceGeometry g;

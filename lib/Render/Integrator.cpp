@@ -111,6 +111,7 @@ private:
   void shadeMisses();
   void scatter(const ShadeRequest &q, int bounce);
   void sampleLights(const ShadeRequest &q, Vec3 wo);
+  void traceShadowRays();
   void accumulate(float *sum);
   void shade(int shader, const std::vector<ShadeRequest> &requests,
              const std::function<void(const ShadeRequest &, int32_t)> &use);
@@ -130,6 +131,18 @@ private:
   std::vector<std::vector<ShadeRequest>> queues;
   std::vector<std::vector<ShadeRequest>> lightQueries;
   std::vector<ShadeRequest> misses;
+  /// Rays traced together, a batch of `width` lanes at a time: each live
+  /// path's next ray, then the bounce's shadow rays.
+  RayBatch rays;
+  std::vector<Hit> hits;
+  std::vector<int> rayPaths;
+  /// A light sample whose shadow ray is traced with the others: what its
+  /// light query gets if the ray reaches the light.
+  struct ShadowRay {
+    int path, light;
+    Vec3 origin, dir, contrib;
+  };
+  std::vector<ShadowRay> shadowRays;
   /// Rows of the globals the renderer sets.
   const int rowP = findGlobal("P")->row, rowI = findGlobal("I")->row,
             rowN = findGlobal("N")->row, rowNg = findGlobal("Ng")->row,
@@ -196,9 +209,11 @@ void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
       });
     for (auto &q : lightQueries)
       q.clear();
+    shadowRays.clear();
     for (size_t s = 0; s < queues.size(); ++s)
       for (const ShadeRequest &q : queues[s])
         scatter(q, bounce);
+    traceShadowRays();
     for (size_t s = 0; s < lightQueries.size(); ++s)
       shade(int(s), lightQueries[s], [&](const ShadeRequest &q, int32_t handle) {
         ShadingResult light;
@@ -241,13 +256,18 @@ bool PathWave::intersectPaths() {
   for (auto &q : queues)
     q.clear();
   misses.clear();
-  bool any = false;
-  for (int i = 0; i < int(paths.size()); ++i) {
+  rays.clear();
+  rayPaths.clear();
+  for (int i = 0; i < int(paths.size()); ++i)
+    if (paths[i].alive) {
+      rays.push(paths[i].o, paths[i].d, paths[i].self);
+      rayPaths.push_back(i);
+    }
+  intersectBatch(scene, rays, width, hits);
+  for (size_t k = 0; k < rayPaths.size(); ++k) {
+    int i = rayPaths[k];
     Path &p = paths[i];
-    if (!p.alive)
-      continue;
-    any = true;
-    p.hit = intersect(scene, p.o, p.d, p.self);
+    p.hit = hits[k];
     if (p.hit.prim < 0) {
       p.alive = false;
       if (scene.background >= 0) {
@@ -270,7 +290,7 @@ bool PathWave::intersectPaths() {
     q.rayType = p.rayType;
     queues[shader].push_back(q);
   }
-  return any;
+  return !rayPaths.empty();
 }
 
 /// Escaped paths see the background (not importance sampled, so the
@@ -351,12 +371,26 @@ void PathWave::sampleLights(const ShadeRequest &q, Vec3 wo) {
     Vec3 contrib = p.throughput * e.value * (powerHeuristic(ls.pdf, e.pdf) / ls.pdf);
     if (!(contrib.sum() > 0))
       continue;
-    Hit shadow = intersect(scene, q.p, ls.dir, p.hit.prim);
-    if (shadow.prim != l)
+    shadowRays.push_back({q.path, l, q.p, ls.dir, contrib});
+  }
+}
+
+/// The bounce's shadow rays, traced together: each that reaches its light
+/// queues a query for the light's shader, in the order they were sampled
+/// (a path adds its lights' radiance in that order).
+void PathWave::traceShadowRays() {
+  rays.clear();
+  for (const ShadowRay &s : shadowRays)
+    rays.push(s.origin, s.dir, paths[s.path].hit.prim);
+  intersectBatch(scene, rays, width, hits);
+  for (size_t k = 0; k < shadowRays.size(); ++k) {
+    const ShadowRay &s = shadowRays[k];
+    if (hits[k].prim != s.light)
       continue;
-    ShadeRequest lq = hitRequest(light, q.p, ls.dir, shadow.t);
-    lq.path = q.path;
-    lq.contrib = contrib;
+    const Primitive &light = scene.prims[s.light];
+    ShadeRequest lq = hitRequest(light, s.origin, s.dir, hits[k].t);
+    lq.path = s.path;
+    lq.contrib = s.contrib;
     lq.rayType = rayTypeBit("shadow"); // lights are seen along shadow rays
     lightQueries[light.shader].push_back(lq);
   }
