@@ -93,6 +93,19 @@ bool sceneFlag(FlagParser &p) {
   return true;
 }
 
+/// -expr: a shader made of one statement, as testshade's.
+bool exprFlag(FlagParser &p) {
+  if (!p.need(1))
+    return false;
+  if (!p.o.shaderPath.empty() || !p.o.expression.empty()) {
+    p.error = "-expr makes the shader: no other shader can be given";
+    return false;
+  }
+  p.o.expression = p.next();
+  p.o.shaderPath = std::string(kExprShaderName) + ".osl";
+  return true;
+}
+
 bool pathFlag(FlagParser &p) {
   if (!p.need(1))
     return false;
@@ -520,7 +533,9 @@ const Flag kFlags[] = {
     {{"--userdata_isconnected"}, setCompileFlag<&CompileOptions::userdataIsConnected>},
     {{"--options"}, shadingSystemOptionsFlag},
     {{"--llvm_opt", "--jbufferMB"}, ignoredWithArgument},
-    {{"-v", "--debug", "--inbuffer", "--batched", "--groupoutputs", "--raytype_opt"}, ignored},
+    {{"--expr"}, exprFlag},
+    {{"-v"}, setFlag<&RunOptions::verbose>},
+    {{"--debug", "--inbuffer", "--batched", "--groupoutputs", "--raytype_opt"}, ignored},
     {{"-t"}, threadsFlag},
     {{"--iters"}, itersFlag},
     {{"--center"}, setGridFlag<&GridOptions::center>},

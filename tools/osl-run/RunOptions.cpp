@@ -53,6 +53,9 @@ const char *const osl::kUsage =
     "                         color, point, vector, normal or string\n"
     "  --userdata_isconnected isconnected() counts a lockgeom=0 parameter as\n"
     "                         connected (to the geometry)\n"
+    "  -expr STATEMENT        shade testshade's shader around STATEMENT instead\n"
+    "                         of a file: outputs result (color) and alpha,\n"
+    "                         parameters s = u and t = v (-v prints it)\n"
     "\n"
     "Shader groups (testshade's flags): each --param applies to the next\n"
     "--shader; the last layer is the root, whose outputs -o names (another\n"
@@ -152,7 +155,7 @@ std::string testshadeSpelling(std::string a) {
       "param", "layer", "connect", "center", "debugnan", "scaleuv", "offsetuv", "iters", "entry", "reparam", "group",
       "shader", "od", "vary_udxdy", "vary_vdxdy", "vary_pdxdy", "colorspace",
       "options", "debug", "res", "raytype", "raytype_opt", "groupoutputs",
-      "batched", "groupname", "jbufferMB", "inbuffer", "userdata_isconnected"};
+      "batched", "groupname", "jbufferMB", "inbuffer", "userdata_isconnected", "expr"};
   if (a.size() > 2 && a[0] == '-' && a[1] != '-') {
     llvm::StringRef name = llvm::StringRef(a).drop_front().split(':').first;
     for (const char *flag : kLong)
@@ -179,6 +182,10 @@ bool addPositionalShader(FlagParser &p, const std::string &a, int &positional) {
   if (p.pendingLayer.empty())
     for (int n = 1; taken(layer); ++n)
       layer = llvm::sys::path::stem(a).str() + "_" + std::to_string(n);
+  if (!o.expression.empty()) {
+    p.error = "-expr makes the shader: '" + a + "' cannot be given too";
+    return false;
+  }
   if (!o.group.shader(shaderFile(a), layer, p.error))
     return false;
   ++positional;
@@ -193,6 +200,19 @@ bool addPositionalShader(FlagParser &p, const std::string &a, int &positional) {
 }
 
 } // namespace
+
+std::string osl::exprShaderText(const std::string &expression) {
+  return std::string("shader ") + kExprShaderName +
+         " (\n"
+         "    float s = u [[ int interpolated=1 ]],\n"
+         "    float t = v [[ int interpolated=1 ]],\n"
+         "    output color result = 0,\n"
+         "    output float alpha = 1,\n"
+         "  )\n"
+         "{\n"
+         "    " +
+         expression + "\n    ;\n}\n";
+}
 
 bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
                           std::string &error) {

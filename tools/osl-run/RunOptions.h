@@ -12,6 +12,10 @@ namespace osl {
 
 struct RunOptions {
   std::string shaderPath;
+  /// -expr EXPR: the shader is testshade's shader around the statement EXPR
+  /// (exprShaderText); -v prints it and the group as testshade does.
+  std::string expression;
+  bool verbose = false;
   CompileOptions compile;
   GridOptions grid;
   bool gridGiven = false;
@@ -79,6 +83,12 @@ inline int imageWidth(const GridOptions &g) {
 inline int imageHeight(const GridOptions &g) {
   return (g.rowEnd < 0 ? g.yres : g.rowEnd) - g.rowBegin;
 }
+
+/// The shader testshade -expr makes of `expression`: parameters s and t
+/// (u and v), outputs result (a color) and alpha, and the statement.
+std::string exprShaderText(const std::string &expression);
+/// The layer name testshade gives that shader.
+constexpr const char *kExprShaderName = "expr_0";
 
 /// Renders options.scenePath (RenderScene.cpp); the process exit status.
 int renderScene(const RunOptions &options);

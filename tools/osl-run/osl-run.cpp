@@ -391,7 +391,19 @@ int main(int argc, char **argv) {
   if (!options.scenePath.empty())
     return renderScene(options);
   std::unique_ptr<llvm::MemoryBuffer> source = llvm::MemoryBuffer::getMemBuffer("");
-  if (!options.isGroup) {
+  if (!options.expression.empty()) {
+    std::string text = exprShaderText(options.expression);
+    if (options.verbose) {
+      std::string layer = std::string(kExprShaderName) + "_0";
+      std::string group = options.compile.groupName.empty() ? "unnamed_group_1"
+                                                            : options.compile.groupName;
+      llvm::outs() << "Expression-based shader text is:\n---\n"
+                   << text << "---\nShader group:\n---\nshader " << kExprShaderName << " "
+                   << layer << " ;\n\n---\n\nShader group \"" << group
+                   << "\" layers are:\n    " << layer << "\n\n";
+    }
+    source = llvm::MemoryBuffer::getMemBufferCopy(text, options.shaderPath);
+  } else if (!options.isGroup) {
     auto buffer = llvm::MemoryBuffer::getFile(options.shaderPath, /*IsText=*/true);
     if (!buffer)
       return fail("cannot read '" + options.shaderPath + "': " +
