@@ -39,6 +39,8 @@ void osl::keepLaneText(int32_t stream, int32_t lane, std::string file, std::stri
 
 void osl::takeBatchPrints(PrintLog &log) {
   std::vector<LaneText> &texts = threadTexts();
+  if (texts.empty()) // most batches print nothing; this runs after each
+    return;
   std::stable_sort(texts.begin(), texts.end(),
                    [](const LaneText &a, const LaneText &b) { return a.lane < b.lane; });
   for (LaneText &t : texts)
