@@ -1,14 +1,15 @@
 //===- Renderer.h - A batched path tracer for OSL closures ------*- C++ -*-===//
 //
 // osl-run --scene: path traces a testrender scene. Paths advance in waves:
-// every path of a tile's wave is traced to its next hit, the hits are
+// every path of a tile's wave is traced to its next hit (rays intersected
+// W at a time, one SIMD lane each: Geometry.h's intersectBatch), the hits are
 // grouped by shader and shaded in full batches of W lanes (so SIMD lanes
 // stay busy however the paths scatter), then each path takes next-event
 // estimation toward every light (multiple importance sampling with the
-// BSDF) and samples its BSDF. Light and background shaders are batched the
-// same way. Random numbers depend only on (pixel, sample, bounce), and a
-// pixel's samples are summed in order, so an image is the same at every
-// width and thread count.
+// BSDF; the bounce's shadow rays are intersected together) and samples its
+// BSDF. Light and background shaders are batched the same way. Random
+// numbers depend only on (pixel, sample, bounce), and a pixel's samples are
+// summed in order, so an image is the same at every width and thread count.
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLRENDER_RENDERER_H

@@ -88,11 +88,13 @@ bool widenMaskPhis(llvm::Function &f) {
   // Other users (selects, reductions, branches) read the mask narrowed
   // where it is made, as a sign test: the backend's compare then yields the
   // full-width lanes a blend takes (a truncation would pack them to 16 bits).
+  // The wide logic was built just before the original (and folds to a
+  // constant when both its masks are), so the test goes there too.
   for (llvm::Instruction *inst : order) {
-    auto *w = llvm::cast<llvm::Instruction>(wide[inst]);
-    llvm::IRBuilder<> b(w->getParent(), llvm::isa<llvm::PHINode>(w)
-                                            ? w->getParent()->getFirstInsertionPt()
-                                            : std::next(w->getIterator()));
+    llvm::Value *w = wide[inst];
+    llvm::IRBuilder<> b(inst->getParent(), llvm::isa<llvm::PHINode>(inst)
+                                               ? inst->getParent()->getFirstInsertionPt()
+                                               : inst->getIterator());
     inst->replaceAllUsesWith(
         b.CreateICmpSLT(w, llvm::Constant::getNullValue(w->getType()), inst->getName()));
   }

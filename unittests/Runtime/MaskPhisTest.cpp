@@ -121,3 +121,33 @@ TEST(MaskPhis, LoopMaskBecomesFullWidthLanes) {
     }
   }
 }
+
+// Mask logic on two constant masks widens to a constant (IRBuilder folds
+// it): its users still get a sign test, with nothing left dangling.
+TEST(MaskPhis, LogicOnConstantMasksFolds) {
+  constexpr const char *kIR = R"(
+define <8 x i1> @f(<8 x i1> %in, i1 %again) {
+entry:
+  br label %loop
+loop:
+  %mask = phi <8 x i1> [ %in, %entry ], [ %next, %loop ]
+  %fixed = xor <8 x i1> zeroinitializer, <i1 true, i1 false, i1 true, i1 false, i1 true, i1 false, i1 true, i1 false>
+  %next = and <8 x i1> %mask, %fixed
+  br i1 %again, label %loop, label %done
+done:
+  ret <8 x i1> %fixed
+}
+)";
+  llvm::LLVMContext context;
+  llvm::SMDiagnostic diag;
+  std::unique_ptr<llvm::Module> module = llvm::parseAssemblyString(kIR, diag, context);
+  ASSERT_TRUE(module);
+  llvm::Function &f = *module->getFunction("f");
+  EXPECT_TRUE(widenMaskPhis(f));
+  std::string errors;
+  llvm::raw_string_ostream os(errors);
+  EXPECT_FALSE(llvm::verifyFunction(f, &os)) << errors;
+  EXPECT_EQ(countPhis(f, 1), 0);
+  auto *ret = llvm::cast<llvm::ReturnInst>(f.back().getTerminator());
+  EXPECT_TRUE(llvm::isa<llvm::Constant>(ret->getReturnValue()));
+}
