@@ -87,6 +87,12 @@ struct FrontendOptions {
   std::vector<std::pair<std::string, int>> connectedArrayLengths;
 };
 
+/// A group's name as testshade gives it: `given` (--groupname), or
+/// unnamed_group_1 when it has none.
+inline std::string groupNameOrDefault(const std::string &given) {
+  return given.empty() ? "unnamed_group_1" : given;
+}
+
 /// Parses `source` (named `filename` in diagnostics) and returns a module
 /// with the shader, or null after printing diagnostics to `errs` as
 /// `filename:line:col: error: message`. Loads the osl, func and arith

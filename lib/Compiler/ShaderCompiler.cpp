@@ -172,8 +172,7 @@ bool ShaderCompiler::lower() {
   if (options.optimizationWarnings) {
     // Asked for, so shown even where warnings are hidden (-w); kept for
     // the kernel cache to replay.
-    reports = optimizationWarnings(
-        *mlirModule, options.groupName.empty() ? "unnamed_group_1" : options.groupName);
+    reports = optimizationWarnings(*mlirModule, groupNameOrDefault(options.groupName));
     errs << reports;
   }
   return mlir::succeeded(lowering.run(*mlirModule)) &&

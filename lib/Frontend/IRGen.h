@@ -177,7 +177,7 @@ public:
     return options.layerName.empty() ? shader + "_0" : options.layerName;
   }
   std::string groupName() const {
-    return options.groupName.empty() ? "unnamed_group_1" : options.groupName;
+    return groupNameOrDefault(options.groupName);
   }
   /// "file:line" of `l`, as OSL's run-time reports name places.
   std::string fileLine(SrcLoc l) const {

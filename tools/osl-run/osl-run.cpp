@@ -395,8 +395,7 @@ int main(int argc, char **argv) {
     std::string text = exprShaderText(options.expression);
     if (options.verbose) {
       std::string layer = std::string(kExprShaderName) + "_0";
-      std::string group = options.compile.groupName.empty() ? "unnamed_group_1"
-                                                            : options.compile.groupName;
+      std::string group = groupNameOrDefault(options.compile.groupName);
       llvm::outs() << "Expression-based shader text is:\n---\n"
                    << text << "---\nShader group:\n---\nshader " << kExprShaderName << " "
                    << layer << " ;\n\n---\n\nShader group \"" << group
