@@ -294,9 +294,11 @@ int32_t callDictionary(int32_t function, const std::vector<StringValue> &a, std:
   return 0;
 }
 
-/// The result's 32 bits for one lane.
-int32_t callLane(int32_t function, const std::vector<StringValue> &a, std::string &error) {
-  if (osl::isDictionaryFunction(osl::kStringFunctions[function].name))
+/// The result's 32 bits for one lane (`dictionary`: `function` is one of
+/// the dictionary functions, which this process answers).
+int32_t callLane(int32_t function, bool dictionary, const std::vector<StringValue> &a,
+                 std::string &error) {
+  if (dictionary)
     return callDictionary(function, a, error);
   osl::StringResult result = osl::evalStringFunction(function, a, error);
   return osl::kStringFunctions[function].result == 's' ? intern(result.text) : result.bits;
@@ -341,14 +343,16 @@ extern "C" void osl_rt_string_call(const char *where, int32_t function, const ch
     resultRow += osl::stringOperandRows(kinds[k]);
   int32_t *result = rows + size_t(resultRow) * size_t(width);
   LaneOperands &operands = threadLaneOperands();
+  // Once per call, not per lane: it compares the function's name.
+  bool dictionary = osl::isDictionaryFunction(osl::kStringFunctions[function].name);
   for (int32_t lane = 0; lane < width; ++lane) {
     result[lane] = 0;
     if (!(laneMask >> lane & 1))
       continue;
     readLane(kinds, nkinds, rows, width, lane, operands);
     std::string error;
-    int32_t value = callLane(function, operands.values, error);
-    if (!error.empty() && osl::isDictionaryFunction(osl::kStringFunctions[function].name)) {
+    int32_t value = callLane(function, dictionary, operands.values, error);
+    if (!error.empty() && dictionary) {
       // A dictionary that cannot be read: reported in the shader's output
       // as OSL's renderer reports it (dict_find answers -1), and it counts
       // for the exit status.
