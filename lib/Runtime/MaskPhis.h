@@ -18,9 +18,11 @@ class Function;
 
 namespace osl {
 
-/// Rewrites every phi of <N x i1> (N >= 4) in `f` as a phi of <N x i32>
-/// sign-extended from its incoming masks and truncated back where the phi
-/// stood. Returns whether anything changed.
+/// When `f` has a phi of <N x i1> (N >= 4): rewrites those phis and the
+/// and/or/xor of such masks as <N x i32> lanes of 0 / -1 (other masks
+/// sign-extended where they are made), and gives their other users a sign
+/// test of the wide value where each original stood. Returns whether
+/// anything changed.
 bool widenMaskPhis(llvm::Function &f);
 
 } // namespace osl

@@ -87,7 +87,7 @@ inline int imageHeight(const GridOptions &g) {
 /// The shader testshade -expr makes of `expression`: parameters s and t
 /// (u and v), outputs result (a color) and alpha, and the statement.
 std::string exprShaderText(const std::string &expression);
-/// The layer name testshade gives that shader.
+/// The name testshade gives that shader (its layer is expr_0_0).
 constexpr const char *kExprShaderName = "expr_0";
 
 /// Renders options.scenePath (RenderScene.cpp); the process exit status.
