@@ -686,7 +686,7 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
       return std::nullopt;
     }
     if ((*args)[0].isRuntimeString()) {
-      g.error(call.args[0]->begin, "'raytype' needs the ray type known when the shader is "
+      g.valueError(call.args[0]->begin, "'raytype' needs the ray type known when the shader is "
                                    "compiled; this string is computed at run time");
       return std::nullopt;
     }
@@ -780,7 +780,7 @@ bool stringArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
     return g.error(e.loc, "'" + fn + "' expects " + what + " (a string) here, got '" +
                               v.type.str() + "'");
   if (v.isStringChoice())
-    return g.error(e.loc, "'" + fn + "' needs " + what +
+    return g.valueError(e.loc, "'" + fn + "' needs " + what +
                               " known when the shader is compiled; this string is chosen "
                               "per point");
   if (!g.compileTimeStrings(v, e.loc, llvm::Twine(what) + " of '" + fn + "'"))

@@ -97,7 +97,7 @@ std::optional<RValue> emitTypeConstructor(IRGen &g, OslType t,
                                   g.workingColorSpace(), value));
       }
       if (space.empty()) {
-        g.error(call.args[0]->loc, "empty space name");
+        g.valueError(call.args[0]->loc, "empty space name");
         return std::nullopt;
       }
       if (space == "common" || !knownSpaces(g, {space}, call.loc))

@@ -417,7 +417,7 @@ Value IRGen::stringHandle(const RValue &s, SrcLoc l) {
 std::optional<std::vector<std::string>>
 IRGen::compileTimeStrings(const RValue &s, SrcLoc l, const llvm::Twine &what) {
   if (s.isRuntimeString()) {
-    error(l, what + " must be known when the shader is compiled; this string is computed "
+    valueError(l, what + " must be known when the shader is compiled; this string is computed "
                     "at run time");
     return std::nullopt;
   }
@@ -555,7 +555,7 @@ OwningOpRef<ModuleOp> IRGen::emitProgram(const Program &program) {
   func->setAttr("osl.shader_type", b.getStringAttr(shader.shaderType));
   entryBlock = func.addEntryBlock();
   b.setInsertionPointToStart(entryBlock);
-  if (!emitShader(shader, func))
+  if (!emitShader(shader, func) || !checkUncalledFunctions(program, *module))
     return nullptr;
   return module;
 }

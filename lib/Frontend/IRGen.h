@@ -194,6 +194,15 @@ public:
     diags.error(l, msg);
     return false;
   }
+  /// An error that depends on a value (a name that must be known when the
+  /// shader is compiled, a valid noise or space name...): not reported
+  /// while checkUncalledFunctions emits a function on made-up arguments,
+  /// where it abandons that function's check instead.
+  bool valueError(SrcLoc l, const llvm::Twine &msg) {
+    if (checkingUncalled)
+      return false;
+    return error(l, msg);
+  }
 
   mlir::Value constInt(int32_t v, SrcLoc l);
   mlir::Value constFloat(float v, SrcLoc l);
@@ -545,6 +554,14 @@ private:
   Var *shaderReturned = nullptr; // `return` in the shader body
   Var *exitFlag = nullptr;
   std::vector<InlineFrame> inlineStack;
+  /// The user functions some call inlined (the others are checked alone,
+  /// see checkUncalledFunctions).
+  llvm::DenseSet<const FunctionDecl *> inlinedFunctions;
+  bool checkingUncalled = false;
+  /// oslc checks every function, called or not: emits each top-level
+  /// function no call reached once, with zero arguments, into a scratch
+  /// function that is then erased. False after an error.
+  bool checkUncalledFunctions(const Program &program, mlir::ModuleOp module);
   /// What each user function's body assigns (see scanAssigned).
   std::map<const FunctionDecl *, llvm::StringSet<>> functionAssignedCache;
 

@@ -277,7 +277,8 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
     OslType t = p.type;
     if (t.arrayLen == 0)
       t.arrayLen = args[k].type.arrayLen;
-    auto v = coerce(args[k], t, call.args[k]->begin,
+    SrcLoc argLoc = k < call.args.size() ? call.args[k]->begin : p.loc;
+    auto v = coerce(args[k], t, argLoc,
                     "in argument " + llvm::Twine(k + 1) + " of '" + fn.name + "'");
     if (!v)
       return std::nullopt;
@@ -290,6 +291,7 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
       pv->param = parameterOf(*call.args[k]);
     params.push_back(pv);
   }
+  inlinedFunctions.insert(&fn);
   InlineFrame frame;
   frame.fn = &fn;
   frame.returned = declareFlag(fs, kReturnedFlag, fn.loc);
@@ -331,6 +333,8 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
       }
       continue;
     }
+    if (!lvalues[k])
+      continue; // checkUncalledFunctions: no caller to write back to
     const LValue &lv = *lvalues[k];
     if (!checkWritable(lv, call.args[k]->begin,
                        ", as passed to function " + fn.name + "() as arg " +

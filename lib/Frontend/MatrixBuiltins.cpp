@@ -27,7 +27,7 @@ bool spaceNames(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn) {
     return false;
   for (const std::string &name : *names)
     if (name.empty())
-      return g.error(e.loc, "empty space name");
+      return g.valueError(e.loc, "empty space name");
   return true;
 }
 

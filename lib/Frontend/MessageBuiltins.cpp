@@ -81,7 +81,7 @@ std::optional<RValue> messageName(IRGen &g, const Expr &arg, llvm::StringRef fun
   if (!name)
     return std::nullopt;
   if (!name->type.isString()) {
-    g.error(arg.loc, "'" + function + "' needs a string message name, got '" +
+    g.valueError(arg.loc, "'" + function + "' needs a string message name, got '" +
                          name->type.str() + "'");
     return std::nullopt;
   }
@@ -129,7 +129,7 @@ std::optional<RValue> emitGetMessage(IRGen &g, const Expr &call) {
     if (!s)
       return std::nullopt;
     if (!s->isKnownString()) {
-      g.error(call.args[0]->loc, "'getmessage' needs its message source known when the "
+      g.valueError(call.args[0]->loc, "'getmessage' needs its message source known when the "
                                  "shader is compiled");
       return std::nullopt;
     }
@@ -162,7 +162,7 @@ std::optional<RValue> emitGetMessage(IRGen &g, const Expr &call) {
   if (!found)
     return std::nullopt;
   if (results.size() != 1) {
-    g.error(call.args[n - 2]->loc, "'getmessage' needs one message name for every point");
+    g.valueError(call.args[n - 2]->loc, "'getmessage' needs one message name for every point");
     return std::nullopt;
   }
   g.storeLValue(*dest, results[0], call.loc);

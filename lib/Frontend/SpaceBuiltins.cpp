@@ -116,7 +116,7 @@ std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
   // Names may be chosen per point: each pair of names runs on its lanes.
   auto between = [&](const std::string &from, const std::string &to) -> std::optional<RValue> {
     if (from.empty() || to.empty()) {
-      g.error(call.loc, "transform() needs non-empty space names");
+      g.valueError(call.loc, "transform() needs non-empty space names");
       return std::nullopt;
     }
     if (from == to)

@@ -36,7 +36,7 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
   std::vector<std::string> bases = *knownBases;
   for (const std::string &basis : bases) {
     if (!splineBasisFromName(basis)) {
-      g.error(call.args[0]->loc, "unknown spline basis '" + basis +
+      g.valueError(call.args[0]->loc, "unknown spline basis '" + basis +
                                      "' (expected catmull-rom, bezier, bspline, hermite, "
                                      "linear or constant)");
       return std::nullopt;

@@ -146,11 +146,11 @@ bool TextureCall::stringChoice(size_t k, ChoiceOption which) {
 bool TextureCall::option(size_t nameArg) {
   const Expr &nameExpr = *call.args[nameArg];
   if (nameExpr.kind != ExprKind::StringLit)
-    return g.error(nameExpr.loc, "'" + call.name +
+    return g.valueError(nameExpr.loc, "'" + call.name +
                                      "' expects an option name (a string literal) here");
   std::string name = nameExpr.name;
   if (nameArg + 1 >= call.args.size())
-    return g.error(nameExpr.loc, "texture option '" + name + "' needs a value");
+    return g.valueError(nameExpr.loc, "texture option '" + name + "' needs a value");
   size_t k = nameArg + 1;
   auto setFloats = [&](std::initializer_list<FloatOption> which) {
     auto v = floatArg(k, name.c_str());
@@ -178,7 +178,7 @@ bool TextureCall::option(size_t nameArg) {
       return g.error(argLoc(k), "texture option '" + name + "' needs an int, got '" +
                                     v->type.str() + "'");
     if (!perPoint && isVarying(v->value.getType()))
-      return g.error(argLoc(k), "texture option '" + name +
+      return g.valueError(argLoc(k), "texture option '" + name +
                                     "' must be the same for every point (OpenImageIO takes "
                                     "it once per lookup)");
     out = v->value;
@@ -267,7 +267,7 @@ bool TextureCall::option(size_t nameArg) {
                                     errorOut->type.str() + "'");
     return true;
   }
-  return g.error(nameExpr.loc, "unknown texture option '" + name + "'");
+  return g.valueError(nameExpr.loc, "unknown texture option '" + name + "'");
 }
 
 std::optional<RValue> TextureCall::emit(const OslType *expected) {
@@ -481,7 +481,7 @@ std::optional<RValue> emitGetTextureInfo(IRGen &g, const Expr &call) {
       continue;
     }
     if (v->isRuntimeString()) {
-      g.error(arg.loc, "'gettextureinfo' needs the name of what it asks known when "
+      g.valueError(arg.loc, "'gettextureinfo' needs the name of what it asks known when "
                                  "the shader is compiled (or chosen per point among such "
                                  "strings); this one is computed at run time");
       return std::nullopt;
