@@ -271,9 +271,11 @@ int IRGen::conversionCost(OslType from, OslType to) {
     return from.isBool() ? 0 : -1;
   if (to.isFloat())
     return from.isInt() || from.isBool() ? 1 : -1;
-  // to is a triple
+  // to is a triple. oslc prefers keeping a point, vector or normal
+  // spatial (f(1, 1, point) takes f(float, int, vector) over
+  // f(int, float, color)): crossing to or from color costs more.
   if (from.isTriple())
-    return 1;
+    return (from.base == BaseType::Color) == (to.base == BaseType::Color) ? 1 : 2;
   if (from.isFloat())
     return 2;
   return 3;

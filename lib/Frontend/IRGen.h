@@ -465,6 +465,10 @@ private:
   /// `S(a, b, ...)`: a struct from one value per field.
   std::optional<RValue> emitStructConstructor(const StructDecl &s, const Expr &e);
   /// The best-ranked candidate for these arguments, or null. An argument
+  /// Candidates the arguments rank equally are told apart by their return
+  /// types (float, int, color, vector, point, normal, matrix, string,
+  /// closure, struct, void, in that order), with oslc's "Ambiguous call"
+  /// warning at `call`. An argument
   /// with `initListSizes[k] >= 0` is an initializer list of that many
   /// values, not evaluated yet: it fits a struct with as many fields, an
   /// array of that length (or unsized) or a triple of three.
@@ -472,7 +476,12 @@ private:
                                      const std::vector<RValue> &args,
                                      const std::vector<std::optional<LValue>> &lvalues,
                                      const OslType *expected,
-                                     const std::vector<int> *initListSizes = nullptr);
+                                     const std::vector<int> *initListSizes = nullptr,
+                                     const Expr *call = nullptr);
+  /// oslc's "Ambiguous call" warning: the call, then the candidates best
+  /// first, each as file:line<TAB>declaration.
+  std::string ambiguityMessage(const Expr &call, const std::vector<RValue> &args,
+                               const std::vector<const FunctionRef *> &ranked);
   /// An operator with a struct operand calls the user's `__operator__X__`
   /// overload when one takes the operands; returns false if none does.
   bool tryOverloadedOperator(llvm::StringRef op, const Expr &site,

@@ -165,7 +165,7 @@ std::optional<RValue> IRGen::emitUserCall(const Expr &e,
     }
   }
   const FunctionRef *best =
-      resolveOverload(cands, args, lvalues, expected, deferred ? &initListSizes : nullptr);
+      resolveOverload(cands, args, lvalues, expected, deferred ? &initListSizes : nullptr, &e);
   if (best && deferred) {
     for (size_t k = 0; k < n; ++k) {
       if (initListSizes[k] < 0)
@@ -207,13 +207,70 @@ std::optional<RValue> IRGen::emitUserCall(const Expr &e,
   return inlineCall(*best, e, args, lvalues);
 }
 
+/// Same return and parameter types (and outputs).
+static bool sameSignature(const FunctionDecl &a, const FunctionDecl &b) {
+  if (a.returnType != b.returnType || a.params.size() != b.params.size())
+    return false;
+  for (size_t k = 0; k < a.params.size(); ++k)
+    if (a.params[k].type != b.params[k].type || a.params[k].isOutput != b.params[k].isOutput)
+      return false;
+  return true;
+}
+
+/// oslc's preference among overloads only their return types tell apart
+/// (seen in its function-overloads test): lower is preferred.
+static int returnTypeRank(const OslType &t) {
+  if (t.isStructLike())
+    return 9;
+  switch (t.base) {
+  case BaseType::Float: return 0;
+  case BaseType::Int:
+  case BaseType::Bool: return 1;
+  case BaseType::Color: return 2;
+  case BaseType::Vector: return 3;
+  case BaseType::Point: return 4;
+  case BaseType::Normal: return 5;
+  case BaseType::Matrix: return 6;
+  case BaseType::String: return 7;
+  case BaseType::Closure: return 8;
+  case BaseType::Void: return 10;
+  default: return 9;
+  }
+}
+
+/// A type as oslc writes it in declarations: "struct A", "closure color".
+static std::string declTypeText(const OslType &t) {
+  return (t.isStructLike() ? "struct " : "") + t.str();
+}
+
+std::string IRGen::ambiguityMessage(const Expr &call, const std::vector<RValue> &args,
+                                    const std::vector<const FunctionRef *> &ranked) {
+  std::string argText;
+  for (size_t k = 0; k < args.size(); ++k)
+    argText += (k ? ", " : "") + declTypeText(args[k].type);
+  auto declText = [&](const FunctionDecl &fn) {
+    std::string s = fileLine(fn.loc) + "\t" + declTypeText(fn.returnType) + " " + fn.name + " (";
+    for (size_t k = 0; k < fn.params.size(); ++k)
+      s += (k ? ", " : "") + std::string(fn.params[k].isOutput ? "output " : "") +
+           declTypeText(fn.params[k].type);
+    return s + ")";
+  };
+  std::string text = "Ambiguous call to '" + call.name + " (" + argText + ")'\n" +
+                     "  Chosen function is:\n    " + declText(*ranked.front()->decl) +
+                     "\n  Other candidates are:";
+  for (size_t k = 1; k < ranked.size(); ++k)
+    text += "\n    " + declText(*ranked[k]->decl);
+  return text;
+}
+
 const FunctionRef *
 IRGen::resolveOverload(const std::vector<FunctionRef> &cands, const std::vector<RValue> &args,
                        const std::vector<std::optional<LValue>> &lvalues,
-                       const OslType *expected, const std::vector<int> *initListSizes) {
+                       const OslType *expected, const std::vector<int> *initListSizes,
+                       const Expr *call) {
   // Rank the candidates: total conversion cost, then the return type.
   size_t n = args.size();
-  const FunctionRef *best = nullptr;
+  std::vector<const FunctionRef *> best; // the lowest cost's candidates
   int bestCost = 0;
   for (const FunctionRef &f : cands) {
     const FunctionDecl &fn = *f.decl;
@@ -246,16 +303,35 @@ IRGen::resolveOverload(const std::vector<FunctionRef> &cands, const std::vector<
     }
     if (!ok)
       continue;
+    // The arguments rank first; among equal ones, the overload returning
+    // what the context wants (oslc: float f = g(int) takes int g(int) over
+    // float g(float)).
+    cost *= 2;
     if (expected && !fn.returnType.isVoid() &&
         conversionCost(fn.returnType, *expected) != 0)
-      cost += 1; // prefer the overload returning what the context wants
-    if (!best || cost < bestCost) {
-      best = &f;
+      cost += 1;
+    if (best.empty() || cost < bestCost) {
+      best.clear();
       bestCost = cost;
     }
+    // A second declaration of the same signature (a prototype, a
+    // redefinition) is not a rival: the first found stands.
+    if (cost == bestCost && llvm::none_of(best, [&](const FunctionRef *g) {
+          return sameSignature(*g->decl, fn);
+        }))
+      best.push_back(&f);
   }
-  return best;
+  if (best.size() <= 1)
+    return best.empty() ? nullptr : best.front();
+  std::stable_sort(best.begin(), best.end(), [](const FunctionRef *a, const FunctionRef *b) {
+    return returnTypeRank(a->decl->returnType) < returnTypeRank(b->decl->returnType);
+  });
+  if (call)
+    diags.warning(call->loc, ambiguityMessage(*call, args, best));
+  return best.front();
 }
+
+
 
 std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
                                         std::vector<RValue> &args,
