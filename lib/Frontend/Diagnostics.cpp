@@ -12,6 +12,8 @@ void Diagnostics::error(SrcLoc loc, const llvm::Twine &message) {
 }
 
 bool Diagnostics::warning(SrcLoc loc, const std::string &message) {
+  if (nowarn.count({loc.file, loc.line}))
+    return true;
   if (warningMode == WarningMode::AsErrors) {
     error(loc, message);
     return false;

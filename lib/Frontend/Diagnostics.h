@@ -42,6 +42,8 @@ public:
   /// returns false then.
   bool warning(SrcLoc loc, const std::string &message);
   void setWarningMode(WarningMode mode) { warningMode = mode; }
+  /// oslc's `#pragma osl nowarn`: no warnings at `line` of `file`.
+  void noWarningsOnLine(unsigned file, unsigned line) { nowarn.insert({file, line}); }
   bool hadError() const { return errors > 0; }
   llvm::StringRef getFilename() const { return files[0]; }
   /// The name of source file `file` of a SrcLoc.
@@ -58,6 +60,7 @@ private:
   unsigned errors = 0;
   WarningMode warningMode = WarningMode::Show;
   std::set<std::tuple<unsigned, unsigned, std::string>> warned;
+  std::set<std::pair<unsigned, unsigned>> nowarn;
 };
 
 } // namespace osl::frontend

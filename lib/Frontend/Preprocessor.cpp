@@ -241,8 +241,14 @@ private:
   }
 
   /// oslc's `#pragma error "msg"` and `#pragma warning "msg"` report msg at
-  /// their line; other pragmas (osl nowarn, once...) change nothing here.
+  /// their line; `#pragma osl nowarn` silences the warnings of the next
+  /// line; other pragmas (once...) change nothing here.
   bool pragma(const std::vector<Token> &line) {
+    if (line.size() >= 3 && line[1].is(TokKind::Ident) && line[1].text == "osl" &&
+        line[2].is(TokKind::Ident) && line[2].text == "nowarn") {
+      diags.noWarningsOnLine(line[1].loc.file, line[1].loc.line + 1);
+      return true;
+    }
     if (line.size() < 3 || !line[1].is(TokKind::Ident) || !line[2].is(TokKind::String))
       return true;
     if (line[1].text == "error") {
