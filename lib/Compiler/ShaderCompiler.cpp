@@ -100,8 +100,13 @@ ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
   }
   llvm::SmallVector<llvm::StringRef> lines;
   llvm::StringRef(text).split(lines, '\n', -1, /*KeepEmpty=*/false);
+  // An indented line continues the diagnostic above it (the candidates
+  // listed under an "Ambiguous call" warning): it is hidden, cached and
+  // replayed with it.
+  bool isWarning = false;
   for (llvm::StringRef line : lines) {
-    bool isWarning = line.contains(": warning: ");
+    if (!line.starts_with(" "))
+      isWarning = line.contains(": warning: ");
     if (isWarning)
       warnings += (line + "\n").str();
     if (!isWarning || options.showWarnings)

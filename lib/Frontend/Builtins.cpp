@@ -687,7 +687,7 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
     }
     if ((*args)[0].isRuntimeString()) {
       g.valueError(call.args[0]->begin, "'raytype' needs the ray type known when the shader is "
-                                   "compiled; this string is computed at run time");
+                                        "compiled; this string is computed at run time");
       return std::nullopt;
     }
     // A name chosen per point answers for each choice. Without a ray type
@@ -781,8 +781,8 @@ bool stringArg(IRGen &g, const RValue &v, const Expr &e, llvm::StringRef fn,
                               v.type.str() + "'");
   if (v.isStringChoice())
     return g.valueError(e.loc, "'" + fn + "' needs " + what +
-                              " known when the shader is compiled; this string is chosen "
-                              "per point");
+                                   " known when the shader is compiled; this string is chosen "
+                                   "per point");
   if (!g.compileTimeStrings(v, e.loc, llvm::Twine(what) + " of '" + fn + "'"))
     return false;
   out = v.str;

@@ -100,7 +100,7 @@ std::optional<RValue> emitClosureBuiltin(IRGen &g, const Expr &call, bool &known
     const RValue &key = rest[k];
     SrcLoc keyLoc = argExprs[firstKeyword + k]->loc;
     if (!key.isKnownString()) {
-      g.valueError(keyLoc, "a keyword argument of '" + call.name +
+      g.error(keyLoc, "a keyword argument of '" + call.name +
                           "' must be named by a string literal");
       return std::nullopt;
     }
@@ -109,7 +109,8 @@ std::optional<RValue> emitClosureBuiltin(IRGen &g, const Expr &call, bool &known
       accepted |= name == key.str;
     });
     if (!accepted) {
-      g.valueError(keyLoc, "closure '" + call.name + "' has no keyword parameter '" + key.str + "'");
+      g.valueError(keyLoc,
+                   "closure '" + call.name + "' has no keyword parameter '" + key.str + "'");
       return std::nullopt;
     }
     keywords[key.str] = rest[k + 1];

@@ -420,7 +420,7 @@ std::optional<std::vector<std::string>>
 IRGen::compileTimeStrings(const RValue &s, SrcLoc l, const llvm::Twine &what) {
   if (s.isRuntimeString()) {
     valueError(l, what + " must be known when the shader is compiled; this string is computed "
-                    "at run time");
+                         "at run time");
     return std::nullopt;
   }
   if (s.isStringChoice())

@@ -464,12 +464,11 @@ private:
   const StructDecl *lookupStruct(llvm::StringRef name) const;
   /// `S(a, b, ...)`: a struct from one value per field.
   std::optional<RValue> emitStructConstructor(const StructDecl &s, const Expr &e);
-  /// The best-ranked candidate for these arguments, or null. An argument
-  /// Candidates the arguments rank equally are told apart by their return
-  /// types (float, int, color, vector, point, normal, matrix, string,
-  /// closure, struct, void, in that order), with oslc's "Ambiguous call"
-  /// warning at `call`. An argument
-  /// with `initListSizes[k] >= 0` is an initializer list of that many
+  /// The best-ranked candidate for these arguments, or null. Candidates
+  /// the arguments rank equally are told apart by their return types
+  /// (float, int, color, vector, point, normal, matrix, string, closure,
+  /// struct, void, in that order), with oslc's "Ambiguous call" warning at
+  /// `call`. An argument with `initListSizes[k] >= 0` is an initializer list of that many
   /// values, not evaluated yet: it fits a struct with as many fields, an
   /// array of that length (or unsized) or a triple of three.
   const FunctionRef *resolveOverload(const std::vector<FunctionRef> &cands,

@@ -331,8 +331,6 @@ IRGen::resolveOverload(const std::vector<FunctionRef> &cands, const std::vector<
   return best.front();
 }
 
-
-
 std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
                                         std::vector<RValue> &args,
                                         std::vector<std::optional<LValue>> &lvalues) {

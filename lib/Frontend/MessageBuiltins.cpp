@@ -81,7 +81,7 @@ std::optional<RValue> messageName(IRGen &g, const Expr &arg, llvm::StringRef fun
   if (!name)
     return std::nullopt;
   if (!name->type.isString()) {
-    g.valueError(arg.loc, "'" + function + "' needs a string message name, got '" +
+    g.error(arg.loc, "'" + function + "' needs a string message name, got '" +
                          name->type.str() + "'");
     return std::nullopt;
   }
@@ -130,7 +130,7 @@ std::optional<RValue> emitGetMessage(IRGen &g, const Expr &call) {
       return std::nullopt;
     if (!s->isKnownString()) {
       g.valueError(call.args[0]->loc, "'getmessage' needs its message source known when the "
-                                 "shader is compiled");
+                                      "shader is compiled");
       return std::nullopt;
     }
     source = s->str;

@@ -32,18 +32,18 @@ std::optional<NoiseOptionValues> parseNoiseOptions(IRGen &g, const Expr &call,
     const RValue &name = args[k];
     SrcLoc nameLoc = call.args[k]->loc;
     if (!name.type.isString() || name.isStringChoice()) {
-      g.valueError(nameLoc, "expected a constant noise option name here (anisotropic, direction, "
+      g.error(nameLoc, "expected a constant noise option name here (anisotropic, direction, "
                        "bandwidth, impulses, do_filter)");
       return std::nullopt;
     }
     if (k + 1 >= args.size()) {
-      g.valueError(nameLoc, "noise option '" + name.str + "' has no value");
+      g.error(nameLoc, "noise option '" + name.str + "' has no value");
       return std::nullopt;
     }
     const RValue &v = args[k + 1];
     SrcLoc valueLoc = call.args[k + 1]->loc;
     auto bad = [&](const char *what) -> std::optional<NoiseOptionValues> {
-      g.valueError(valueLoc, "noise option '" + name.str + "' takes " + what);
+      g.error(valueLoc, "noise option '" + name.str + "' takes " + what);
       return std::nullopt;
     };
     if (name.str == "anisotropic" || name.str == "do_filter") {
@@ -61,7 +61,8 @@ std::optional<NoiseOptionValues> parseNoiseOptions(IRGen &g, const Expr &call,
           g.convert(v.value, g.builder().getF32Type(), valueLoc);
     } else {
       g.valueError(nameLoc, "unknown noise option '" + name.str +
-                           "' (known: anisotropic, direction, bandwidth, impulses, do_filter)");
+                                "' (known: anisotropic, direction, bandwidth, impulses, "
+                                "do_filter)");
       return std::nullopt;
     }
   }
@@ -104,7 +105,7 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
   if (!args->empty() && (*args)[0].type.isString()) {
     if (name != "noise" && name != "pnoise") {
       g.valueError(call.args[0]->loc, "'" + name + "' takes no noise type name; use noise(\"" +
-                                     (*args)[0].str + "\", ...)");
+                                          (*args)[0].str + "\", ...)");
       return std::nullopt;
     }
     kindName = (*args)[0];

@@ -37,8 +37,8 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
   for (const std::string &basis : bases) {
     if (!splineBasisFromName(basis)) {
       g.valueError(call.args[0]->loc, "unknown spline basis '" + basis +
-                                     "' (expected catmull-rom, bezier, bspline, hermite, "
-                                     "linear or constant)");
+                                          "' (expected catmull-rom, bezier, bspline, hermite, "
+                                          "linear or constant)");
       return std::nullopt;
     }
   }

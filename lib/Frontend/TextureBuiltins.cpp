@@ -147,7 +147,7 @@ bool TextureCall::option(size_t nameArg) {
   const Expr &nameExpr = *call.args[nameArg];
   if (nameExpr.kind != ExprKind::StringLit)
     return g.valueError(nameExpr.loc, "'" + call.name +
-                                     "' expects an option name (a string literal) here");
+                                          "' expects an option name (a string literal) here");
   std::string name = nameExpr.name;
   if (nameArg + 1 >= call.args.size())
     return g.valueError(nameExpr.loc, "texture option '" + name + "' needs a value");
@@ -179,8 +179,8 @@ bool TextureCall::option(size_t nameArg) {
                                     v->type.str() + "'");
     if (!perPoint && isVarying(v->value.getType()))
       return g.valueError(argLoc(k), "texture option '" + name +
-                                    "' must be the same for every point (OpenImageIO takes "
-                                    "it once per lookup)");
+                                         "' must be the same for every point (OpenImageIO takes "
+                                         "it once per lookup)");
     out = v->value;
     return true;
   };
@@ -482,8 +482,8 @@ std::optional<RValue> emitGetTextureInfo(IRGen &g, const Expr &call) {
     }
     if (v->isRuntimeString()) {
       g.valueError(arg.loc, "'gettextureinfo' needs the name of what it asks known when "
-                                 "the shader is compiled (or chosen per point among such "
-                                 "strings); this one is computed at run time");
+                                      "the shader is compiled (or chosen per point among such "
+                                      "strings); this one is computed at run time");
       return std::nullopt;
     }
     if (v->isStringChoice()) {
