@@ -177,10 +177,10 @@ public:
   std::string cacheKey(llvm::StringRef source, llvm::StringRef filename) const;
   CacheUse cacheUse() const { return cacheUsed; }
 
-  /// For --emit=llvm/asm: translate() leaves the library functions in the
-  /// module, optimized with the kernel, instead of compiling them apart.
+  /// For --emit: lower() and translate() leave the library functions in
+  /// the module, optimized with the kernel, instead of compiling them apart.
   void keepLibraryInModule() { splitLibrary = false; }
-  /// Where the last translate() found the library functions' objects.
+  /// Where the last compile found the library functions' objects.
   const LibraryUse &libraryUse() const { return library; }
 
   mlir::ModuleOp module() { return mlirModule.get(); }
@@ -210,6 +210,7 @@ private:
                                                 const LayerConnections &connections = {});
   std::unique_ptr<CompiledShader> loadObject(const CachedKernel &entry);
   bool defineRuntimeSymbols(Jit &target);
+  LibraryKeyOptions libraryKeyOptions() const;
 
   CompileOptions options;
   CacheUse cacheUsed = CacheUse::Off;

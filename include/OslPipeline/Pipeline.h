@@ -45,6 +45,14 @@ void buildOslToLLVMPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &o
 void buildOslLevelPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &options);
 void buildLoweringPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &options);
 
+/// The lowering's two steps: to the vector dialect with each library
+/// routine a function (osl-outline-library), then on to the LLVM dialect.
+/// Between them a JIT turns the library functions whose objects it already
+/// has into declarations (OslCompiler/LibraryObjects.h), so the second step
+/// never lowers their bodies.
+void buildLibraryOutliningPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &options);
+void buildLLVMDialectPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &options);
+
 
 /// Registers every pass (transforms and conversions) and the `osl-to-llvm`
 /// pipeline with mlir-opt style tools.

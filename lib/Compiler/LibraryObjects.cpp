@@ -1,12 +1,16 @@
 //===- LibraryObjects.cpp - Library functions compiled once ---------------===//
 #include "OslCompiler/LibraryObjects.h"
+#include "IRFingerprint.h"
 #include "OslAbi/Library.h"
 #include "OslCompiler/KernelCache.h"
 #include "OslRuntime/Stats.h"
 
+#include "mlir/Dialect/Func/IR/FuncOps.h"
+#include "mlir/IR/BuiltinOps.h"
+#include "mlir/IR/SymbolTable.h"
 #include "llvm/ADT/SmallPtrSet.h"
 #include "llvm/ADT/SmallString.h"
-#include "llvm/ADT/StringMap.h"
+#include "llvm/ADT/StringSet.h"
 #include "llvm/Config/llvm-config.h"
 #include "llvm/IR/Constants.h"
 #include "llvm/IR/InstIterator.h"
@@ -30,6 +34,58 @@ struct ProcessObjects {
 ProcessObjects &processObjects() {
   static ProcessObjects objects;
   return objects;
+}
+
+std::string libraryDirectory(const LibraryKeyOptions &options) {
+  if (options.cacheDir.empty())
+    return "";
+  llvm::SmallString<256> path(options.cacheDir);
+  llvm::sys::path::append(path, "library");
+  return path.str().str();
+}
+
+/// The object under `key`: this process's copy, else the cache's (kept in
+/// the process from then on); null when neither has it.
+std::shared_ptr<const std::string> lookupObject(const std::string &key,
+                                                const std::string &directory, LibraryUse &use) {
+  ProcessObjects &memory = processObjects();
+  {
+    std::lock_guard<std::mutex> lock(memory.mutex);
+    if (auto it = memory.byKey.find(key); it != memory.byKey.end()) {
+      ++use.fromMemory;
+      return it->second;
+    }
+  }
+  CachedKernel entry;
+  if (directory.empty() || KernelCache(directory).lookup(key, entry) != CacheLookup::Hit)
+    return nullptr;
+  auto object = std::make_shared<const std::string>(std::move(entry.object));
+  ++use.fromDisk;
+  std::lock_guard<std::mutex> lock(memory.mutex);
+  return memory.byKey.try_emplace(key, object).first->second;
+}
+
+/// Everything that decides `func`'s object: the options, the compiler and
+/// the IR of the function and of every symbol it references (runtime
+/// entry points, constant strings).
+std::string objectKey(mlir::func::FuncOp func, mlir::SymbolTable &symbols,
+                      IRFingerprint &fingerprint, const LibraryKeyOptions &options) {
+  std::string key;
+  llvm::raw_string_ostream os(key);
+  os << "osl-mlir library 2\ncompiler " << KernelCache::compilerIdentity()
+     << "\nllvm " LLVM_VERSION_STRING "\nhost " << Jit::hostDescription() << "\npipeline "
+     << int(options.pipeline) << "\nmath " << options.math << "\nfunction "
+     << func.getSymName() << " " << fingerprint.of(func) << "\n";
+  llvm::StringSet<> referenced;
+  if (auto uses = mlir::SymbolTable::getSymbolUses(&func.getBody()))
+    for (const mlir::SymbolTable::SymbolUse &use : *uses) {
+      llvm::StringRef name = use.getSymbolRef().getRootReference().getValue();
+      if (!referenced.insert(name).second)
+        continue;
+      mlir::Operation *symbol = symbols.lookup(name);
+      os << "uses " << name << " " << (symbol ? fingerprint.of(symbol) : "?") << "\n";
+    }
+  return key;
 }
 
 /// The global variables `f` reads, directly or through constant
@@ -59,22 +115,10 @@ std::vector<llvm::GlobalVariable *> globalsRead(llvm::Function &f) {
   return found;
 }
 
-std::string objectKey(llvm::Function &f, const std::vector<llvm::GlobalVariable *> &globals,
-                      LlvmPipeline pipeline) {
-  std::string key;
-  llvm::raw_string_ostream os(key);
-  os << "osl-mlir library 1\nllvm " LLVM_VERSION_STRING "\nhost " << Jit::hostDescription()
-     << "\npipeline " << int(pipeline) << "\n";
-  for (llvm::GlobalVariable *g : globals)
-    os << *g << "\n";
-  os << f;
-  return key;
-}
-
 /// `f` (and the globals it reads) alone in a module, compiled.
 llvm::Expected<std::string> compileAlone(llvm::Module &kernel, llvm::Function &f,
-                                         const std::vector<llvm::GlobalVariable *> &globals,
                                          LlvmPipeline pipeline) {
+  std::vector<llvm::GlobalVariable *> globals = globalsRead(f);
   llvm::SmallPtrSet<const llvm::GlobalValue *, 8> keep(globals.begin(), globals.end());
   keep.insert(&f);
   llvm::ValueToValueMapTy map;
@@ -88,62 +132,67 @@ llvm::Expected<std::string> compileAlone(llvm::Module &kernel, llvm::Function &f
 
 } // namespace
 
-llvm::Expected<LibraryUse> osl::splitLibraryFunctions(llvm::Module &kernel,
-                                                      LlvmPipeline pipeline,
-                                                      const std::string &cacheDir,
-                                                      Stats *stats) {
+LibraryUse osl::findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &options,
+                                   Stats *stats) {
   ScopedTimer timer(stats, "library");
   LibraryUse use;
-  std::vector<llvm::Function *> library;
-  for (llvm::Function &f : kernel)
-    if (!f.isDeclaration() && f.getName().starts_with(abi::kLibrarySymbolPrefix))
-      library.push_back(&f);
-  if (library.empty())
-    return use;
-  std::string directory;
-  if (!cacheDir.empty()) {
-    llvm::SmallString<256> path(cacheDir);
-    llvm::sys::path::append(path, "library");
-    directory = path.str().str();
-  }
-  KernelCache disk(directory);
-  ProcessObjects &memory = processObjects();
-  for (llvm::Function *f : library) {
-    std::vector<llvm::GlobalVariable *> globals = globalsRead(*f);
-    std::string key = objectKey(*f, globals, pipeline);
-    std::shared_ptr<const std::string> object;
-    {
-      std::lock_guard<std::mutex> lock(memory.mutex);
-      if (auto it = memory.byKey.find(key); it != memory.byKey.end())
-        object = it->second;
-    }
-    if (object) {
-      ++use.fromMemory;
+  mlir::SymbolTable symbols(module);
+  std::string directory = libraryDirectory(options);
+  IRFingerprint fingerprint;
+  for (auto func : llvm::make_early_inc_range(module.getOps<mlir::func::FuncOp>())) {
+    if (func.isDeclaration() || !func.getSymName().starts_with(abi::kLibrarySymbolPrefix))
+      continue;
+    std::string key = objectKey(func, symbols, fingerprint, options);
+    if (auto object = lookupObject(key, directory, use)) {
+      use.objects.push_back(std::move(object));
+      // Its callers need only its signature.
+      func.eraseBody();
     } else {
-      CachedKernel entry;
-      if (!directory.empty() && disk.lookup(key, entry) == CacheLookup::Hit) {
-        object = std::make_shared<const std::string>(std::move(entry.object));
-        ++use.fromDisk;
-      } else {
-        auto compiled = compileAlone(kernel, *f, globals, pipeline);
-        if (!compiled)
-          return compiled.takeError();
-        object = std::make_shared<const std::string>(std::move(*compiled));
-        ++use.compiled;
-        std::string error; // an unwritable cache costs a later run a compile
-        if (!directory.empty())
-          disk.store(key, CachedKernel{f->getName().str(), {}, *object, {}, "", ""}, error);
-      }
-      std::lock_guard<std::mutex> lock(memory.mutex);
-      memory.byKey.try_emplace(key, object);
+      use.toCompile[func.getSymName()] = std::move(key);
     }
-    use.objects.push_back(object);
+  }
+  return use;
+}
+
+llvm::Error osl::compileLibraryFunctions(llvm::Module &kernel, LibraryUse &use,
+                                         const LibraryKeyOptions &options, Stats *stats) {
+  ScopedTimer timer(stats, "library");
+  std::string directory = libraryDirectory(options);
+  ProcessObjects &memory = processObjects();
+  std::vector<llvm::Function *> compiled;
+  for (llvm::Function &f : kernel) {
+    if (f.isDeclaration() || !f.getName().starts_with(abi::kLibrarySymbolPrefix))
+      continue;
+    auto key = use.toCompile.find(f.getName());
+    if (key == use.toCompile.end())
+      return llvm::createStringError(llvm::inconvertibleErrorCode(),
+                                     "library function '" + f.getName() +
+                                         "' has no key (findLibraryObjects did not see it)");
+    // Another thread may have compiled it meanwhile: then link that one.
+    std::shared_ptr<const std::string> object = lookupObject(key->second, directory, use);
+    if (!object) {
+      auto built = compileAlone(kernel, f, options.pipeline);
+      if (!built)
+        return built.takeError();
+      object = std::make_shared<const std::string>(std::move(*built));
+      ++use.compiled;
+      std::string error; // an unwritable cache costs a later run a compile
+      if (!directory.empty())
+        KernelCache(directory).store(key->second,
+                                     CachedKernel{f.getName().str(), {}, *object, {}, "", ""},
+                                     error);
+      std::lock_guard<std::mutex> lock(memory.mutex);
+      memory.byKey.try_emplace(key->second, object);
+    }
+    use.objects.push_back(std::move(object));
+    compiled.push_back(&f);
   }
   // The kernel calls them; the objects define them.
-  for (llvm::Function *f : library) {
+  for (llvm::Function *f : compiled) {
     f->deleteBody();
     f->setLinkage(llvm::GlobalValue::ExternalLinkage);
     f->setVisibility(llvm::GlobalValue::DefaultVisibility);
   }
-  return use;
+  use.toCompile.clear();
+  return llvm::Error::success();
 }

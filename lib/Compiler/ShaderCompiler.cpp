@@ -1,5 +1,7 @@
 //===- ShaderCompiler.cpp - OSL source to a callable batch kernel ---------===//
 #include "OslCompiler/ShaderCompiler.h"
+
+#include <optional>
 #include "OslCompiler/KernelCache.h"
 #include "OslCompiler/LibraryObjects.h"
 #include "GroupInputs.h"
@@ -25,6 +27,8 @@
 #include "llvm/IR/Module.h"
 #include "llvm/Support/MemoryBuffer.h"
 #include "llvm/Support/SourceMgr.h"
+
+#include <optional>
 
 using namespace osl;
 
@@ -155,7 +159,7 @@ void ShaderCompiler::collectOutputs() {
 }
 
 bool ShaderCompiler::lower() {
-  ScopedTimer timer(stats, "mlir passes");
+  std::optional<ScopedTimer> timer(std::in_place, stats, "mlir passes");
   // The osl-level passes are verified after each one: their verifiers
   // report the shader's errors. The lowering (most of the passes' time) is
   // verified once at its end unless asked (CompileOptions::verifyEachPass).
@@ -164,9 +168,11 @@ bool ShaderCompiler::lower() {
                                                options.inlineLibrary};
   mlir::PassManager oslLevel(&context);
   mlir::osl::buildOslLevelPipeline(oslLevel, pipeline);
-  mlir::PassManager lowering(&context);
+  mlir::PassManager outlining(&context), lowering(&context);
+  outlining.enableVerifier(options.verifyEachPass);
+  mlir::osl::buildLibraryOutliningPipeline(outlining, pipeline);
   lowering.enableVerifier(options.verifyEachPass);
-  mlir::osl::buildLoweringPipeline(lowering, pipeline);
+  mlir::osl::buildLLVMDialectPipeline(lowering, pipeline);
   // Pass failures report through the context's diagnostics, with the
   // shader's file:line:col locations.
   auto handler = printErrors(context, errs);
@@ -180,8 +186,21 @@ bool ShaderCompiler::lower() {
     reports = optimizationWarnings(*mlirModule, groupNameOrDefault(options.groupName));
     errs << reports;
   }
+  if (mlir::failed(outlining.run(*mlirModule)))
+    return false;
+  library = LibraryUse();
+  if (splitLibrary) {
+    // Known library functions lose their bodies before the rest lowers.
+    timer.reset();
+    library = findLibraryObjects(*mlirModule, libraryKeyOptions(), stats);
+    timer.emplace(stats, "mlir passes");
+  }
   return mlir::succeeded(lowering.run(*mlirModule)) &&
          mlir::succeeded(mlir::verify(*mlirModule));
+}
+
+LibraryKeyOptions ShaderCompiler::libraryKeyOptions() const {
+  return {options.llvmPipeline, mlir::osl::mathLevelName(options.math), options.cacheDir};
 }
 
 bool ShaderCompiler::translate() {
@@ -200,15 +219,11 @@ bool ShaderCompiler::translate() {
     return false;
   }
   jit = std::move(*created);
-  library = LibraryUse();
-  if (splitLibrary) {
-    auto split = splitLibraryFunctions(*llvmIR, options.llvmPipeline, options.cacheDir, stats);
-    if (!split) {
-      errs << "error: " << llvm::toString(split.takeError()) << "\n";
+  if (splitLibrary)
+    if (llvm::Error e = compileLibraryFunctions(*llvmIR, library, libraryKeyOptions(), stats)) {
+      errs << "error: " << llvm::toString(std::move(e)) << "\n";
       return false;
     }
-    library = std::move(*split);
-  }
   if (llvm::Error e = jit->optimize(*llvmIR, options.llvmPipeline)) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return false;

@@ -65,7 +65,13 @@ void mlir::osl::buildOslLevelPipeline(OpPassManager &pm,
 }
 
 void mlir::osl::buildLoweringPipeline(OpPassManager &pm,
-                                      const OslToLLVMPipelineOptions &options) {
+                                       const OslToLLVMPipelineOptions &options) {
+  buildLibraryOutliningPipeline(pm, options);
+  buildLLVMDialectPipeline(pm, options);
+}
+
+void mlir::osl::buildLibraryOutliningPipeline(OpPassManager &pm,
+                                              const OslToLLVMPipelineOptions &options) {
   MathLevel math = options.math;
   ConvertToVectorOptions vectorOptions;
   vectorOptions.width = options.reference ? 1 : options.width;
@@ -77,6 +83,11 @@ void mlir::osl::buildLoweringPipeline(OpPassManager &pm,
   OutlineLibraryOptions outlineOptions;
   outlineOptions.outline = math != MathLevel::Double && !options.inlineLibrary;
   pm.addPass(createOutlineLibrary(outlineOptions));
+}
+
+void mlir::osl::buildLLVMDialectPipeline(OpPassManager &pm,
+                                         const OslToLLVMPipelineOptions &options) {
+  MathLevel math = options.math;
   ApproximateMathOptions mathOptions;
   mathOptions.level = math;
   pm.addPass(createApproximateMath(mathOptions));

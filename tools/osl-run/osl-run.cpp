@@ -117,13 +117,13 @@ bool emit(ShaderCompiler &compiler, const RunOptions &options, llvm::StringRef s
     compiler.module().print(llvm::outs());
     return true;
   }
+  compiler.keepLibraryInModule(); // the whole kernel, noise included
   if (!compiler.lower())
     return false;
   if (options.emit == "lowered") {
     compiler.module().print(llvm::outs());
     return true;
   }
-  compiler.keepLibraryInModule(); // the whole kernel, noise included
   if (!compiler.translate())
     return false;
   if (options.emit == "llvm") {
