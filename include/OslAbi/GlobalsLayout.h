@@ -33,10 +33,13 @@ inline constexpr GlobalSlot kGlobalSlots[] = {
     // The ray's types as bits (kRayTypes), as a float: not an OSL global
     // (raytype() reads it where the renderer decides per point).
     {"raytype", 43, 1},
+    // Nonzero where the renderer's transform flips handedness:
+    // calculatenormal() then crosses its derivatives the other way round.
+    {"flipHandedness", 44, 1},
 };
 
 /// Number of float rows in one batch of globals (multiply by the width).
-inline constexpr int32_t kGlobalRows = 44;
+inline constexpr int32_t kGlobalRows = 45;
 
 /// The ray types raytype() names, as bits of the "raytype" row. A renderer
 /// (osl-run --scene) sets them per point; osl-run on a grid shades one ray

@@ -96,6 +96,9 @@ struct CompileOptions {
   /// read while shading, texture names that are not handles), as OSL's
   /// opt_warnings does (testshade's --options opt_warnings=1).
   bool optimizationWarnings = false;
+  /// Report the globals the optimized shader reads ("Need N globals: ..."),
+  /// as OSL does with debugging on (testshade -debug).
+  bool reportGlobalsNeeded = false;
   /// Directory of the persistent kernel cache (KernelCache.h), used by
   /// compile(); empty: no cache.
   std::string cacheDir;

@@ -20,6 +20,8 @@ namespace osl {
 struct GroupLayer {
   /// The shader's file (its source is read when the group compiles).
   std::string shaderPath;
+  /// The shader as the user named it, for messages ("" if as shaderPath).
+  std::string shaderName;
   std::string name;
   std::vector<ParamOverride> params;
   /// Parameters declared with lockgeom=0: per-geometry data, never folded.

@@ -121,6 +121,15 @@ std::optional<std::string> shaderInfoText(llvm::StringRef source, llvm::StringRe
                                           llvm::ArrayRef<std::string> includePaths = {},
                                           llvm::ArrayRef<std::string> defines = {});
 
+/// The parameters of a shader that refuse connections
+/// ([[int allowconnect = 0]]), read from its source without compiling it,
+/// so that a group builder can refuse a connection when it is made. Null
+/// after printing diagnostics to `errs`.
+std::optional<std::vector<std::string>>
+unconnectableParams(llvm::StringRef source, llvm::StringRef filename, llvm::raw_ostream &errs,
+                    llvm::ArrayRef<std::string> includePaths = {},
+                    llvm::ArrayRef<std::string> defines = {});
+
 /// The source of shader `name` among `dirs`: NAME.osl, else the first .osl
 /// file (in name order) that declares a shader of that name, as oslc names
 /// its output after the shader (ShaderSearch.cpp). Empty if there is none.

@@ -4,6 +4,7 @@
 #include <optional>
 #include "OslCompiler/KernelCache.h"
 #include "OslCompiler/LibraryObjects.h"
+#include "GlobalsNeeded.h"
 #include "GroupInputs.h"
 #include "OptimizationWarnings.h"
 
@@ -186,6 +187,11 @@ bool ShaderCompiler::lower() {
     reports = optimizationWarnings(*mlirModule, groupNameOrDefault(options.groupName));
     errs << reports;
   }
+  if (options.reportGlobalsNeeded) {
+    std::string needed = globalsNeededReport(*mlirModule);
+    errs << needed;
+    reports += needed;
+  }
   if (mlir::failed(outlining.run(*mlirModule)))
     return false;
   library = LibraryUse();
@@ -348,7 +354,8 @@ std::string ShaderCompiler::optionsKey() const {
      << "\ncolorspace " << options.colorSpace << "\nraytype " << options.rayType
      << "\ngroup name " << options.groupName
      << "\nuserdata is connected " << options.userdataIsConnected
-     << "\noptimization warnings " << options.optimizationWarnings;
+     << "\noptimization warnings " << options.optimizationWarnings
+     << "\nreport globals needed " << options.reportGlobalsNeeded;
   for (const std::string &o : options.rendererOutputs)
     os << "\nrenderer output " << o.size() << ":" << o;
   for (const UserDatum &d : options.userData)

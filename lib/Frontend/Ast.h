@@ -108,6 +108,14 @@ struct Param {
   bool isOutput = false;
   ExprPtr init; // shader parameters: the default (may be an InitList)
   std::vector<Metadatum> metadata; // shader parameters
+
+  /// Does the metadata say [[int NAME = 0]] (lockgeom, allowconnect)?
+  bool intMetadataIsZero(llvm::StringRef metadataName) const {
+    for (const Metadatum &m : metadata)
+      if (m.name == metadataName && m.value && m.value->kind == ExprKind::IntLit)
+        return m.value->intValue == 0;
+    return false;
+  }
 };
 
 struct FunctionDecl {

@@ -272,9 +272,16 @@ Value emitArea(IRGen &g, SrcLoc l, Vals a, OslType) {
   return b.create<LengthOp>(
       g.loc(l), b.create<CrossOp>(g.loc(l), derivOf(g, l, a[0], 'x'), derivOf(g, l, a[0], 'y')));
 }
+/// Where the renderer says the surface's handedness is flipped (the
+/// flipHandedness global, 0 on osl-run's grid) the factors swap, as OSL's do.
 Value emitCalculateNormal(IRGen &g, SrcLoc l, Vals a, OslType) {
-  return g.builder().create<CrossOp>(g.loc(l), derivOf(g, l, a[0], 'x'),
-                                     derivOf(g, l, a[0], 'y'));
+  OpBuilder &b = g.builder();
+  Location ml = g.loc(l);
+  Value dx = derivOf(g, l, a[0], 'x'), dy = derivOf(g, l, a[0], 'y');
+  Value flip = g.getGlobal("flipHandedness", b.getF32Type(), l);
+  Value flipped = b.create<CmpOp>(ml, "ne", flip, g.constFloat(0, l));
+  return b.create<SelectOp>(ml, flipped, b.create<CrossOp>(ml, dy, dx),
+                            b.create<CrossOp>(ml, dx, dy));
 }
 /// stdosl.h's aastep(edge, s [, ds | dedge, ds]): a box-filtered step,
 /// 0 below edge - w/2, 1 above edge + w/2 and linear between, with

@@ -47,15 +47,7 @@ void collectNames(const Stmt &s, llvm::StringSet<> &names) {
 
 } // namespace
 
-/// Does the parameter's metadata say [[int NAME = 0]]?
-static bool intMetadataIsZero(const Param &p, llvm::StringRef name) {
-  for (const Metadatum &m : p.metadata)
-    if (m.name == name && m.value && m.value->kind == ExprKind::IntLit)
-      return m.value->intValue == 0;
-  return false;
-}
-
-static bool isLockgeomZero(const Param &p) { return intMetadataIsZero(p, "lockgeom"); }
+static bool isLockgeomZero(const Param &p) { return p.intMetadataIsZero("lockgeom"); }
 
 bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   for (const ParamOverride &o : overrides) {
@@ -94,7 +86,7 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   // [[int allowconnect = 0]]: the group builder refuses to connect these.
   llvm::StringSet<> unconnectable;
   for (const Param &p : shader.params)
-    if (intMetadataIsZero(p, "allowconnect"))
+    if (p.intMetadataIsZero("allowconnect"))
       unconnectable.insert(p.name);
   if (!unconnectable.empty())
     func.walk([&](ParamOp op) {

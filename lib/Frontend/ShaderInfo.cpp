@@ -185,17 +185,33 @@ std::string defaultText(const Param &p) {
 
 } // namespace
 
-std::optional<std::string>
-osl::shaderInfoText(llvm::StringRef source, llvm::StringRef filename, llvm::raw_ostream &errs,
-                    llvm::ArrayRef<std::string> includePaths,
-                    llvm::ArrayRef<std::string> defines) {
+namespace {
+
+/// The shader declared in `source`, parsed without compiling it.
+std::optional<Program> parseInterface(llvm::StringRef source, llvm::StringRef filename,
+                                      llvm::raw_ostream &errs,
+                                      llvm::ArrayRef<std::string> includePaths,
+                                      llvm::ArrayRef<std::string> defines) {
   Diagnostics diags(filename, errs);
   std::vector<Token> raw, tokens;
   Program program;
   if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths, defines) ||
-      !parseProgram(tokens, diags, program))
+      !parseProgram(tokens, diags, program) || !program.shader)
     return std::nullopt;
-  const ShaderDecl &shader = *program.shader;
+  return program;
+}
+
+} // namespace
+
+std::optional<std::string>
+osl::shaderInfoText(llvm::StringRef source, llvm::StringRef filename, llvm::raw_ostream &errs,
+                    llvm::ArrayRef<std::string> includePaths,
+                    llvm::ArrayRef<std::string> defines) {
+  std::optional<Program> program =
+      parseInterface(source, filename, errs, includePaths, defines);
+  if (!program)
+    return std::nullopt;
+  const ShaderDecl &shader = *program->shader;
   std::string text = shader.shaderType + " " + quoted(shader.name) + "\n";
   for (const Metadatum &m : shader.metadata)
     text += metadataLine(m);
@@ -207,4 +223,19 @@ osl::shaderInfoText(llvm::StringRef source, llvm::StringRef filename, llvm::raw_
       text += metadataLine(m);
   }
   return text;
+}
+
+std::optional<std::vector<std::string>>
+osl::unconnectableParams(llvm::StringRef source, llvm::StringRef filename,
+                         llvm::raw_ostream &errs, llvm::ArrayRef<std::string> includePaths,
+                         llvm::ArrayRef<std::string> defines) {
+  std::optional<Program> program =
+      parseInterface(source, filename, errs, includePaths, defines);
+  if (!program)
+    return std::nullopt;
+  std::vector<std::string> names;
+  for (const Param &p : program->shader->params)
+    if (p.intMetadataIsZero("allowconnect"))
+      names.push_back(p.name);
+  return names;
 }

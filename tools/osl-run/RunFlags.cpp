@@ -299,11 +299,10 @@ bool ignoredWithArgument(FlagParser &p) {
   return true;
 }
 
-/// A testshade flag that changes nothing here: -v/--debug (osl-run reports
-/// with --stats), --inbuffer (osl-run always compiles text it has read),
-/// --batched (osl-run always shades in batches), --groupoutputs (-o names
-/// the group's outputs anyway), --raytype_opt (kernels are specialised on
-/// the ray type anyway).
+/// A testshade flag that changes nothing here: --inbuffer (osl-run always
+/// compiles text it has read), --batched (osl-run always shades in
+/// batches), --groupoutputs (-o names the group's outputs anyway),
+/// --raytype_opt (kernels are specialised on the ray type anyway).
 bool ignored(FlagParser &) { return true; }
 
 bool threadsFlag(FlagParser &p) {
@@ -343,6 +342,7 @@ bool shaderFlag(FlagParser &p) {
       p.error = "--shader needs 2 arguments";
     return false;
   }
+  p.o.group.layers.back().shaderName = p.argv[p.i + 1];
   p.o.isGroup = true;
   p.i += 2;
   return true;
@@ -535,7 +535,8 @@ const Flag kFlags[] = {
     {{"--llvm_opt", "--jbufferMB"}, ignoredWithArgument},
     {{"--expr"}, exprFlag},
     {{"-v"}, setFlag<&RunOptions::verbose>},
-    {{"--debug", "--inbuffer", "--batched", "--groupoutputs", "--raytype_opt"}, ignored},
+    {{"--debug"}, setCompileFlag<&CompileOptions::reportGlobalsNeeded>},
+    {{"--inbuffer", "--batched", "--groupoutputs", "--raytype_opt"}, ignored},
     {{"-t"}, threadsFlag},
     {{"--iters"}, itersFlag},
     {{"--center"}, setGridFlag<&GridOptions::center>},

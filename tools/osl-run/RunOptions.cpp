@@ -90,6 +90,8 @@ const char *const osl::kUsage =
     "  --debugnan             report the points where a value stored into a\n"
     "                         variable has a NaN or infinite component\n"
     "  -w                     print no warnings\n"
+    "  --debug                report the globals the optimized shader reads\n"
+    "                         (\"Need N globals: ...\"), as testshade -debug does\n"
     "  --verify-each          verify the IR after every compiler pass (for\n"
     "                         debugging the compiler; slower)\n"
     "  --timeout SECONDS      stop with an error when the run takes longer\n"
@@ -188,6 +190,7 @@ bool addPositionalShader(FlagParser &p, const std::string &a, int &positional) {
   }
   if (!o.group.shader(shaderFile(a), layer, p.error))
     return false;
+  o.group.layers.back().shaderName = a;
   ++positional;
   // Per-geometry (lockgeom=0) parameters are loaded as the group runs,
   // which the group's linking arranges.

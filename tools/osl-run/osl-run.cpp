@@ -5,6 +5,7 @@
 // outputs are written as images through OpenImageIO.
 //
 //===----------------------------------------------------------------------===//
+#include "GroupAssembly.h"
 #include "RunOptions.h"
 
 #include "OslFrontend/Frontend.h"
@@ -419,11 +420,9 @@ int main(int argc, char **argv) {
     return 0;
   }
 
-  if (options.isGroup && options.emit.empty() && !options.checkOnly)
-    // testshade reports each connection as it makes it.
-    for (const GroupConnection &c : options.connectFlags)
-      llvm::outs() << "Connect " << c.fromLayer << "." << c.fromOutput << " to " << c.toLayer
-                   << "." << c.toInput << "\n";
+  if (options.isGroup && options.emit.empty() && !options.checkOnly &&
+      !assembleGroup(options, llvm::outs(), llvm::errs()))
+    return 1;
   llvm::outs().flush(); // before anything the shaders print
 
   options.compile.camera = {options.grid.xres, options.grid.yres};
