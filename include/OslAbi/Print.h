@@ -15,15 +15,22 @@
 namespace osl {
 
 /// Where an osl.print's text goes, with the operand kinds before the
-/// values: `s` the format string, and fprintf's file name before it.
-/// "renderer_error" is the renderer's own report of a bad request (an
-/// unknown space name), printed as testshade's renderer prints it.
+/// values: `s` the format string, and before it fprintf's file name or,
+/// for warning and error (`namesShader`), the name of the shader that
+/// reports, which the compiler supplies: OSL's "Shader error [name]" names
+/// the layer's shader, not the group's last. "renderer_error" is the
+/// renderer's own report of a bad request (an unknown space name), printed
+/// as testshade's renderer prints it.
 struct PrintStream {
   const char *name;
   const char *operands;
+  bool namesShader;
 };
-inline constexpr PrintStream kPrintStreams[] = {
-    {"printf", "s"}, {"fprintf", "ss"}, {"warning", "s"}, {"error", "s"}, {"renderer_error", "s"}};
+inline constexpr PrintStream kPrintStreams[] = {{"printf", "s", false},
+                                                {"fprintf", "ss", false},
+                                                {"warning", "ss", true},
+                                                {"error", "ss", true},
+                                                {"renderer_error", "s", false}};
 
 /// The index of a print stream in kPrintStreams, or -1.
 constexpr int32_t printStreamCode(std::string_view name) {

@@ -99,6 +99,11 @@ struct CompileOptions {
   /// Report the globals the optimized shader reads ("Need N globals: ..."),
   /// as OSL does with debugging on (testshade -debug).
   bool reportGlobalsNeeded = false;
+  /// OSL's lazyerror option (testshade --options lazyerror=0): false runs
+  /// a group's layers that call error() in order, so that their errors are
+  /// reported even where nothing reads them; opt_warnings then names each
+  /// error() call left after optimization.
+  bool lazyError = true;
   /// Directory of the persistent kernel cache (KernelCache.h), used by
   /// compile(); empty: no cache.
   std::string cacheDir;

@@ -43,7 +43,10 @@ def LinkShaderGroup : Pass<"osl-link-group", "::mlir::ModuleOp"> {
 
     With `lazy-globals=false` (OSL's lazyglobals=0 option) a layer that
     assigns Ci is not lazy either: it runs at the top level in group order,
-    and the layers after it read the Ci it left.
+    and the layers after it read the Ci it left. With `lazy-error=false`
+    (OSL's lazyerror=0) neither is a layer that calls error(), so that its
+    errors are reported whether or not its outputs are read. (OSL decides
+    after folding; here a call that folding would remove counts too.)
 
     Errors: an unknown layer or output, a connection to the same or an
     earlier layer (a cycle), and a type mismatch between output and input.
@@ -53,6 +56,8 @@ def LinkShaderGroup : Pass<"osl-link-group", "::mlir::ModuleOp"> {
                         "and drop unread layers">,
                  Option<"lazyGlobals", "lazy-globals", "bool", "true",
                         "let layers that assign Ci run lazily too">,
+                 Option<"lazyError", "lazy-error", "bool", "true",
+                        "let layers that call error() run lazily too">,
                  Option<"opaqueParams", "opaque-params", "bool", "false",
                         "load every unconnected constant parameter from memory">];
   let dependentDialects = ["::mlir::LLVM::LLVMDialect", "::mlir::func::FuncDialect"];

@@ -13,12 +13,20 @@ namespace {
 
 constexpr const char *kWarnLayerAttr = "osl.warn_layer";
 
+bool isErrorCall(Operation *op) {
+  auto print = dyn_cast<mlir::osl::PrintOp>(op);
+  return print && print.getStream() == "error";
+}
+
 bool mayWarn(Operation *op) {
-  return isa<mlir::osl::StringCallOp, mlir::osl::TextureOp, mlir::osl::GetTextureInfoOp>(op);
+  return isa<mlir::osl::StringCallOp, mlir::osl::TextureOp, mlir::osl::GetTextureInfoOp>(op) ||
+         isErrorCall(op);
 }
 
 /// OSL's words for what `op` leaves to run time, or "" for nothing.
-std::string issue(Operation *op) {
+std::string issue(Operation *op, bool errorCalls) {
+  if (isErrorCall(op))
+    return errorCalls ? "error() call present in optimized shader." : "";
   if (auto call = dyn_cast<mlir::osl::StringCallOp>(op)) {
     llvm::StringRef callee = call.getCallee();
     if (callee == "concat" || callee == "format" || callee == "substr")
@@ -49,12 +57,13 @@ void tagLayerForWarnings(ModuleOp module, llvm::StringRef layerName) {
   });
 }
 
-std::string optimizationWarnings(ModuleOp module, llvm::StringRef groupName) {
+std::string optimizationWarnings(ModuleOp module, llvm::StringRef groupName,
+                                 bool errorCalls) {
   std::string text;
   llvm::raw_string_ostream os(text);
   llvm::StringSet<> reported; // lane groups clone a lookup: one report
   module.walk([&](Operation *op) {
-    std::string what = mayWarn(op) ? issue(op) : "";
+    std::string what = mayWarn(op) ? issue(op, errorCalls) : "";
     if (what.empty())
       return;
     auto layer = op->getAttrOfType<StringAttr>(kWarnLayerAttr);

@@ -21,8 +21,10 @@ namespace osl {
 void tagLayerForWarnings(mlir::ModuleOp module, llvm::StringRef layerName);
 
 /// The warnings, one block per operation and source line, in the order
-/// the operations come; empty when there is nothing to report.
-std::string optimizationWarnings(mlir::ModuleOp module, llvm::StringRef groupName);
+/// the operations come; empty when there is nothing to report. With
+/// `errorCalls` (lazyerror=0) every error() call left is one too.
+std::string optimizationWarnings(mlir::ModuleOp module, llvm::StringRef groupName,
+                                 bool errorCalls);
 
 } // namespace osl
 

@@ -184,7 +184,8 @@ bool ShaderCompiler::lower() {
   if (options.optimizationWarnings) {
     // Asked for, so shown even where warnings are hidden (-w); kept for
     // the kernel cache to replay.
-    reports = optimizationWarnings(*mlirModule, groupNameOrDefault(options.groupName));
+    reports = optimizationWarnings(*mlirModule, groupNameOrDefault(options.groupName),
+                                   /*errorCalls=*/!options.lazyError);
     errs << reports;
   }
   if (options.reportGlobalsNeeded) {
@@ -355,7 +356,8 @@ std::string ShaderCompiler::optionsKey() const {
      << "\ngroup name " << options.groupName
      << "\nuserdata is connected " << options.userdataIsConnected
      << "\noptimization warnings " << options.optimizationWarnings
-     << "\nreport globals needed " << options.reportGlobalsNeeded;
+     << "\nreport globals needed " << options.reportGlobalsNeeded
+     << "\nlazy error " << options.lazyError;
   for (const std::string &o : options.rendererOutputs)
     os << "\nrenderer output " << o.size() << ":" << o;
   for (const UserDatum &d : options.userData)
@@ -534,6 +536,7 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
   link.lazy = group.optimization == GroupOptimization::O2;
   link.opaqueParams = group.optimization == GroupOptimization::O0;
   link.lazyGlobals = group.lazyGlobals;
+  link.lazyError = options.lazyError;
   pm.addPass(mlir::osl::createLinkShaderGroup(link));
   auto handler = printErrors(context, errs);
   if (mlir::failed(pm.run(*mlirModule)))

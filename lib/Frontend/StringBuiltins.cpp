@@ -254,7 +254,9 @@ std::optional<RValue> StringCall::emitPrint() {
   if (!emitArgs())
     return std::nullopt;
   int32_t stream = ::osl::printStreamCode(call.name);
-  size_t leading = std::strlen(::osl::kPrintStreams[stream].operands);
+  bool namesShader = ::osl::kPrintStreams[stream].namesShader;
+  // The leading operands the call itself gives.
+  size_t leading = std::strlen(::osl::kPrintStreams[stream].operands) - namesShader;
   if (args.size() < leading)
     return wrong(), std::nullopt;
   for (size_t k = 0; k < leading; ++k)
@@ -277,6 +279,11 @@ std::optional<RValue> StringCall::emitPrint() {
                    "an array or matrix can be printed only with a format string known "
                    "when the shader is compiled"),
            std::nullopt;
+  }
+  if (namesShader) {
+    operands.insert(operands.begin(), RValue::string(g.shaderName().str()));
+    operandLocs.insert(operandLocs.begin(), call.loc);
+    kinds.insert(kinds.begin(), 's');
   }
   g.builder().create<PrintOp>(g.loc(call.loc), call.name, kinds, materialize(), Value());
   return RValue::voidValue();

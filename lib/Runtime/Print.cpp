@@ -94,8 +94,10 @@ int osl::emitPrints(const PrintLog &log, const std::string &shaderName,
       std::fprintf(stderr, "ERROR: %s\n", text.c_str());
       continue;
     }
+    // warning() and error() name their shader (kPrintStreams).
+    const std::string &reporter = t.file.empty() ? shaderName : t.file;
     std::fprintf(stderr, "%s: Shader %s [%s]: %s\n", error ? "ERROR" : "WARNING",
-                 error ? "error" : "warning", shaderName.c_str(), text.c_str());
+                 error ? "error" : "warning", reporter.c_str(), text.c_str());
   }
   std::fflush(stdout);
   return errors;

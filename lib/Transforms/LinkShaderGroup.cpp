@@ -64,6 +64,8 @@ struct Layer {
   /// Assigns Ci: with lazy-globals=false such a layer is not lazy (it runs
   /// in group order, as entries do) and the later layers see its Ci.
   bool writesCi = false;
+  /// Calls error(): with lazy-error=false such a layer is not lazy either.
+  bool callsError = false;
 };
 
 struct LinkShaderGroupPass
@@ -89,6 +91,8 @@ struct LinkShaderGroupPass
       anyEntry |= l.entry = l.func->hasAttr(kEntryAttr);
       if (!lazyGlobals)
         l.func.walk([&](OutputOp out) { l.writesCi |= out.getName() == "Ci"; });
+      if (!lazyError)
+        l.func.walk([&](PrintOp print) { l.callsError |= print.getStream() == "error"; });
     }
     if (!anyEntry)
       layers.back().entry = true;
@@ -111,9 +115,12 @@ struct LinkShaderGroupPass
     b.setInsertionPointToStart(group.addEntryBlock());
     Operation *ret = b.create<func::ReturnOp>(root.getLoc());
 
-    // Entries and, without lazy globals, layers that assign Ci (every layer
-    // when not lazy) run unconditionally, in order.
-    auto eager = [&](const Layer &l) { return l.entry || l.writesCi || !lazy; };
+    // Entries and, without lazy globals, layers that assign Ci and, without
+    // lazy errors, layers that call error() (every layer when not lazy) run
+    // unconditionally, in order.
+    auto eager = [&](const Layer &l) {
+      return l.entry || l.writesCi || l.callsError || !lazy;
+    };
     for (Layer &l : layers)
       if (eager(l)) {
         b.setInsertionPoint(ret);

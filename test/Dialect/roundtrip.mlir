@@ -115,8 +115,9 @@ func.func @closures(%n: !osl.varying<vector<3xf32>>, %c: !osl.varying<i1>, %dist
 func.func @print_streams(%fmt: i32, %u: !osl.varying<f32>, %m: !osl.varying<i1>) {
   // CHECK: osl.print "printf" "sf"(%{{.+}}, %{{.+}}) : i32, !osl.varying<f32>
   osl.print "printf" "sf"(%fmt, %u) : i32, !osl.varying<f32>
-  // CHECK: osl.print "error" "s"(%{{.+}}) mask %{{.+}} : !osl.varying<i1> : i32
-  osl.print "error" "s"(%fmt) mask %m : !osl.varying<i1> : i32
+  // error's first operand names the reporting shader.
+  // CHECK: osl.print "error" "ss"(%{{.+}}, %{{.+}}) mask %{{.+}} : !osl.varying<i1> : i32, i32
+  osl.print "error" "ss"(%fmt, %fmt) mask %m : !osl.varying<i1> : i32, i32
   // CHECK: osl.print "fprintf" "ssf"(%{{.+}}, %{{.+}}, %{{.+}}) : i32, i32, !osl.varying<f32>
   osl.print "fprintf" "ssf"(%fmt, %fmt, %u) : i32, i32, !osl.varying<f32>
   return

@@ -40,6 +40,12 @@ public:
       if (!connectable(c))
         return false;
     }
+    if (ok && !group.entries.empty()) {
+      out << "Entry layers:";
+      for (const std::string &e : group.entries)
+        out << " " << e << "(" << layerIndex(e) << ")";
+      out << "\n";
+    }
     return ok;
   }
 
@@ -63,6 +69,11 @@ private:
         return false;
       }
     return true;
+  }
+
+  size_t layerIndex(const std::string &layer) const {
+    const GroupLayer *l = group.findLayer(layer);
+    return l ? size_t(l - group.layers.data()) : group.layers.size();
   }
 
   const GroupLayer *findPresent(const std::string &layer) const {

@@ -3,8 +3,9 @@
 // testshade builds a shader group one statement at a time and reports each
 // step: a shader it cannot find, each connection as it makes it ("Connect
 // a.x to b.y") and a connection it refuses (a missing layer, an input with
-// allowconnect=0), after which it stops. OSL's testsuite compares that
-// transcript, so osl-run walks the group the same way before compiling it.
+// allowconnect=0), after which it stops; then the entry layers it was
+// given. OSL's testsuite compares that transcript, so osl-run walks the
+// group the same way before compiling it.
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLRUN_GROUPASSEMBLY_H

@@ -271,8 +271,8 @@ bool userdataFlag(FlagParser &p) {
   return true;
 }
 
-/// testshade's --options: error_repeats, lazyglobals and opt_warnings
-/// change what runs; the others are taken.
+/// testshade's --options: error_repeats, lazyglobals, lazyerror and
+/// opt_warnings change what runs; the others are taken.
 bool shadingSystemOptionsFlag(FlagParser &p) {
   if (!p.need(1))
     return false;
@@ -284,6 +284,8 @@ bool shadingSystemOptionsFlag(FlagParser &p) {
       p.o.errorRepeats = value.trim() != "0";
     else if (name.trim() == "lazyglobals")
       p.o.group.lazyGlobals = value.trim() != "0";
+    else if (name.trim() == "lazyerror")
+      p.o.compile.lazyError = value.trim() != "0";
     else if (name.trim() == "opt_warnings")
       p.o.compile.optimizationWarnings = value.trim() != "0";
   }
