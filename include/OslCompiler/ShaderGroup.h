@@ -30,6 +30,9 @@ struct GroupLayer {
 
 struct GroupConnection {
   std::string fromLayer, fromOutput, toLayer, toInput;
+  /// The group statement that made it ("connect a.b c.d"); empty for
+  /// testshade's --connect, whose connections are reported as made.
+  std::string statement;
 };
 
 /// How much render-time specialisation a group gets (testshade's -O).
@@ -59,7 +62,9 @@ struct ShaderGroup {
   /// testshade's statements, one call each: `--param` then `--shader`.
   void param(std::string name, std::string value, bool userdata = false);
   bool shader(std::string shaderPath, std::string layerName, std::string &error);
-  bool connect(GroupConnection c, std::string &error);
+  /// Records a connection; its layers are checked when the group is
+  /// assembled or validated.
+  void connect(GroupConnection c) { connections.push_back(std::move(c)); }
   /// Changes an instance value of a built group (testshade's --reparam);
   /// compile again to re-specialise.
   bool reparam(const std::string &layer, const std::string &name, std::string value,

@@ -39,18 +39,6 @@ bool ShaderGroup::shader(std::string shaderPath, std::string layerName, std::str
   return true;
 }
 
-bool ShaderGroup::connect(GroupConnection c, std::string &error) {
-  // Checked here, not only at compile time, so that a typo is reported at
-  // the statement that made it.
-  for (const std::string *name : {&c.fromLayer, &c.toLayer})
-    if (!findLayer(*name)) {
-      error = "connect: unknown layer '" + *name + "' (layers must be declared first)";
-      return false;
-    }
-  connections.push_back(std::move(c));
-  return true;
-}
-
 bool ShaderGroup::reparam(const std::string &layerName, const std::string &name,
                           std::string value, std::string &error) {
   for (GroupLayer &l : layers) {
@@ -213,8 +201,8 @@ bool ShaderGroup::parseStatements(const std::string &text, const std::string &sh
       if (s.size() != 3 || !splitLayerDotName(s[1], c.fromLayer, c.fromOutput) ||
           !splitLayerDotName(s[2], c.toLayer, c.toInput))
         return bad("expected 'connect FROMLAYER.OUTPUT TOLAYER.INPUT ;'");
-      if (!connect(std::move(c), error))
-        return false;
+      c.statement = statement;
+      connect(std::move(c));
     } else {
       return bad("unknown statement '" + s[0] + "' (expected param, shader or connect)");
     }

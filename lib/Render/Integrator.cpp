@@ -458,8 +458,7 @@ bool Renderer::compileShaders(const std::vector<std::string> &searchPaths,
         shaderGroup.shader(found[i], group.layers[i].layer, error);
       }
       for (const GroupConnection &c : group.connections)
-        if (error.empty())
-          shaderGroup.connect(c, error);
+        shaderGroup.connect(c);
       if (!error.empty() || !shaderGroup.validate(error)) {
         errs << "error: shader group (scene line " << group.line << "): " << error << "\n";
         return false;

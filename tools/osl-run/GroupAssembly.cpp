@@ -34,11 +34,18 @@ public:
         ok = false;
       }
     // testshade stops at the first connection it refuses.
-    for (const GroupConnection &c : options.connectFlags) {
-      out << "Connect " << c.fromLayer << "." << c.fromOutput << " to " << c.toLayer << "."
-          << c.toInput << "\n";
-      if (!connectable(c))
+    for (const GroupConnection &c : group.connections) {
+      if (c.statement.empty())
+        out << "Connect " << c.fromLayer << "." << c.fromOutput << " to " << c.toLayer << "."
+            << c.toInput << "\n";
+      if (!connectable(c)) {
+        if (!c.statement.empty()) {
+          error("ShaderGroupBegin: error parsing group description: ");
+          errs << "        problem might be here: " << c.statement << ";\n\n";
+          error("Invalid shader group. Exiting testshade.", false);
+        }
         return false;
+      }
     }
     if (ok && !group.entries.empty()) {
       out << "Entry layers:";

@@ -352,9 +352,9 @@ bool shaderFlag(FlagParser &p) {
 
 bool connectFlag(FlagParser &p) {
   char **a = p.argv + p.i;
-  if (!p.need(4) || !p.o.group.connect({a[1], a[2], a[3], a[4]}, p.error))
+  if (!p.need(4))
     return false;
-  p.o.connectFlags.push_back(p.o.group.connections.back());
+  p.o.group.connect({a[1], a[2], a[3], a[4], ""});
   p.i += 4;
   return true;
 }
@@ -373,6 +373,10 @@ bool groupFlag(FlagParser &p) {
   }
   if (!p.o.group.parseStatements(text, dir, p.error))
     return false;
+  // testshade makes a group of its own before the spec's, so OSL names
+  // the spec's group unnamed_group_2 in its messages.
+  if (p.o.compile.groupName.empty())
+    p.o.compile.groupName = "unnamed_group_2";
   p.o.isGroup = true;
   return true;
 }

@@ -261,8 +261,8 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
     for (const RunOptions::Reparam &r : o.reparams)
       if (!o.group.reparam(r.layer, r.name, r.value, error))
         return false;
-    if (!o.group.validate(error))
-      return false;
+    // The group is checked as it is assembled (GroupAssembly.h: in
+    // testshade's words) and again when it compiles.
     // testshade also takes the root layer's own outputs as ROOT.NAME.
     std::string rootPrefix = o.group.layers.back().name + ".";
     for (auto &[name, file] : o.outputs)

@@ -57,8 +57,6 @@ struct RunOptions {
   /// positional shader; --reparam values are applied once it is built.
   ShaderGroup group;
   bool isGroup = false;
-  /// The --connect flags, which testshade reports as it makes them.
-  std::vector<GroupConnection> connectFlags;
   struct Reparam {
     std::string layer, name, value;
   };

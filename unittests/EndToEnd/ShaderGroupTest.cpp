@@ -64,7 +64,7 @@ ShaderGroup twoLayers() {
   EXPECT_TRUE(group.shader(writeTemp("wave.osl", kUpstream), "w", error)) << error;
   group.param("c", "0,1,0");
   EXPECT_TRUE(group.shader(writeTemp("tint.osl", kDownstream), "t", error)) << error;
-  EXPECT_TRUE(group.connect({"w", "out", "t", "x"}, error)) << error;
+  group.connect({"w", "out", "t", "x"});
   return group;
 }
 
@@ -123,11 +123,12 @@ TEST(ShaderGroupTest, ReparamRespecialises) {
 TEST(ShaderGroupTest, BadGroupsAreErrors) {
   std::string error;
   ShaderGroup group = twoLayers();
-  EXPECT_FALSE(group.connect({"w", "out", "nosuch", "x"}, error));
-  EXPECT_EQ(error, "connect: unknown layer 'nosuch' (layers must be declared first)");
+  group.connect({"w", "out", "nosuch", "x"});
+  EXPECT_FALSE(group.validate(error));
+  EXPECT_EQ(error, "connect: unknown layer 'nosuch'");
 
   ShaderGroup backwards = twoLayers();
-  ASSERT_TRUE(backwards.connect({"t", "Cout", "w", "freq"}, error));
+  backwards.connect({"t", "Cout", "w", "freq"});
   EXPECT_FALSE(backwards.validate(error));
   EXPECT_NE(error.find("would make a cycle"), std::string::npos) << error;
 
