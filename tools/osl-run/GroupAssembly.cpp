@@ -17,22 +17,31 @@ namespace {
 
 class GroupAssembler {
 public:
-  GroupAssembler(const RunOptions &options, llvm::raw_ostream &out, llvm::raw_ostream &errs)
+  GroupAssembler(RunOptions &options, llvm::raw_ostream &out, llvm::raw_ostream &errs)
       : options(options), group(options.group), out(out), errs(errs),
         groupName(groupNameOrDefault(options.compile.groupName)) {}
 
   bool run() {
-    bool ok = true;
-    for (const GroupLayer &l : group.layers)
-      if (!llvm::sys::fs::is_regular_file(l.shaderPath)) {
-        std::string name = l.shaderName.empty()
-                               ? llvm::sys::path::stem(l.shaderPath).str()
-                               : l.shaderName;
-        error("No .oso file could be found for shader \"" + name + "\"", false);
-        error("Could not find shader \"" + name + "\"");
-        missing.insert(l.name);
-        ok = false;
+    // testshade reports a shader it cannot find and builds the group
+    // without it; the parameter values given for it go to the next shader.
+    std::vector<ParamOverride> carried;
+    llvm::erase_if(group.layers, [&](GroupLayer &l) {
+      if (llvm::sys::fs::is_regular_file(l.shaderPath)) {
+        l.params.insert(l.params.begin(), carried.begin(), carried.end());
+        carried.clear();
+        return false;
       }
+      carried.insert(carried.end(), l.params.begin(), l.params.end());
+      std::string name =
+          l.shaderName.empty() ? llvm::sys::path::stem(l.shaderPath).str() : l.shaderName;
+      error("No .oso file could be found for shader \"" + name + "\"", false);
+      error("Could not find shader \"" + name + "\"");
+      missing.insert(l.name);
+      return true;
+    });
+    llvm::erase_if(options.groupBeforeReparams.layers,
+                   [&](const GroupLayer &l) { return missing.contains(l.name); });
+
     // testshade stops at the first connection it refuses.
     for (const GroupConnection &c : group.connections) {
       if (c.statement.empty())
@@ -47,13 +56,13 @@ public:
         return false;
       }
     }
-    if (ok && !group.entries.empty()) {
+    if (!group.entries.empty()) {
       out << "Entry layers:";
       for (const std::string &e : group.entries)
         out << " " << e << "(" << layerIndex(e) << ")";
       out << "\n";
     }
-    return ok;
+    return !group.layers.empty();
   }
 
 private:
@@ -114,8 +123,8 @@ private:
     errs.flush();
   }
 
-  const RunOptions &options;
-  const ShaderGroup &group;
+  RunOptions &options;
+  ShaderGroup &group;
   llvm::raw_ostream &out, &errs;
   std::string groupName;
   llvm::StringSet<> missing;
@@ -124,7 +133,7 @@ private:
 
 } // namespace
 
-bool osl::assembleGroup(const RunOptions &options, llvm::raw_ostream &out,
+bool osl::assembleGroup(RunOptions &options, llvm::raw_ostream &out,
                         llvm::raw_ostream &errs) {
   bool ok = GroupAssembler(options, out, errs).run();
   out.flush();
