@@ -130,6 +130,21 @@ unconnectableParams(llvm::StringRef source, llvm::StringRef filename, llvm::raw_
                     llvm::ArrayRef<std::string> includePaths = {},
                     llvm::ArrayRef<std::string> defines = {});
 
+/// A file a shader's source #includes (`standard`: one of osl-mlir's own
+/// standard headers, oslutil.h and the like).
+struct IncludedFile {
+  std::string path;
+  bool standard = false;
+};
+
+/// The files `source` #includes, directly or not, each once in the order
+/// first included, as make's dependencies (oslc -M) list them. Null after
+/// printing diagnostics to `errs`.
+std::optional<std::vector<IncludedFile>>
+includedFiles(llvm::StringRef source, llvm::StringRef filename, llvm::raw_ostream &errs,
+              llvm::ArrayRef<std::string> includePaths = {},
+              llvm::ArrayRef<std::string> defines = {});
+
 /// The source of shader `name` among `dirs`: NAME.osl, else the first .osl
 /// file (in name order) that declares a shader of that name, as oslc names
 /// its output after the shader (ShaderSearch.cpp). Empty if there is none.

@@ -48,6 +48,7 @@ public:
   llvm::StringRef getFilename() const { return files[0]; }
   /// The name of source file `file` of a SrcLoc.
   llvm::StringRef fileName(unsigned file) const { return files[file]; }
+  unsigned fileCount() const { return unsigned(files.size()); }
   /// Registers an #included file; returns its SrcLoc::file.
   unsigned addFile(llvm::StringRef name) {
     files.push_back(name.str());

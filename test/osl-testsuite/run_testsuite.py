@@ -139,6 +139,16 @@ class Context:
         words = shlex.split(oslcargs + " " + args)
         sources = [w for w in words if w.endswith(".osl")]
         flags = [w for w in words if w.startswith(("-D", "-I", "-U"))]
+        # Make dependencies (-M, -MM, -MD, -MMD, -MF FILE, -MT TARGET) pass
+        # through; -MF and -MT may take the next word.
+        deps = []
+        for i, w in enumerate(words):
+            if w in ("-MF", "-MT") and i + 1 < len(words):
+                deps += [w, words[i + 1]]
+            elif w.startswith("-M"):
+                deps.append(w)
+        # -M and -MM print the dependencies instead of compiling.
+        quiet = "-q" in words or "-M" in words or "-MM" in words
         if sources:
             self.compile_flags = flags
         cmds = ""
@@ -150,15 +160,19 @@ class Context:
                 cmds += "cp %s . ;\n" % shlex.quote(src)
             werror = " -Werror" if "-Werror" in words else ""
             check = (self.osl_run_cmd() + " --check" + werror + " " +
-                     " ".join(shlex.quote(f) for f in flags) + " " + shlex.quote(src))
+                     " ".join(shlex.quote(f) for f in flags + deps) + " " + shlex.quote(src))
             # oslc names X.oso after the shader the file declares; a shader
             # whose name is not its file's is found by that name (osl-run
             # takes an extensionless file as the shader's source).
             name = (declared_shader_name(os.path.join(self.workdir, src)) or
                     preprocessed_shader_name(self.osl_run, flags, self.workdir, src) or base)
             also = "" if name == base else " && cp %s %s" % (shlex.quote(src), shlex.quote(name))
-            cmds += ("%s%s%s && echo %s >> out.txt ;\n" %
-                     (check, REDIRECT, also, shlex.quote("Compiled %s -> %s.oso" % (src, name))))
+            compiled = "" if quiet else " && echo %s >> out.txt" % shlex.quote(
+                "Compiled %s -> %s.oso" % (src, name))
+            # What osl-run prints (-M's dependencies) comes after oslc's
+            # "Compiled" line.
+            cmds += ("%s > oslc.stdout 2>>out.txt%s%s && cat oslc.stdout >> out.txt ;\n" %
+                     (check, also, compiled))
         return cmds
 
     def oslinfo(self, args):

@@ -74,11 +74,12 @@ bool positiveLong(FlagParser &p, long limit, int &out, const char *what) {
   return true;
 }
 
-/// A flag whose value follows it or, with `prefix` ("--width="), is
-/// attached to it.
+/// A flag whose value follows it or is attached to it after `prefix`
+/// ("--width=", "-I"); "" if there is none.
 std::string attachedOrNext(FlagParser &p, const char *prefix) {
-  if (p.flag.rfind(prefix, 0) == 0)
-    return p.flag.substr(std::strlen(prefix));
+  size_t n = std::strlen(prefix);
+  if (p.flag.size() > n && p.flag.rfind(prefix, 0) == 0)
+    return p.flag.substr(n);
   return p.need(1) ? std::string(p.next()) : std::string();
 }
 
@@ -319,6 +320,27 @@ bool itersFlag(FlagParser &p) {
   return true;
 }
 
+/// oslc's -M, -MM (print the make dependencies), -MD, -MMD (write them).
+bool dependenciesFlag(FlagParser &p) {
+  RunOptions::Dependencies &d = p.o.dependencies;
+  bool write = p.flag.back() == 'D';
+  (write ? d.write : d.print) = true;
+  d.standardHeaders = p.flag.rfind("-MM", 0) != 0;
+  return true;
+}
+
+/// -MF FILE or -MFFILE.
+bool dependencyFileFlag(FlagParser &p) {
+  p.o.dependencies.file = attachedOrNext(p, "-MF");
+  return !p.o.dependencies.file.empty() || p.fail("-MF needs a file name");
+}
+
+/// -MT TARGET or -MTTARGET.
+bool dependencyTargetFlag(FlagParser &p) {
+  p.o.dependencies.target = attachedOrNext(p, "-MT");
+  return !p.o.dependencies.target.empty() || p.fail("-MT needs a target name");
+}
+
 /// A flag that stores its one argument in a compile option.
 template <std::string CompileOptions::*Field> bool compileStringFlag(FlagParser &p) {
   if (!p.need(1))
@@ -427,10 +449,10 @@ bool mathFlag(FlagParser &p) {
 }
 
 bool includeFlag(FlagParser &p) { // -I DIR or -IDIR
-  if (p.flag == "-I" && !p.need(1))
+  std::string dir = attachedOrNext(p, "-I");
+  if (dir.empty())
     return false;
-  p.o.compile.includePaths.push_back(p.flag == "-I" ? std::string(p.next())
-                                                     : p.flag.substr(2));
+  p.o.compile.includePaths.push_back(dir);
   return true;
 }
 
@@ -577,6 +599,7 @@ const Flag kFlags[] = {
     {{"--colorspace"}, compileStringFlag<&CompileOptions::colorSpace>},
     // Running
     {{"--check"}, setFlag<&RunOptions::checkOnly>},
+    {{"-M", "-MM", "-MD", "-MMD"}, dependenciesFlag},
     {{"--info"}, setFlag<&RunOptions::infoOnly>},
     {{"--timeout"}, timeoutFlag},
     {{"--image-memory"}, imageMemoryFlag},
@@ -599,6 +622,8 @@ const Flag kPrefixFlags[] = {
     {{"--emit="}, emitFlag},
     {{"-I"}, includeFlag},
     {{"-D", "-U"}, macroFlag},
+    {{"-MF"}, dependencyFileFlag},
+    {{"-MT"}, dependencyTargetFlag},
 };
 
 } // namespace

@@ -28,6 +28,15 @@ struct RunOptions {
   bool stats = false;
   /// --check: compile (reporting errors) and stop, like oslc.
   bool checkOnly = false;
+  /// oslc's make dependencies of a shader: -M/-MM print them instead of
+  /// compiling, -MD/-MMD write them to -MF FILE (else SOURCE's stem +
+  /// ".d") once it compiles; -MT
+  /// names the target (else SOURCE's stem + ".oso"); the -MM forms leave
+  /// out osl-mlir's standard headers.
+  struct Dependencies {
+    bool print = false, write = false, standardHeaders = true;
+    std::string file, target;
+  } dependencies;
   /// --timeout SECONDS: stop (exit 1) when the run takes longer; 0: never.
   int timeoutSeconds = 0;
   /// --keep-going: a texture that cannot be read or a failed string call is

@@ -5,6 +5,7 @@
 // outputs are written as images through OpenImageIO.
 //
 //===----------------------------------------------------------------------===//
+#include "Dependencies.h"
 #include "GroupAssembly.h"
 #include "RunOptions.h"
 
@@ -410,6 +411,13 @@ int main(int argc, char **argv) {
                   buffer.getError().message());
     source = std::move(*buffer);
   }
+  if (options.dependencies.print) {
+    // -M and -MM, as oslc's (and gcc's): the dependencies instead of a
+    // compile.
+    if (emitDependencies(options, source->getBuffer(), error))
+      return 0;
+    return error.empty() ? 1 : fail(error);
+  }
   if (options.infoOnly) {
     std::optional<std::string> info =
         shaderInfoText(source->getBuffer(), options.shaderPath, llvm::errs(),
@@ -435,6 +443,8 @@ int main(int argc, char **argv) {
                              : compiler.compile(source->getBuffer(), options.shaderPath);
     if (!shader)
       return 1;
+    if (!options.isGroup && !emitDependencies(options, source->getBuffer(), error))
+      return error.empty() ? 1 : fail(error);
     if (options.checkOnly)
       return 0;
   } else if (!emit(compiler, options, source->getBuffer(), statsPtr)) {
