@@ -41,6 +41,10 @@ enum TextureFlags : int32_t {
   /// "errormessage" given: a failed lookup's error goes to the error row (no
   /// report), and "" where a lookup succeeds.
   kTextureWantsErrorMessage = 4,
+  /// A 2D lookup's result has derivatives (osl-derivatives sets it where it
+  /// reads the kTextureDsRow/kTextureDtRow slopes): without it OpenImageIO
+  /// is not asked for them, which saves much of its filtering.
+  kTextureWantsDerivatives = 8,
 };
 
 /// OpenImageIO's wrap modes by name (its Tex::Wrap values); unknown names

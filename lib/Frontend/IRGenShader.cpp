@@ -56,9 +56,12 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
       return p.name == o.name ||
              (p.type.isStructLike() && llvm::StringRef(o.name).starts_with(p.name + "."));
     });
-    if (!found)
-      return error(shader.loc, "shader '" + shader.name + "' has no parameter '" +
-                                   o.name + "'");
+    // OSL warns and goes on ("attempting to set nonexistent parameter"):
+    // a scene may set values for parameters a shader version dropped.
+    if (!found && !diags.warning(shader.loc, "shader '" + shader.name +
+                                                 "' has no parameter '" + o.name +
+                                                 "': its value is ignored"))
+      return false;
   }
   // Ci, the shader's closure result: written as output "Ci" if assigned.
   Var *ci = declareVar(root, "Ci", OslType(BaseType::Closure), shader.loc,

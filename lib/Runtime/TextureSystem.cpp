@@ -121,9 +121,10 @@ void texture(const char *where, const char *file, const char *subimageName, int3
     const int d = kTextureDerivRow;
     bool ok = false;
     if (kind == kTexture2D) {
+      bool slopes = flags & kTextureWantsDerivatives;
       ok = ts.texture(handle, thread, opt, at(kTextureCoordRow), at(kTextureCoordRow + 1),
-                      at(d), at(d + 1), at(d + 2), at(d + 3), channels, result, dresultds,
-                      dresultdt);
+                      at(d), at(d + 1), at(d + 2), at(d + 3), channels, result,
+                      slopes ? dresultds : nullptr, slopes ? dresultdt : nullptr);
     } else {
       Imath::V3f p(at(kTextureCoordRow), at(kTextureCoordRow + 1), at(kTextureCoordRow + 2));
       Imath::V3f dx(at(d), at(d + 1), at(d + 2)), dy(at(d + 3), at(d + 4), at(d + 5));

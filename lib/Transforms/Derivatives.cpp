@@ -541,8 +541,10 @@ private:
     int64_t row = load->getAttrOfType<IntegerAttr>(kTextureResultRowAttr).getInt();
     if (axis != "x" && axis != "y")
       return Value();
-    if (!load.getAddr().getDefiningOp<LLVM::GEPOp>())
+    auto gep = load.getAddr().getDefiningOp<LLVM::GEPOp>();
+    if (!gep)
       return fail(user, "a texture result loaded from an unknown address");
+    askForSlopes(gep.getBase());
     OpBuilder b(load->getContext());
     b.setInsertionPointAfter(load);
     Location loc = load.getLoc();
@@ -552,6 +554,25 @@ private:
     Value ds = b.create<arith::MulFOp>(loc, rowValue(::osl::kTextureDsRow + k), rowValue(d));
     Value dt = b.create<arith::MulFOp>(loc, rowValue(::osl::kTextureDtRow + k), rowValue(d + 1));
     return b.create<arith::AddFOp>(loc, ds, dt).getResult();
+  }
+
+  /// The lookups writing the block of rows at `block` (one call site; lane
+  /// groups clone it) compute the slopes of their results too.
+  static void askForSlopes(Value block) {
+    for (Operation *user : block.getUsers()) {
+      auto call = dyn_cast<LLVM::CallOp>(user);
+      if (!call || call.getCallee() != StringRef("osl_rt_texture"))
+        continue;
+      constexpr unsigned kFlagsOperand = 10; // RuntimeCalls.cpp's argument order
+      Value flags = call.getArgOperands()[kFlagsOperand];
+      auto constant = flags.getDefiningOp<arith::ConstantIntOp>();
+      if (!constant || (constant.value() & ::osl::kTextureWantsDerivatives))
+        continue;
+      OpBuilder b(call);
+      call->setOperand(kFlagsOperand,
+                       b.create<arith::ConstantIntOp>(
+                           call.getLoc(), constant.value() | ::osl::kTextureWantsDerivatives, 32));
+    }
   }
 
   /// Derivative of a load of a global's row: the matching derivative row

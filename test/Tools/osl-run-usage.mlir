@@ -9,7 +9,6 @@
 // RUN: not osl-run %shaders/marble.osl --userdata:type=color c 1,x 2>&1 | FileCheck %s --check-prefix=UDVALUE
 // RUN: not osl-run %t.does-not-exist.osl 2>&1 | FileCheck %s --check-prefix=MISSING
 // RUN: not osl-run %shaders/marble.osl -g 8 8 -o nosuch %t.png 2>&1 | FileCheck %s --check-prefix=OUTPUT
-// RUN: not osl-run %shaders/marble.osl -g 8 8 --param nosuch 1 2>&1 | FileCheck %s --check-prefix=PARAM
 // RUN: osl-run %shaders/marble.osl -g 8 8 -o Cout %t.exr --stats --no-cache 2>&1 | FileCheck %s --check-prefix=STATS
 // USAGE: usage: osl-run SHADER.osl [options]
 // WIDTH: osl-run: error: --width must be 1, 4, 8 or 16
@@ -21,7 +20,6 @@
 // UDVALUE: osl-run: error: --userdata: '1,x' is not one or three numbers for type color
 // MISSING: osl-run: error: cannot read '{{.*}}does-not-exist.osl'
 // OUTPUT: error: shader 'marble' has no output 'nosuch'; outputs: Cout
-// PARAM: error: {{.*}}nosuch
 // STATS: front end
 // STATS: mlir passes
 // STATS: llvm opt
