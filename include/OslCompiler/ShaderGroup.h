@@ -72,7 +72,8 @@ struct ShaderGroup {
 
   /// testshade's group syntax (`--group`): `param TYPE NAME VALUE... ;`
   /// (optionally followed by `[[int lockgeom=0]]`), `shader NAME LAYER ;`,
-  /// `connect FROMLAYER.OUTPUT TOLAYER.INPUT ;`. Shader names without a
+  /// `connect FROMLAYER.OUTPUT TOLAYER.INPUT ;` (a comma may end a
+  /// statement instead of `;`, as in OSL's group strings). Shader names without a
   /// directory or extension are looked up as `DIR/NAME.osl`.
   bool parseStatements(const std::string &text, const std::string &shaderDir,
                        std::string &error);

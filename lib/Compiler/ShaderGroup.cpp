@@ -99,6 +99,7 @@ namespace {
 
 /// Splits on whitespace, keeping "quoted strings" (without quotes) and
 /// `[[...]]` annotations as single tokens; `#` and `//` start comments.
+/// A comma ends a statement as `;` does (OSL's group strings take either).
 std::vector<std::string> tokenize(llvm::StringRef text) {
   std::vector<std::string> tokens;
   size_t i = 0;
@@ -110,7 +111,7 @@ std::vector<std::string> tokenize(llvm::StringRef text) {
       // A comment runs to the end of the line (group files).
       size_t end = text.find('\n', i);
       i = end == llvm::StringRef::npos ? text.size() : end + 1;
-    } else if (c == ';') {
+    } else if (c == ';' || c == ',') {
       tokens.push_back(";");
       ++i;
     } else if (c == '"') {
@@ -127,7 +128,7 @@ std::vector<std::string> tokenize(llvm::StringRef text) {
     } else {
       size_t end = i;
       while (end < text.size() && !isspace(static_cast<unsigned char>(text[end])) &&
-             text[end] != ';')
+             text[end] != ';' && text[end] != ',')
         ++end;
       tokens.push_back(text.slice(i, end).str());
       i = end;

@@ -389,9 +389,9 @@ bool groupFlag(FlagParser &p) {
   if (auto file = llvm::MemoryBuffer::getFile(text, /*IsText=*/true)) {
     dir = llvm::sys::path::parent_path(text).str();
     text = (*file)->getBuffer().str();
-  } else if (text.find(';') == std::string::npos) {
+  } else if (text.find_first_of(";,") == std::string::npos) {
     return p.fail("--group: cannot read '" + text + "': " + file.getError().message() +
-                  " (statements end in ';')");
+                  " (statements end in ';' or ',')");
   }
   if (!p.o.group.parseStatements(text, dir, p.error))
     return false;
