@@ -625,6 +625,10 @@ def Osl_PrintOp : Osl_Op<"print", [AttrSizedOperandSegments,
   let assemblyFormat = [{
     $stream $kinds `(` $args `)` (`mask` $mask^ `:` type($mask))? attr-dict `:` type($args)
   }];
+  let extraClassDeclaration = [{
+    /// An error() call (OSL's lazyerror option and opt_warnings ask).
+    bool isErrorCall() { return getStream() == "error"; }
+  }];
   let hasVerifier = 1;
 }
 

@@ -15,7 +15,7 @@ constexpr const char *kWarnLayerAttr = "osl.warn_layer";
 
 bool isErrorCall(Operation *op) {
   auto print = dyn_cast<mlir::osl::PrintOp>(op);
-  return print && print.getStream() == "error";
+  return print && print.isErrorCall();
 }
 
 bool mayWarn(Operation *op) {

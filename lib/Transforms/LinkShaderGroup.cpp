@@ -92,7 +92,7 @@ struct LinkShaderGroupPass
       if (!lazyGlobals)
         l.func.walk([&](OutputOp out) { l.writesCi |= out.getName() == "Ci"; });
       if (!lazyError)
-        l.func.walk([&](PrintOp print) { l.callsError |= print.getStream() == "error"; });
+        l.func.walk([&](PrintOp print) { l.callsError |= print.isErrorCall(); });
     }
     if (!anyEntry)
       layers.back().entry = true;
