@@ -29,9 +29,8 @@ osl::parseOslShader(llvm::StringRef source, llvm::StringRef filename,
                 "XYZ, ACES2065-1, ACEScg)");
     return nullptr;
   }
-  std::vector<Token> raw, tokens;
-  if (!lex(source, diags, raw) ||
-      !preprocess(raw, diags, tokens, options.includePaths, options.defines))
+  std::vector<Token> tokens;
+  if (!lexAndPreprocess(source, diags, tokens, options.includePaths, options.defines))
     return nullptr;
   Program program;
   if (!parseProgram(tokens, diags, program))
@@ -60,8 +59,8 @@ std::string osl::preprocessedFingerprint(llvm::StringRef source, llvm::StringRef
                                          llvm::ArrayRef<std::string> includePaths,
                                          llvm::ArrayRef<std::string> defines) {
   Diagnostics diags(filename, llvm::nulls());
-  std::vector<Token> raw, tokens;
-  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths, defines))
+  std::vector<Token> tokens;
+  if (!lexAndPreprocess(source, diags, tokens, includePaths, defines))
     return "";
   std::string text;
   llvm::raw_string_ostream os(text);

@@ -12,8 +12,8 @@ osl::includedFiles(llvm::StringRef source, llvm::StringRef filename, llvm::raw_o
                    llvm::ArrayRef<std::string> includePaths,
                    llvm::ArrayRef<std::string> defines) {
   Diagnostics diags(filename, errs);
-  std::vector<Token> raw, tokens;
-  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths, defines))
+  std::vector<Token> tokens;
+  if (!lexAndPreprocess(source, diags, tokens, includePaths, defines))
     return std::nullopt;
   // The preprocessor registers each file it reads, the main one first.
   llvm::StringRef standardDir = OSL_MLIR_STDINCLUDE_DIR;

@@ -790,3 +790,11 @@ bool osl::frontend::preprocess(const std::vector<Token> &raw, Diagnostics &diags
   out.resize(kept);
   return true;
 }
+
+bool osl::frontend::lexAndPreprocess(llvm::StringRef source, Diagnostics &diags,
+                                     std::vector<Token> &out,
+                                     llvm::ArrayRef<std::string> includePaths,
+                                     llvm::ArrayRef<std::string> defines) {
+  std::vector<Token> raw;
+  return lex(source, diags, raw) && preprocess(raw, diags, out, includePaths, defines);
+}

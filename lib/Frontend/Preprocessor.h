@@ -24,6 +24,11 @@ bool preprocess(const std::vector<Token> &raw, Diagnostics &diags,
                 std::vector<Token> &out, llvm::ArrayRef<std::string> includePaths = {},
                 llvm::ArrayRef<std::string> defines = {});
 
+/// lex() then preprocess(): the tokens of `source` (file 0 of `diags`).
+bool lexAndPreprocess(llvm::StringRef source, Diagnostics &diags, std::vector<Token> &out,
+                      llvm::ArrayRef<std::string> includePaths = {},
+                      llvm::ArrayRef<std::string> defines = {});
+
 } // namespace osl::frontend
 
 #endif // OSLFRONTEND_PREPROCESSOR_H

@@ -193,9 +193,9 @@ std::optional<Program> parseInterface(llvm::StringRef source, llvm::StringRef fi
                                       llvm::ArrayRef<std::string> includePaths,
                                       llvm::ArrayRef<std::string> defines) {
   Diagnostics diags(filename, errs);
-  std::vector<Token> raw, tokens;
+  std::vector<Token> tokens;
   Program program;
-  if (!lex(source, diags, raw) || !preprocess(raw, diags, tokens, includePaths, defines) ||
+  if (!lexAndPreprocess(source, diags, tokens, includePaths, defines) ||
       !parseProgram(tokens, diags, program) || !program.shader)
     return std::nullopt;
   return program;
