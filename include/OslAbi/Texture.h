@@ -47,6 +47,10 @@ enum TextureFlags : int32_t {
   kTextureWantsDerivatives = 8,
 };
 
+/// Where osl_rt_texture's `flags` is among its arguments (EntryPoints.h):
+/// osl-derivatives adds kTextureWantsDerivatives to a call it differentiates.
+inline constexpr unsigned kTextureFlagsArgument = 10;
+
 /// OpenImageIO's wrap modes by name (its Tex::Wrap values); unknown names
 /// are its default, as OpenImageIO decodes them.
 constexpr int32_t textureWrapCode(std::string_view name) {

@@ -563,7 +563,7 @@ private:
       auto call = dyn_cast<LLVM::CallOp>(user);
       if (!call || call.getCallee() != StringRef("osl_rt_texture"))
         continue;
-      constexpr unsigned kFlagsOperand = 10; // RuntimeCalls.cpp's argument order
+      constexpr unsigned kFlagsOperand = ::osl::kTextureFlagsArgument;
       Value flags = call.getArgOperands()[kFlagsOperand];
       auto constant = flags.getDefiningOp<arith::ConstantIntOp>();
       if (!constant || (constant.value() & ::osl::kTextureWantsDerivatives))

@@ -323,6 +323,9 @@ struct TextureLowering : public OslPattern<TextureOp> {
                                block,
                                i32Const(lanes),
                                maskBits(rewriter, loc, mask)};
+    assert(args[::osl::kTextureFlagsArgument].getDefiningOp<arith::ConstantIntOp>().value() ==
+               flags &&
+           "kTextureFlagsArgument names the flags");
     rewriter.create<LLVM::CallOp>(loc, callee, args);
 
     auto loadRow = [&](int64_t row, Type element) {
