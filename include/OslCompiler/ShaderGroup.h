@@ -32,7 +32,7 @@ struct GroupConnection {
   std::string fromLayer, fromOutput, toLayer, toInput;
   /// The group statement that made it ("connect a.b c.d"); empty for
   /// testshade's --connect, whose connections are reported as made.
-  std::string statement;
+  std::string statement = "";
 };
 
 /// How much render-time specialisation a group gets (testshade's -O).

@@ -1,7 +1,5 @@
 //===- ShaderCompiler.cpp - OSL source to a callable batch kernel ---------===//
 #include "OslCompiler/ShaderCompiler.h"
-
-#include <optional>
 #include "OslCompiler/KernelCache.h"
 #include "OslCompiler/LibraryObjects.h"
 #include "GlobalsNeeded.h"

@@ -65,7 +65,7 @@ void mlir::osl::buildOslLevelPipeline(OpPassManager &pm,
 }
 
 void mlir::osl::buildLoweringPipeline(OpPassManager &pm,
-                                       const OslToLLVMPipelineOptions &options) {
+                                      const OslToLLVMPipelineOptions &options) {
   buildLibraryOutliningPipeline(pm, options);
   buildLLVMDialectPipeline(pm, options);
 }
