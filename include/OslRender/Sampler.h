@@ -94,23 +94,37 @@ inline uint32_t owenScramble(uint32_t x, uint32_t seed) {
   return reverseBits(x);
 }
 
+/// Point `call` (1, 2, ...) of the path seeded (`key`, `index`): its own
+/// shuffle of the sample order (so calls are uncorrelated) and its own
+/// scramble of each dimension. Integer math only, so it vectorizes and is
+/// the same in every lane (always inlined: a call would keep a lane loop
+/// from vectorizing).
+[[gnu::always_inline]] inline Vec3 samplerPoint(uint32_t key, uint32_t index, uint32_t call) {
+  auto toFloat = [](uint32_t x) { return float(x >> 8) * 0x1p-24f; };
+  uint32_t h = hash32(key ^ hash32(call * 0x85ebca6bU));
+  uint32_t i = owenScramble(index, h);
+  return {toFloat(owenScramble(sobol(0, i), hash32(h + 1))),
+          toFloat(owenScramble(sobol(1, i), hash32(h + 2))),
+          toFloat(owenScramble(sobol(2, i), hash32(h + 3)))};
+}
+
 class Sampler {
 public:
   Sampler() = default;
   Sampler(uint32_t pixel, uint32_t index, uint32_t seed)
       : key(hash32(pixel * 0x9e3779b9U ^ hash32(seed + 0x632be5abU))), index(index) {}
-  /// The next call's point: its own shuffle of the sample order (so calls
-  /// are uncorrelated) and its own scramble of each dimension.
-  Vec3 get() {
-    uint32_t h = hash32(key ^ hash32(++call * 0x85ebca6bU));
-    uint32_t i = owenScramble(index, h);
-    return {toFloat(owenScramble(sobol(0, i), hash32(h + 1))),
-            toFloat(owenScramble(sobol(1, i), hash32(h + 2))),
-            toFloat(owenScramble(sobol(2, i), hash32(h + 3)))};
+  /// The next call's point.
+  Vec3 get() { return samplerPoint(key, index, ++call); }
+  /// The next `n` calls, to draw them elsewhere (a batch of paths at a
+  /// time): the first is returned, and get() continues after the last.
+  uint32_t reserve(uint32_t n) {
+    call += n;
+    return call - n + 1;
   }
+  uint32_t pathKey() const { return key; }
+  uint32_t sampleIndex() const { return index; }
 
 private:
-  static float toFloat(uint32_t x) { return float(x >> 8) * 0x1p-24f; }
   uint32_t key = 0, index = 0, call = 0;
 };
 

@@ -1,4 +1,5 @@
 //===- Integrator.cpp - Wavefront path tracing with batched shading -------===//
+#include "LaneKernels.h"
 #include "OslRender/Bsdf.h"
 #include "OslRender/Geometry.h"
 #include "OslRender/Renderer.h"
@@ -92,6 +93,9 @@ public:
   PathWave(const Renderer &r)
       : r(r), scene(r.scene), width(r.laneWidth),
         globals(size_t(kGlobalRows) * r.laneWidth), queues(scene.shaders.size()) {
+    for (int l = 0; l < int(scene.prims.size()); ++l)
+      if (scene.prims[l].isLight && scene.prims[l].shader >= 0)
+        lights.push_back(l);
     int rows = 1;
     for (const Renderer::Kernel &k : r.kernels)
       rows = std::max(rows, k.outputRows);
@@ -109,8 +113,15 @@ private:
   void startPaths(const std::vector<int> &pixels, int s0, int s1);
   bool intersectPaths();
   void shadeMisses();
-  void scatter(const ShadeRequest &q, int bounce);
-  void sampleLights(const ShadeRequest &q, Vec3 wo);
+  void scatterAll(int bounce);
+  bool startScatter(const ShadeRequest &q);
+  void scatter(const ShadeRequest &q, int bounce, size_t first);
+  void sampleLights(const ShadeRequest &q, Vec3 wo, size_t draw);
+  /// The lights a path at primitive `prim` samples (every light but itself).
+  int lightsSampledFrom(int prim) const {
+    return int(lights.size()) - (prim >= 0 && scene.prims[prim].isLight &&
+                                         scene.prims[prim].shader >= 0);
+  }
   void traceShadowRays();
   void accumulate(float *sum);
   void shade(int shader, const std::vector<ShadeRequest> &requests,
@@ -131,6 +142,14 @@ private:
   std::vector<std::vector<ShadeRequest>> queues;
   std::vector<std::vector<ShadeRequest>> lightQueries;
   std::vector<ShadeRequest> misses;
+  /// The lights next-event estimation samples, in the scene's order.
+  std::vector<int> lights;
+  /// Random points drawn a batch at a time (every path's numbers are its
+  /// own, whatever the batch): a bounce's scattering paths with the first
+  /// of their points, and the paths whose roulette draws.
+  PointDraws draws;
+  std::vector<std::pair<const ShadeRequest *, size_t>> scattering;
+  std::vector<std::pair<int, float>> roulette;
   /// Rays traced together, a batch of `width` lanes at a time: each live
   /// path's next ray, then the bounce's shadow rays.
   RayBatch rays;
@@ -207,12 +226,7 @@ void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
         res.clear();
         addClosure(threadClosureArena(), handle, {-q.i, q.n, q.backfacing}, res);
       });
-    for (auto &q : lightQueries)
-      q.clear();
-    shadowRays.clear();
-    for (size_t s = 0; s < queues.size(); ++s)
-      for (const ShadeRequest &q : queues[s])
-        scatter(q, bounce);
+    scatterAll(bounce);
     traceShadowRays();
     for (size_t s = 0; s < lightQueries.size(); ++s)
       shade(int(s), lightQueries[s], [&](const ShadeRequest &q, int32_t handle) {
@@ -235,19 +249,24 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   Vec3 cx = normalize(cross(dir, cam.up)) * (float(opt.xres) * k / float(opt.yres));
   Vec3 cy = normalize(cross(cx, dir)) * k;
   paths.clear();
+  draws.clear();
   for (int pixel : pixels)
     for (int s = s0; s < s1; ++s) {
       Path p;
       p.pixel = pixel;
       p.rng = Sampler(uint32_t(pixel), uint32_t(s), opt.seed);
-      Vec3 j = p.rng.get();
-      float jx = tent(j.x), jy = tent(j.y);
-      float px = (float(pixel % opt.xres) + 0.5f + jx) / float(opt.xres);
-      float py = (float(pixel / opt.xres) + 0.5f + jy) / float(opt.yres);
-      p.o = cam.eye;
-      p.d = normalize(cx * (px - 0.5f) + cy * (0.5f - py) + dir);
+      draws.push(p.rng.pathKey(), p.rng.sampleIndex(), p.rng.reserve(1));
       paths.push_back(p);
     }
+  laneKernels().drawPoints(draws, width);
+  for (size_t i = 0; i < paths.size(); ++i) {
+    Path &p = paths[i];
+    float jx = tent(draws.x[i]), jy = tent(draws.y[i]);
+    float px = (float(p.pixel % opt.xres) + 0.5f + jx) / float(opt.xres);
+    float py = (float(p.pixel / opt.xres) + 0.5f + jy) / float(opt.yres);
+    p.o = cam.eye;
+    p.d = normalize(cx * (px - 0.5f) + cy * (0.5f - py) + dir);
+  }
 }
 
 /// Intersects every live path: hits queue on their shader, escaped paths
@@ -305,10 +324,52 @@ void PathWave::shadeMisses() {
   });
 }
 
-/// At a shaded hit: its emission, a light sample per light (queued for
-/// the light's shader), then the BSDF's sample continues the path. The
-/// random numbers are drawn in this order for every path.
-void PathWave::scatter(const ShadeRequest &q, int bounce) {
+/// Every shaded hit scatters: its emission, a light sample per light
+/// (queued for the light's shader), then the BSDF's sample continues the
+/// path. Each path draws its random numbers in this order, a batch of
+/// paths at a time.
+void PathWave::scatterAll(int bounce) {
+  for (auto &q : lightQueries)
+    q.clear();
+  shadowRays.clear();
+  scattering.clear();
+  draws.clear();
+  for (const std::vector<ShadeRequest> &queue : queues)
+    for (const ShadeRequest &q : queue)
+      if (startScatter(q)) {
+        // The BSDF's point, then one per light.
+        Path &p = paths[q.path];
+        uint32_t n = 1 + lightsSampledFrom(p.hit.prim);
+        scattering.push_back({&q, draws.size()});
+        for (uint32_t call = p.rng.reserve(n), k = 0; k < n; ++k)
+          draws.push(p.rng.pathKey(), p.rng.sampleIndex(), call + k);
+      }
+  laneKernels().drawPoints(draws, width);
+  roulette.clear();
+  for (auto [q, first] : scattering)
+    scatter(*q, bounce, first);
+  // Russian roulette, past kRouletteBounce: the survivors are scaled up.
+  PointDraws &survival = draws;
+  survival.clear();
+  for (auto [path, survive] : roulette) {
+    Path &p = paths[path];
+    survival.push(p.rng.pathKey(), p.rng.sampleIndex(), p.rng.reserve(1));
+  }
+  laneKernels().drawPoints(survival, width);
+  for (size_t k = 0; k < roulette.size(); ++k) {
+    auto [path, survive] = roulette[k];
+    Path &p = paths[path];
+    if (survival.x[k] >= survive)
+      p.alive = false;
+    else
+      p.throughput = p.throughput / survive;
+  }
+}
+
+/// A hit's emission (weighted against the light sampling that could have
+/// found it) and its lobes' pick probabilities: false when nothing
+/// scatters, and the path ends.
+bool PathWave::startScatter(const ShadeRequest &q) {
   Path &p = paths[q.path];
   ShadingResult &res = results[q.path];
   const Primitive &prim = scene.prims[p.hit.prim];
@@ -316,13 +377,21 @@ void PathWave::scatter(const ShadeRequest &q, int bounce) {
   if (prim.isLight && !std::isinf(p.bsdfPdf))
     k = powerHeuristic(p.bsdfPdf, lightPdf(prim, p.o, q.p));
   p.radiance += p.throughput * res.emission * k;
-  Vec3 wo = -q.i;
-  if (!res.prepare(wo)) {
+  if (!res.prepare(-q.i)) {
     p.alive = false;
-    return;
+    return false;
   }
-  Vec3 bsdfRandom = p.rng.get();
-  sampleLights(q, wo);
+  return true;
+}
+
+/// The lights' samples and the BSDF's, with the path's points from draw
+/// `first` on: the BSDF's, then one per light.
+void PathWave::scatter(const ShadeRequest &q, int bounce, size_t first) {
+  Path &p = paths[q.path];
+  ShadingResult &res = results[q.path];
+  Vec3 wo = -q.i;
+  Vec3 bsdfRandom(draws.x[first], draws.y[first], draws.z[first]);
+  sampleLights(q, wo, first + 1);
   // The last bounce still samples the lights (as testrender's max_bounces
   // does) but traces no further.
   if (bounce >= r.options.maxBounces) {
@@ -344,27 +413,21 @@ void PathWave::scatter(const ShadeRequest &q, int bounce) {
     p.alive = false;
     return;
   }
-  if (bounce + 1 >= kRouletteBounce) {
-    float survive = std::min(1.0f, p.throughput.max());
-    if (p.rng.get().x >= survive) {
-      p.alive = false;
-      return;
-    }
-    p.throughput = p.throughput / survive;
-  }
+  if (bounce + 1 >= kRouletteBounce)
+    roulette.push_back({q.path, std::min(1.0f, p.throughput.max())});
 }
 
 /// Next-event estimation: one sample of each light the hit point sees,
 /// weighted against the BSDF's pdf, queued for the light's shader.
-void PathWave::sampleLights(const ShadeRequest &q, Vec3 wo) {
+void PathWave::sampleLights(const ShadeRequest &q, Vec3 wo, size_t draw) {
   Path &p = paths[q.path];
   ShadingResult &res = results[q.path];
-  for (int l = 0; l < int(scene.prims.size()); ++l) {
-    const Primitive &light = scene.prims[l];
-    if (l == p.hit.prim || !light.isLight || light.shader < 0)
+  for (int l : lights) {
+    if (l == p.hit.prim)
       continue;
-    Vec3 lr = p.rng.get();
-    LightSample ls = sampleLight(light, q.p, lr.x, lr.y);
+    const Primitive &light = scene.prims[l];
+    LightSample ls = sampleLight(light, q.p, draws.x[draw], draws.y[draw]);
+    ++draw;
     if (!(ls.pdf > 0))
       continue;
     BsdfEval e = res.eval(wo, ls.dir);

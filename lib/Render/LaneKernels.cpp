@@ -1,0 +1,58 @@
+//===- LaneKernels.cpp - Choosing the instruction set's loops -------------===//
+#include "LaneKernels.h"
+
+#include "llvm/Support/raw_ostream.h"
+
+#include <cstdlib>
+#include <cstring>
+
+namespace osl::render {
+
+void PointDraws::clear() {
+  for (std::vector<uint32_t> *v : {&key, &index, &call})
+    v->clear();
+}
+
+void PointDraws::push(uint32_t k, uint32_t i, uint32_t c) {
+  key.push_back(k), index.push_back(i), call.push_back(c);
+}
+
+namespace {
+
+bool runsAvx512() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+         __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq");
+}
+
+bool runsAvx2() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
+
+const LaneKernels &chooseLaneKernels() {
+  if (const char *forced = std::getenv("OSL_MLIR_RENDER_ISA")) {
+    if (!std::strcmp(forced, "generic"))
+      return genericLaneKernels();
+    if (!std::strcmp(forced, "avx2") && runsAvx2())
+      return avx2LaneKernels();
+    if (!std::strcmp(forced, "avx512") && runsAvx512())
+      return avx512LaneKernels();
+    llvm::errs() << "warning: OSL_MLIR_RENDER_ISA=" << forced
+                 << " is not generic, avx2 or avx512 this CPU runs; choosing\n";
+  }
+  if (runsAvx512())
+    return avx512LaneKernels();
+  if (runsAvx2())
+    return avx2LaneKernels();
+  return genericLaneKernels();
+}
+
+} // namespace
+
+const LaneKernels &laneKernels() {
+  static const LaneKernels &chosen = chooseLaneKernels();
+  return chosen;
+}
+
+} // namespace osl::render
