@@ -26,6 +26,8 @@
 #include "mlir/IR/Builders.h"
 #include "mlir/IR/IRMapping.h"
 
+#include <limits>
+
 namespace mlir::osl {
 #define GEN_PASS_DEF_DERIVATIVES
 #include "OslTransforms/Passes.h.inc"
@@ -165,14 +167,21 @@ private:
     if (isa<arith::MulFOp>(def)) // (xy)' = x'y + xy'
       return sum(b, loc, product(b, loc, d[0], def->getOperand(1)),
                  product(b, loc, x, d[1]));
-    if (isa<arith::DivFOp>(def)) { // (x/y)' = (x' - (x/y) y') / y
-      Value q = def->getResult(0);
+    if (isa<arith::DivFOp>(def)) {
+      // OSL's dual division, rounding and all: (x' - (x/y) y') times 1/y,
+      // where 1/y is 0 if it is not finite.
+      Value q = def->getResult(0), y = def->getOperand(1);
       Value num = d[1] ? (d[0] ? b.create<arith::SubFOp>(loc, d[0], product(b, loc, q, d[1]))
                                       .getResult()
                                : b.create<arith::NegFOp>(loc, product(b, loc, q, d[1]))
                                      .getResult())
                        : d[0];
-      return b.create<arith::DivFOp>(loc, num, def->getOperand(1)).getResult();
+      Value inverse = b.create<arith::DivFOp>(loc, lane::constantLike(b, loc, y, 1), y);
+      Value finite = b.create<arith::CmpFOp>(
+          loc, arith::CmpFPredicate::OLT, b.create<math::AbsFOp>(loc, inverse),
+          lane::constantLike(b, loc, y, std::numeric_limits<double>::infinity()));
+      inverse = b.create<arith::SelectOp>(loc, finite, inverse, zeroLike(b, loc, y.getType()));
+      return b.create<arith::MulFOp>(loc, inverse, num).getResult();
     }
     if (isa<math::FmaOp>(def)) // (xy + z)'
       return sum(b, loc,

@@ -338,3 +338,30 @@ func.func @library_region_inlined(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32
   llvm.intr.masked.store %sum, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return
 }
+
+// -----
+
+// OSL's dual division: (x' - (x/y) y') times 1/y, and 1/y is 0 where it is
+// not finite (rounded as OSL rounds it: normalize's derivative is then
+// OSL's to the last bit). With x = 1 and y = u: -(q dudx) * (1/u).
+// CHECK-LABEL: func.func @dual_division
+// CHECK: %[[DU:.+]] = llvm.load %{{.+}} {alignment = 4 : i64, osl.derivative_row} : !llvm.ptr -> vector<4xf32>
+// CHECK: %[[Q:.+]] = arith.divf %[[ONE:.+]], %[[U:.+]] : vector<4xf32>
+// CHECK: %[[QDU:.+]] = arith.mulf %[[Q]], %[[DU]]
+// CHECK: %[[NUM:.+]] = arith.negf %[[QDU]]
+// CHECK: %[[INV:.+]] = arith.divf %{{.+}}, %[[U]]
+// CHECK: %[[ABS:.+]] = math.absf %[[INV]]
+// CHECK: %[[FINITE:.+]] = arith.cmpf olt, %[[ABS]], %{{.+}}
+// CHECK: %[[SAFE:.+]] = arith.select %[[FINITE]], %[[INV]], %{{.+}}
+// CHECK: %[[D:.+]] = arith.mulf %[[SAFE]], %[[NUM]]
+// CHECK: llvm.intr.masked.store %[[D]]
+func.func @dual_division(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %one = arith.constant dense<1.0> : vector<4xf32>
+  %q = arith.divf %one, %u : vector<4xf32>
+  %d = osl.lane_deriv x %q : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
