@@ -50,6 +50,15 @@ const LaneKernels &chooseLaneKernels() {
 
 } // namespace
 
+std::vector<const LaneKernels *> laneKernelsThisCpuRuns() {
+  std::vector<const LaneKernels *> all{&genericLaneKernels()};
+  if (runsAvx2())
+    all.push_back(&avx2LaneKernels());
+  if (runsAvx512())
+    all.push_back(&avx512LaneKernels());
+  return all;
+}
+
 const LaneKernels &laneKernels() {
   static const LaneKernels &chosen = chooseLaneKernels();
   return chosen;

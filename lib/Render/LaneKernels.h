@@ -43,6 +43,9 @@ struct LaneKernels {
 /// compare them.
 const LaneKernels &laneKernels();
 
+/// Every instruction set's kernels this CPU runs, plain x86-64 first.
+std::vector<const LaneKernels *> laneKernelsThisCpuRuns();
+
 const LaneKernels &genericLaneKernels();
 const LaneKernels &avx2LaneKernels();
 const LaneKernels &avx512LaneKernels();

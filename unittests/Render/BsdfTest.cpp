@@ -96,10 +96,14 @@ std::vector<LobeCase> cases() {
   schlick.exponent = 5;
   Lobe ward = make(Lobe::Ward, 0.2f, 0.35f);
   ward.t = Vec3(1, 0, 0);
+  Lobe energyOrenNayar = make(Lobe::OrenNayarEnergy, 0.8f);
+  energyOrenNayar.tintR = Vec3(1, 1, 1);
   return {
       {"diffuse", make(Lobe::Diffuse), true},
       {"translucent", make(Lobe::Translucent), true},
       {"oren_nayar", make(Lobe::OrenNayar, 0.5f), false},
+      // energy_compensation: what single scattering loses comes back.
+      {"oren_nayar_energy", energyOrenNayar, true},
       {"phong", make(Lobe::Phong, 20), false},
       {"ward", ward, false},
       {"ggx_reflect", microfacet(0, 0.3f, 0, 0), false},

@@ -7,41 +7,12 @@
 //===----------------------------------------------------------------------===//
 #include "OslRender/Geometry.h"
 #include "OslRender/Sampler.h"
+#include "TestScene.h"
 
 #include <gtest/gtest.h>
 
-#include <cstring>
-
 using namespace osl::render;
-
-namespace {
-
-Scene boxWithSpheres() {
-  Scene scene;
-  Primitive s;
-  s.kind = Primitive::Sphere;
-  s.center = Vec3(0, 0, -5);
-  s.radius = 1;
-  scene.prims.push_back(s);
-  s.center = Vec3(1.5f, 0.5f, -3);
-  s.radius = 0.5f;
-  scene.prims.push_back(s);
-  Primitive q;
-  q.kind = Primitive::Quad; // the floor, y = -1
-  q.corner = Vec3(-4, -1, -8);
-  q.edgeX = Vec3(8, 0, 0);
-  q.edgeY = Vec3(0, 0, 8);
-  scene.prims.push_back(q);
-  q.corner = Vec3(-4, -1, -8); // the back wall, z = -8
-  q.edgeX = Vec3(0, 8, 0);
-  q.edgeY = Vec3(8, 0, 0);
-  scene.prims.push_back(q);
-  return scene;
-}
-
-bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-} // namespace
+using namespace osl::render::testing;
 
 TEST(RayBatch, HandWorkedHits) {
   Scene scene = boxWithSpheres();
