@@ -47,6 +47,7 @@ enum ClosureId : int32_t {
 /// (not microfacet, reflection and refraction, which OSL prints without one).
 #define OSL_LABEL_KEYWORD "label:s"
 #define OSL_MX_KEYWORDS "label:s"
+#define OSL_MX_OREN_NAYAR_KEYWORDS "label:s,energy_compensation:i"
 #define OSL_MX_FILM_KEYWORDS "label:s,thinfilm_thickness:f,thinfilm_ior:f"
 /// In ClosureId order.
 inline constexpr ClosureSignature kClosures[] = {
@@ -67,7 +68,7 @@ inline constexpr ClosureSignature kClosures[] = {
     {"holdout", "", ""},
     // eta, g, mean free path, albedo
     {"subsurface", "ffcc", ""},
-    {"oren_nayar_diffuse_bsdf", "ncf", OSL_MX_KEYWORDS},
+    {"oren_nayar_diffuse_bsdf", "ncf", OSL_MX_OREN_NAYAR_KEYWORDS},
     {"burley_diffuse_bsdf", "ncf", OSL_MX_KEYWORDS},
     // N, U, reflection_tint, transmission_tint, roughness_x, roughness_y, ior, distribution
     {"dielectric_bsdf", "nnccfffs", OSL_MX_FILM_KEYWORDS},
@@ -91,6 +92,7 @@ inline constexpr ClosureSignature kClosures[] = {
 };
 #undef OSL_LABEL_KEYWORD
 #undef OSL_MX_KEYWORDS
+#undef OSL_MX_OREN_NAYAR_KEYWORDS
 #undef OSL_MX_FILM_KEYWORDS
 static_assert(std::size(kClosures) == kClosureCount, "one signature per ClosureId");
 

@@ -33,6 +33,8 @@ struct Lobe {
     Transparent,  // straight through
     Burley,       // a = roughness
     Sheen,        // a = roughness
+    OrenNayarEnergy, // a = sigma, tintR = albedo: Fujii's Oren-Nayar with Portsmouth's
+                     // multiple-scattering term (energy_compensation)
   };
   Model model = Diffuse;
   Vec3 weight;

@@ -261,6 +261,9 @@ private:
       }
     }
     advance(); // ')'
+    // The shader's metadata may also follow its parameters (oslc's grammar).
+    if (!parseMetadata(&shader->metadata))
+      return nullptr;
     if (!cur().isPunct("{")) {
       errorExpected("'{' to begin the shader body");
       return nullptr;

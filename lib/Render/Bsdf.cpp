@@ -223,6 +223,8 @@ float diffuseLikeF(const Lobe &l, Vec3 wo, Vec3 wi) {
     auto schlick = [&](float c) { return 1 + (fd90 - 1) * std::pow(1 - c, 5.0f); };
     return schlick(wi.z) * schlick(wo.z) * kInvPi;
   }
+  case Lobe::OrenNayarEnergy: // the albedo's color is applied in evalLobe
+    return kInvPi;
   case Lobe::Sheen: {
     // Charlie sheen distribution with Neubelt and Pettineo's visibility.
     Vec3 h = normalize(wo + wi);
@@ -235,6 +237,36 @@ float diffuseLikeF(const Lobe &l, Vec3 wo, Vec3 wi) {
   default:
     return kInvPi;
   }
+}
+
+/// Energy-preserving Oren-Nayar (Portsmouth, Kutz and Hill, as OpenPBR and
+/// testrender use it) times pi: Fujii's single-scattering lobe with
+/// A = 1 / (1 + (1/2 - 2/(3 pi)) sigma), B = sigma A, plus a multiple-
+/// scattering lobe that returns what the single one loses at albedo 1.
+/// Local directions, both above the surface.
+Vec3 energyOrenNayar(const Lobe &l, Vec3 wo, Vec3 wi) {
+  const float c1 = float(0.5 - 2.0 / (3.0 * M_PI));
+  const float c2 = float(2.0 / 3.0 - 28.0 / (15.0 * M_PI));
+  float sigma = l.a;
+  float a = 1 / (1 + c1 * sigma), b = sigma * a;
+  // The single lobe's albedo toward a direction at cos(theta) mu.
+  auto albedo = [&](float mu) {
+    float sinT = std::sqrt(std::max(0.0f, 1 - mu * mu));
+    float g = sinT * (std::acos(std::clamp(mu, -1.0f, 1.0f)) - sinT * mu) +
+              2 * ((sinT / mu) * (1 - sinT * sinT * sinT) - sinT) / 3;
+    return a + b * kInvPi * g;
+  };
+  float s = dot(wo, wi) - wo.z * wi.z;
+  float stinv = s > 0 ? s / std::max(wo.z, wi.z) : s;
+  float single = a * (1 + sigma * stinv);
+  float mean = a * (1 + c2 * sigma); // the single lobe's mean albedo
+  auto lost = [](float e) { return std::max(1e-7f, 1 - e); };
+  float multiple = lost(albedo(wo.z)) * lost(albedo(wi.z)) / lost(mean);
+  // The multiple lobe's albedo: its light bounces again off rho.
+  float kept = std::max(0.0f, 1 - mean);
+  auto bounced = [&](float rho) { return rho * rho * mean / (1 - rho * kept); };
+  Vec3 rho = l.tintR;
+  return rho * single + Vec3(bounced(rho.x), bounced(rho.y), bounced(rho.z)) * multiple;
 }
 
 } // namespace
@@ -272,6 +304,13 @@ BsdfEval evalLobe(const Lobe &l, Vec3 woWorld, Vec3 wiWorld) {
     float common = 0.5f * kInvPi * std::pow(cosri, l.a);
     r.value = Vec3(1, 1, 1) * ((l.a + 2) * common * wi.z);
     r.pdf = (l.a + 1) * common;
+    return r;
+  }
+  case Lobe::OrenNayarEnergy: {
+    if (wo.z <= 0 || wi.z <= 0)
+      return r;
+    r.value = energyOrenNayar(l, wo, wi) * (wi.z * kInvPi);
+    r.pdf = wi.z * kInvPi;
     return r;
   }
   case Lobe::Translucent:
@@ -352,6 +391,8 @@ bool ShadingResult::prepare(Vec3 wo) {
     float cosO = dot(l.n, wo);
     if (l.model == Lobe::Reflection)
       albedo = fresnelDielectric(cosO, l.eta);
+    else if (l.model == Lobe::OrenNayarEnergy)
+      albedo = std::max(0.0f, luminance(l.tintR));
     else if (l.model == Lobe::Refraction)
       albedo = 1 - fresnelDielectric(cosO, l.eta);
     l.pick = std::max(0.0f, luminance(l.weight)) * albedo;
@@ -394,6 +435,7 @@ BsdfSample ShadingResult::sample(Vec3 wo, float rx, float ry, float s) const {
   float rz = std::clamp(s / chosen->pick, 0.0f, 0.99999994f);
   BsdfSample smp = sampleLobe(*chosen, wo, rx, ry, rz);
   smp.diffuse = chosen->model == Lobe::Diffuse || chosen->model == Lobe::OrenNayar ||
+                chosen->model == Lobe::OrenNayarEnergy ||
                 chosen->model == Lobe::Translucent || chosen->model == Lobe::Burley;
   if (smp.delta) {
     smp.weight = smp.weight * chosen->weight / chosen->pick;

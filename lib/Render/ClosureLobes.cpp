@@ -33,6 +33,7 @@ float topReflectance(const Lobe &l, Vec3 wo) {
   case Lobe::Reflection: return luminance(l.weight) * fresnelDielectric(cosO, l.eta);
   case Lobe::Transparent:
   case Lobe::Refraction: return 0;
+  case Lobe::OrenNayarEnergy: return luminance(l.weight * l.tintR);
   default: return luminance(l.weight);
   }
 }
@@ -102,7 +103,18 @@ void addClosure(const ClosureArena &arena, int32_t handle, const ShadingPoint &a
     case kSubsurface: l.model = Lobe::Diffuse; l.weight = w * c(3); break;
     case kMxSubsurface: l.model = Lobe::Diffuse; l.n = n(0); l.weight = w * c(1); break;
     case kMxOrenNayarDiffuse:
-      l.model = Lobe::OrenNayar; l.n = n(0); l.weight = w * c(1); l.a = f(2);
+      // Keywords follow the positional N, albedo, roughness: label, then
+      // energy_compensation. Compensated, the albedo is inside the model
+      // (its multiple scattering saturates colors); otherwise a weight.
+      l.n = n(0);
+      l.a = f(2);
+      if (p.intParam(4)) {
+        l.model = Lobe::OrenNayarEnergy;
+        l.tintR = c(1);
+      } else {
+        l.model = Lobe::OrenNayar;
+        l.weight = w * c(1);
+      }
       break;
     case kMxBurleyDiffuse:
       l.model = Lobe::Burley; l.n = n(0); l.weight = w * c(1); l.a = f(2);

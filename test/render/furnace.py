@@ -36,6 +36,8 @@ CLOSURES = [
     ("uniform_edf", "uniform_edf(color(1))", (0.999, 1.001)),
     ("oren_nayar", "oren_nayar(N, 0.5)", (0.8, 1.0)),
     ("oren_nayar_diffuse_bsdf", "oren_nayar_diffuse_bsdf(N, color(1), 0.5)", (0.8, 1.0)),
+    ("oren_nayar_energy",
+     'oren_nayar_diffuse_bsdf(N, color(1), 0.8, "energy_compensation", 1)', (0.98, 1.02)),
     ("burley_diffuse_bsdf", "burley_diffuse_bsdf(N, color(1), 0.5)", (0.9, 1.1)),
     ("microfacet_ggx", 'microfacet("ggx", N, 0.3, 0, 0)', (0.8, 1.0)),
     ("microfacet_beckmann", 'microfacet("beckmann", N, 0.3, 0, 0)', (0.85, 1.0)),
