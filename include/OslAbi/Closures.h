@@ -23,11 +23,13 @@
 
 namespace osl {
 
-/// One closure of OSL 1.13's standard library. Parameter kinds, one letter
-/// each: `n` a normal or vector, `c` a color, `f` a float, `i` an int, `s` a
-/// string, `k` a closure. `keywords` lists the optional keyword parameters
-/// (`name:kind`, comma separated) that may follow the positional ones as
-/// ("name", value) pairs; absent ones are 0 or "".
+/// One closure of OSL 1.13's standard library (or of testshade's renderer).
+/// Parameter kinds, one letter each: `n` a normal or vector, `c` a color, `f`
+/// a float, `i` an int, `s` a string, `k` a closure; a letter followed by a
+/// count is an array of that many (`i5`: int[5]), which the kernel passes
+/// as that many parameters. `keywords` lists the optional keyword
+/// parameters (`name:kind`, comma separated) that may follow the positional
+/// ones as ("name", value) pairs; absent ones are 0 or "".
 struct ClosureSignature {
   const char *name;
   const char *params;
@@ -40,7 +42,7 @@ enum ClosureId : int32_t {
   kSubsurface, kMxOrenNayarDiffuse, kMxBurleyDiffuse, kMxDielectric,
   kMxConductor, kMxGeneralizedSchlick, kMxTranslucent, kMxTransparent,
   kMxSubsurface, kMxSheen, kMxUniformEdf, kMxAnisotropicVdf, kMxMediumVdf,
-  kMxLayer, kClosureCount,
+  kMxLayer, kParameterTest, kClosureCount,
 };
 
 /// Most of testshade's and testrender's closures take a "label" keyword
@@ -89,6 +91,10 @@ inline constexpr ClosureSignature kClosures[] = {
     {"medium_vdf", "cfcffi", OSL_MX_KEYWORDS},
     // top, base
     {"layer", "kk", ""},
+    // testshade's closure with a parameter of every type, arrays included
+    // (its testsuite prints it back)
+    {"parameter_test", "ifcnsi5n5c5f5s5",
+     "int_key:i,float_key:f,color_key:c,vector_key:n,string_key:s"},
 };
 #undef OSL_LABEL_KEYWORD
 #undef OSL_MX_KEYWORDS
@@ -107,6 +113,25 @@ constexpr int32_t closureId(std::string_view name) {
 /// The rows one parameter of kind `kind` takes.
 constexpr int32_t closureParamRows(char kind) { return kind == 'n' || kind == 'c' ? 3 : 1; }
 
+/// Calls `fn(kind, length)` for each positional parameter of closure `id`,
+/// in order (`length` 0: not an array).
+template <typename Fn> constexpr void forEachClosureParam(int32_t id, Fn fn) {
+  for (const char *p = kClosures[id].params; *p;) {
+    char kind = *p++;
+    int32_t length = 0;
+    while (*p >= '0' && *p <= '9')
+      length = 10 * length + (*p++ - '0');
+    fn(kind, length);
+  }
+}
+
+/// How many positional parameters closure `id` has (an array counts once).
+constexpr int32_t closurePositionalCount(int32_t id) {
+  int32_t n = 0;
+  forEachClosureParam(id, [&](char, int32_t) { ++n; });
+  return n;
+}
+
 /// Calls `fn(name, kind)` for each keyword of closure `id`, in order.
 template <typename Fn> constexpr void forEachClosureKeyword(int32_t id, Fn fn) {
   std::string_view list = kClosures[id].keywords;
@@ -124,9 +149,11 @@ template <typename Fn> constexpr void forEachClosureKeyword(int32_t id, Fn fn) {
 /// Writes at most `capacity` kinds to `out`; returns how many there are.
 constexpr int32_t closureParamKinds(int32_t id, char *out, int32_t capacity) {
   int32_t n = 0;
-  for (const char *p = kClosures[id].params; *p; ++p, ++n)
-    if (n < capacity)
-      out[n] = *p;
+  forEachClosureParam(id, [&](char kind, int32_t length) {
+    for (int32_t e = 0; e < (length ? length : 1); ++e, ++n)
+      if (n < capacity)
+        out[n] = kind;
+  });
   forEachClosureKeyword(id, [&](std::string_view, char kind) {
     if (n < capacity)
       out[n] = kind;
@@ -135,8 +162,9 @@ constexpr int32_t closureParamKinds(int32_t id, char *out, int32_t capacity) {
   return n;
 }
 
-/// Upper bound of the parameters (positional and keywords) of any closure.
-inline constexpr int32_t kMaxClosureParams = 16;
+/// Upper bound of the parameters (positional, array elements and keywords)
+/// of any closure.
+inline constexpr int32_t kMaxClosureParams = 40;
 
 } // namespace osl
 

@@ -32,11 +32,29 @@ OslType kindType(char kind) {
   }
 }
 
+/// A positional parameter: its kind and array length (0: not an array).
+struct ClosureParam {
+  char kind;
+  int32_t length;
+};
+
+std::vector<ClosureParam> positionalParams(int32_t id) {
+  std::vector<ClosureParam> params;
+  ::osl::forEachClosureParam(id, [&](char kind, int32_t length) {
+    params.push_back({kind, length});
+  });
+  return params;
+}
+
 std::string signatureText(int32_t id) {
-  const ::osl::ClosureSignature &sig = ::osl::kClosures[id];
-  std::string text = std::string("closure color ") + sig.name + "(";
-  for (const char *p = sig.params; *p; ++p)
-    text += (p == sig.params ? "" : ", ") + kindType(*p).str();
+  std::string text = std::string("closure color ") + ::osl::kClosures[id].name + "(";
+  bool first = true;
+  for (ClosureParam p : positionalParams(id)) {
+    text += (first ? "" : ", ") + kindType(p.kind).str();
+    if (p.length)
+      text += "[" + std::to_string(p.length) + "]";
+    first = false;
+  }
   ::osl::forEachClosureKeyword(id, [&](std::string_view name, char kind) {
     text += std::string(", [\"") + std::string(name) + "\", " + kindType(kind).str() + "]";
   });
@@ -68,7 +86,7 @@ std::optional<RValue> emitClosureBuiltin(IRGen &g, const Expr &call, bool &known
   known = id >= 0;
   if (!known)
     return std::nullopt;
-  const ::osl::ClosureSignature &sig = ::osl::kClosures[id];
+  std::vector<ClosureParam> params = positionalParams(id);
   std::vector<RValue> args;
   std::vector<const Expr *> argExprs;
   for (const ExprPtr &a : call.args) {
@@ -80,7 +98,7 @@ std::optional<RValue> emitClosureBuiltin(IRGen &g, const Expr &call, bool &known
   }
   size_t given = args.size();
   expandOverloads(g, id, args, call.loc);
-  size_t positional = std::char_traits<char>::length(sig.params);
+  size_t positional = params.size();
   auto wrong = [&](const llvm::Twine &why) -> std::optional<RValue> {
     g.error(call.loc, "wrong arguments to '" + call.name + "': " + why +
                           "; candidates: " + signatureText(id));
@@ -140,9 +158,27 @@ std::optional<RValue> emitClosureBuiltin(IRGen &g, const Expr &call, bool &known
   };
   for (size_t k = 0; k < positional; ++k) {
     SrcLoc l = k < given ? argExprs[std::min(k, given - 1)]->begin : call.loc;
-    if (!addOperand(args[k], sig.params[k], l,
-                    "for argument " + std::to_string(k + 1) + " of '" + call.name + "'"))
+    std::string what = "for argument " + std::to_string(k + 1) + " of '" + call.name + "'";
+    const RValue &arg = args[k];
+    if (!params[k].length) {
+      if (!addOperand(arg, params[k].kind, l, what))
+        return std::nullopt;
+      continue;
+    }
+    // An array parameter: one operand per element.
+    OslType want = kindType(params[k].kind);
+    want.arrayLen = params[k].length;
+    if (!arg.type.isArray() || arg.type.arrayLen != params[k].length) {
+      g.error(l, "cannot convert '" + arg.type.str() + "' to '" + want.str() + "' " + what);
       return std::nullopt;
+    }
+    for (int32_t e = 0; e < params[k].length; ++e) {
+      RValue element = arg.type.base == BaseType::String
+                           ? arg.fields[size_t(e)]
+                           : RValue::num(arg.type.element(), arg.elems[size_t(e)]);
+      if (!addOperand(element, params[k].kind, l, what))
+        return std::nullopt;
+    }
   }
   bool ok = true;
   ::osl::forEachClosureKeyword(id, [&](std::string_view name, char kind) {

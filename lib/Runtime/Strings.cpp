@@ -137,20 +137,11 @@ std::string closureText(int32_t handle) {
     if (k)
       out += "\n\t+ ";
     out += triple(p.weight) + " * " + p.name() + " (";
-    char kinds[osl::kMaxClosureParams];
-    int32_t count = std::min(osl::closureParamKinds(p.id, kinds, osl::kMaxClosureParams),
-                             osl::kMaxClosureParams);
-    int32_t positional = int32_t(std::strlen(osl::kClosures[p.id].params));
-    std::vector<std::string_view> keywords;
-    osl::forEachClosureKeyword(p.id, [&](std::string_view name, char) {
-      keywords.push_back(name);
-    });
-    for (int32_t i = 0; i < count; ++i) {
-      if (i)
-        out += ", ";
-      if (i >= positional)
-        out += "\"" + std::string(keywords[size_t(i - positional)]) + "\", ";
-      switch (kinds[i]) {
+    // Parameter i's value (an array's element), then each positional one
+    // (an array in brackets), then each keyword after its name.
+    int32_t i = 0;
+    auto value = [&](char kind) {
+      switch (kind) {
       case 'n':
       case 'c':
         out += triple(p.tripleParam(i));
@@ -167,7 +158,23 @@ std::string closureText(int32_t handle) {
       default: // a closure parameter (layer's top and base)
         out += "(" + closureText(p.closureParam(i)) + ")";
       }
-    }
+      ++i;
+    };
+    osl::forEachClosureParam(p.id, [&](char kind, int32_t length) {
+      out += i ? ", " : "";
+      if (!length)
+        return value(kind);
+      out += "[";
+      for (int32_t e = 0; e < length; ++e) {
+        out += e ? ", " : "";
+        value(kind);
+      }
+      out += "]";
+    });
+    osl::forEachClosureKeyword(p.id, [&](std::string_view name, char kind) {
+      out += (i ? ", \"" : "\"") + std::string(name) + "\", ";
+      value(kind);
+    });
     out += ")";
   }
   return out;
