@@ -121,6 +121,20 @@ std::optional<std::string> shaderInfoText(llvm::StringRef source, llvm::StringRe
                                           llvm::ArrayRef<std::string> includePaths = {},
                                           llvm::ArrayRef<std::string> defines = {});
 
+/// A shader parameter as a renderer's query lists it: its name, its type as
+/// OSL writes it ("color", "float[3]") and whether it is an output.
+struct ShaderParamInfo {
+  std::string name, type;
+  bool isOutput = false;
+};
+
+/// The parameters of the shader `source` declares, in order, read without
+/// compiling it. Null after printing diagnostics to `errs`.
+std::optional<std::vector<ShaderParamInfo>>
+shaderParams(llvm::StringRef source, llvm::StringRef filename, llvm::raw_ostream &errs,
+             llvm::ArrayRef<std::string> includePaths = {},
+             llvm::ArrayRef<std::string> defines = {});
+
 /// The parameters of a shader that refuse connections
 /// ([[int allowconnect = 0]]), read from its source without compiling it,
 /// so that a group builder can refuse a connection when it is made. Null

@@ -1,6 +1,7 @@
 //===- ShaderGroup.cpp - Building a shader group, testshade's way ---------===//
 #include "OslCompiler/ShaderGroup.h"
 
+#include "llvm/ADT/StringExtras.h"
 #include "llvm/ADT/StringRef.h"
 #include "llvm/Support/Path.h"
 
@@ -180,9 +181,15 @@ bool ShaderGroup::parseStatements(const std::string &text, const std::string &sh
       if (s[1] == "string") {
         value = llvm::StringRef(s[3]).ltrim('"').str();
       } else {
-        // Several numbers make a triple, array or matrix.
-        for (size_t k = 3; k < s.size(); ++k)
-          value += (k > 3 ? "," : "") + s[k];
+        // Several numbers make a triple, array or matrix. A triple given
+        // fewer is filled with zeros, as OSL reads a group's values (a
+        // value on testshade's command line fills all three instead).
+        std::vector<std::string> numbers(s.begin() + 3, s.end());
+        bool triple = s[1] == "color" || s[1] == "point" || s[1] == "vector" ||
+                      s[1] == "normal";
+        if (triple && numbers.size() < 3)
+          numbers.resize(3, "0");
+        value = llvm::join(numbers, ",");
       }
       param(s[2], value, userdata);
     } else if (s[0] == "shader") {

@@ -225,6 +225,20 @@ osl::shaderInfoText(llvm::StringRef source, llvm::StringRef filename, llvm::raw_
   return text;
 }
 
+std::optional<std::vector<osl::ShaderParamInfo>>
+osl::shaderParams(llvm::StringRef source, llvm::StringRef filename, llvm::raw_ostream &errs,
+                  llvm::ArrayRef<std::string> includePaths,
+                  llvm::ArrayRef<std::string> defines) {
+  std::optional<Program> program =
+      parseInterface(source, filename, errs, includePaths, defines);
+  if (!program)
+    return std::nullopt;
+  std::vector<ShaderParamInfo> params;
+  for (const Param &p : program->shader->params)
+    params.push_back({p.name, p.type.str(), p.isOutput});
+  return params;
+}
+
 std::optional<std::vector<std::string>>
 osl::unconnectableParams(llvm::StringRef source, llvm::StringRef filename,
                          llvm::raw_ostream &errs, llvm::ArrayRef<std::string> includePaths,

@@ -15,6 +15,8 @@
 
 #include "mlir/IR/Builders.h"
 #include "mlir/IR/IRMapping.h"
+#include "mlir/Pass/PassManager.h"
+#include "mlir/Transforms/Passes.h"
 #include "llvm/ADT/StringMap.h"
 #include "llvm/ADT/StringSet.h"
 
@@ -127,10 +129,18 @@ struct LinkShaderGroupPass
         placed[l.name] = inlineLayer(l, b);
       }
     // The others, last first: by then every layer that reads one is placed.
+    // Dead code goes first, as OSL optimizes a layer before it decides what
+    // upstream layers run: a read nothing uses (isconnected() aside) runs
+    // no layer.
+    OpPassManager cleanup(func::FuncOp::getOperationName());
+    cleanup.addPass(createCanonicalizerPass());
     if (lazy)
       for (Layer &l : llvm::reverse(layers))
-        if (!eager(l))
+        if (!eager(l)) {
+          if (failed(runPipeline(cleanup, group)))
+            return signalPassFailure();
           placeLazily(l);
+        }
 
     if (failed(checkRequestedOutputs()))
       return signalPassFailure();
@@ -357,13 +367,58 @@ struct LinkShaderGroupPass
     return outputs;
   }
 
+  /// The outputs of `l` (by outputKey) that are constants once its
+  /// unconnected parameters take their values and the layer is folded.
+  /// OSL's optimizer folds such a connection into the reading layer, and
+  /// then never runs the upstream layer for it (its printf and all).
+  llvm::StringMap<TypedAttr> constantOutputs(Layer &l) {
+    OpBuilder b(l.func);
+    auto copy = cast<func::FuncOp>(b.clone(*l.func));
+    copy.setSymName((l.func.getSymName() + ".folded").str());
+    copy.walk([&](ParamOp param) {
+      if (connection(param) || param.getUserdata())
+        return;
+      param.replaceAllUsesWith(param.getDefaultValue());
+      param.erase();
+    });
+    OpPassManager fold(func::FuncOp::getOperationName());
+    fold.addPass(createFoldConstants());
+    fold.addPass(createCanonicalizerPass());
+    llvm::StringMap<TypedAttr> constants;
+    if (succeeded(runPipeline(fold, copy)))
+      for (Operation &op : copy.front().without_terminator())
+        if (auto out = dyn_cast<OutputOp>(op)) {
+          std::string key = outputKey(out.getName(), elementIndex(out));
+          auto constant = out.getValue().getDefiningOp<arith::ConstantOp>();
+          if (constant)
+            constants[key] = constant.getValue();
+          else
+            constants.erase(key);
+        }
+    copy.erase();
+    return constants;
+  }
+
   /// Inlines `l` before the first op that needs one of its outputs, outside
-  /// any loop, or nowhere if nothing reads it.
+  /// any loop, or nowhere if nothing reads it. A read of a constant output
+  /// takes the constant instead.
   void placeLazily(Layer &l) {
     SmallVector<ParamOp> reads;
+    llvm::StringMap<TypedAttr> constants = constantOutputs(l);
     group.walk([&](ParamOp param) {
-      if (auto from = connection(param); from && from->first == l.name)
+      auto from = connection(param);
+      if (!from || from->first != l.name)
+        return;
+      std::string key = outputKey(splitComponentName(from->second).first, elementIndex(param));
+      auto constant = constants.find(key);
+      if (constant == constants.end()) {
         reads.push_back(param);
+        return;
+      }
+      OpBuilder b(param);
+      llvm::StringMap<Value> folded;
+      folded[key] = b.create<arith::ConstantOp>(param.getLoc(), constant->second);
+      replaceConnected(param, folded, from->second);
     });
     SmallVector<Operation *> users;
     for (ParamOp param : reads)

@@ -395,6 +395,7 @@ bool groupFlag(FlagParser &p) {
   }
   if (!p.o.group.parseStatements(text, dir, p.error))
     return false;
+  p.o.groupSpec = text;
   // testshade makes a group of its own before the spec's, so OSL names
   // the spec's group unnamed_group_2 in its messages.
   if (p.o.compile.groupName.empty())
@@ -563,6 +564,7 @@ const Flag kFlags[] = {
     {{"--llvm_opt", "--jbufferMB"}, ignoredWithArgument},
     {{"--expr"}, exprFlag},
     {{"-v"}, setFlag<&RunOptions::verbose>},
+    {{"--oslquery"}, setFlag<&RunOptions::oslquery>},
     {{"--debug"}, setCompileFlag<&CompileOptions::reportGlobalsNeeded>},
     {{"--inbuffer", "--batched", "--groupoutputs", "--raytype_opt"}, ignored},
     {{"-t"}, threadsFlag},

@@ -68,6 +68,9 @@ const char *const osl::kUsage =
     "  --reparam LAYER NAME V change an instance value (re-specialises)\n"
     "  --entry LAYER          run LAYER unconditionally (repeatable; default:\n"
     "                         the last layer)\n"
+    "  -v                     print the group as testshade does (its\n"
+    "                         statements, then its layers)\n"
+    "  --oslquery             with it, each layer's parameters\n"
     "  -O0 | -O1 | -O2        parameters stay loads and every layer runs |\n"
     "                         parameters are constants | also lazy layers and\n"
     "                         no unread layers or outputs (default)\n"
@@ -180,15 +183,12 @@ namespace {
 /// shader makes this a group (testshade's form).
 bool addPositionalShader(FlagParser &p, const std::string &a, int &positional) {
   RunOptions &o = p.o;
-  std::string layer = p.pendingLayer.empty() ? llvm::sys::path::stem(a).str() : p.pendingLayer;
-  // The same shader named twice (testshade runs both): the second layer
-  // takes a name of its own.
-  auto taken = [&](const std::string &name) {
-    return llvm::any_of(o.group.layers, [&](const GroupLayer &l) { return l.name == name; });
-  };
-  if (p.pendingLayer.empty())
-    for (int n = 1; taken(layer); ++n)
-      layer = llvm::sys::path::stem(a).str() + "_" + std::to_string(n);
+  // An unnamed layer is named as testshade names it: the shader, then the
+  // layer's index (so the same shader twice makes two layers).
+  std::string layer = p.pendingLayer.empty()
+                          ? llvm::sys::path::stem(a).str() + "_" +
+                                std::to_string(o.group.layers.size())
+                          : p.pendingLayer;
   if (!o.expression.empty()) {
     p.error = "-expr makes the shader: '" + a + "' cannot be given too";
     return false;

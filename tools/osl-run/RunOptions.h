@@ -16,6 +16,10 @@ struct RunOptions {
   /// (exprShaderText); -v prints it and the group as testshade does.
   std::string expression;
   bool verbose = false;
+  /// --oslquery: -v's group summary also lists each layer's parameters.
+  bool oslquery = false;
+  /// The text of --group's statements, which -v prints first.
+  std::string groupSpec;
   CompileOptions compile;
   GridOptions grid;
   bool gridGiven = false;

@@ -7,6 +7,7 @@
 //===----------------------------------------------------------------------===//
 #include "Dependencies.h"
 #include "GroupAssembly.h"
+#include "GroupSummary.h"
 #include "RunOptions.h"
 
 #include "OslFrontend/Frontend.h"
@@ -395,14 +396,8 @@ int main(int argc, char **argv) {
   std::unique_ptr<llvm::MemoryBuffer> source = llvm::MemoryBuffer::getMemBuffer("");
   if (!options.expression.empty()) {
     std::string text = exprShaderText(options.expression);
-    if (options.verbose) {
-      std::string layer = std::string(kExprShaderName) + "_0";
-      std::string group = groupNameOrDefault(options.compile.groupName);
-      llvm::outs() << "Expression-based shader text is:\n---\n"
-                   << text << "---\nShader group:\n---\nshader " << kExprShaderName << " "
-                   << layer << " ;\n\n---\n\nShader group \"" << group
-                   << "\" layers are:\n    " << layer << "\n\n";
-    }
+    if (options.verbose)
+      llvm::outs() << "Expression-based shader text is:\n---\n" << text << "---\n";
     source = llvm::MemoryBuffer::getMemBufferCopy(text, options.shaderPath);
   } else if (!options.isGroup) {
     auto buffer = llvm::MemoryBuffer::getFile(options.shaderPath, /*IsText=*/true);
@@ -428,9 +423,14 @@ int main(int argc, char **argv) {
     return 0;
   }
 
-  if (options.isGroup && options.emit.empty() && !options.checkOnly &&
-      !assembleGroup(options, llvm::outs(), llvm::errs()))
+  bool running = options.emit.empty() && !options.checkOnly;
+  if (running && options.verbose && !options.groupSpec.empty())
+    llvm::outs() << "Processing group specification:\n---\n"
+                 << options.groupSpec << "\n---\n";
+  if (options.isGroup && running && !assembleGroup(options, llvm::outs(), llvm::errs()))
     return 1;
+  if (running && (options.verbose || options.oslquery))
+    printGroupSummary(options, llvm::outs());
   llvm::outs().flush(); // before anything the shaders print
 
   options.compile.camera = {options.grid.xres, options.grid.yres};
