@@ -126,7 +126,13 @@ std::optional<std::string> shaderInfoText(llvm::StringRef source, llvm::StringRe
 struct ShaderParamInfo {
   std::string name, type;
   bool isOutput = false;
+  /// False with [[int allowconnect = 0]].
+  bool connectable = true;
 };
+
+/// A string as OSL writes it in source and in serialized groups: quoted,
+/// with its escapes.
+std::string quotedOslString(llvm::StringRef s);
 
 /// The parameters of the shader `source` declares, in order, read without
 /// compiling it. Null after printing diagnostics to `errs`.

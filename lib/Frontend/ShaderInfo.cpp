@@ -109,20 +109,6 @@ std::optional<Constant> evaluate(const Expr &e) {
   }
 }
 
-/// A string as OSL writes it in source: quoted, escapes restored.
-std::string quoted(llvm::StringRef s) {
-  std::string out = "\"";
-  for (char ch : s) {
-    switch (ch) {
-    case '\n': out += "\\n"; break;
-    case '\t': out += "\\t"; break;
-    case '"': out += "\\\""; break;
-    case '\\': out += "\\\\"; break;
-    default: out += ch;
-    }
-  }
-  return out + "\"";
-}
 
 std::string number(double d, bool isInt) {
   if (isInt)
@@ -138,7 +124,7 @@ std::vector<std::string> valueWords(const Constant &c, const OslType &type) {
   std::vector<std::string> words;
   if (type.base == BaseType::String) {
     for (const std::string &s : c.strings)
-      words.push_back(quoted(s));
+      words.push_back(osl::quotedOslString(s));
     return words;
   }
   for (double d : c.numbers)
@@ -212,12 +198,12 @@ osl::shaderInfoText(llvm::StringRef source, llvm::StringRef filename, llvm::raw_
   if (!program)
     return std::nullopt;
   const ShaderDecl &shader = *program->shader;
-  std::string text = shader.shaderType + " " + quoted(shader.name) + "\n";
+  std::string text = shader.shaderType + " " + osl::quotedOslString(shader.name) + "\n";
   for (const Metadatum &m : shader.metadata)
     text += metadataLine(m);
   for (const Param &p : shader.params) {
-    text += "    " + quoted(p.name) + " " +
-            quoted((p.isOutput ? "output " : "") + p.type.str()) + "\n";
+    text += "    " + osl::quotedOslString(p.name) + " " +
+            osl::quotedOslString((p.isOutput ? "output " : "") + p.type.str()) + "\n";
     text += defaultText(p);
     for (const Metadatum &m : p.metadata)
       text += metadataLine(m);
@@ -235,21 +221,34 @@ osl::shaderParams(llvm::StringRef source, llvm::StringRef filename, llvm::raw_os
     return std::nullopt;
   std::vector<ShaderParamInfo> params;
   for (const Param &p : program->shader->params)
-    params.push_back({p.name, p.type.str(), p.isOutput});
+    params.push_back({p.name, p.type.str(), p.isOutput, !p.intMetadataIsZero("allowconnect")});
   return params;
+}
+
+std::string osl::quotedOslString(llvm::StringRef s) {
+  std::string out = "\"";
+  for (char ch : s) {
+    switch (ch) {
+    case '\n': out += "\\n"; break;
+    case '\t': out += "\\t"; break;
+    case '"': out += "\\\""; break;
+    case '\\': out += "\\\\"; break;
+    default: out += ch;
+    }
+  }
+  return out + "\"";
 }
 
 std::optional<std::vector<std::string>>
 osl::unconnectableParams(llvm::StringRef source, llvm::StringRef filename,
                          llvm::raw_ostream &errs, llvm::ArrayRef<std::string> includePaths,
                          llvm::ArrayRef<std::string> defines) {
-  std::optional<Program> program =
-      parseInterface(source, filename, errs, includePaths, defines);
-  if (!program)
+  auto params = shaderParams(source, filename, errs, includePaths, defines);
+  if (!params)
     return std::nullopt;
   std::vector<std::string> names;
-  for (const Param &p : program->shader->params)
-    if (p.intMetadataIsZero("allowconnect"))
+  for (const ShaderParamInfo &p : *params)
+    if (!p.connectable)
       names.push_back(p.name);
   return names;
 }

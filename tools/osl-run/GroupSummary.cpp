@@ -18,28 +18,13 @@ bool isTripleType(llvm::StringRef type) {
   return type == "color" || type == "point" || type == "vector" || type == "normal";
 }
 
-/// A string as OSL serializes it: quoted, with C escapes.
-std::string quotedEscaped(llvm::StringRef s) {
-  std::string out = "\"";
-  for (char c : s) {
-    switch (c) {
-    case '\n': out += "\\n"; break;
-    case '\t': out += "\\t"; break;
-    case '"': out += "\\\""; break;
-    case '\\': out += "\\\\"; break;
-    default: out += c;
-    }
-  }
-  return out + "\"";
-}
-
 /// An instance value as OSL serializes it: each number to 9 significant
 /// digits (ints whole); one value of a triple (testshade's --param) is
 /// all three.
 std::string serializedValue(const ShaderParamInfo &param, const std::string &value) {
   llvm::StringRef type(param.type);
   if (type.starts_with("string"))
-    return " " + quotedEscaped(value);
+    return " " + quotedOslString(value);
   llvm::SmallVector<llvm::StringRef> words;
   llvm::SplitString(value, words, " ,");
   if (isTripleType(type) && words.size() == 1)
