@@ -124,12 +124,17 @@ struct FunctionDecl {
   SrcLoc loc;
   std::vector<Param> params;
   StmtPtr body; // a Block
+  /// A file-level function: its place among them (0, 1, ...); -1 nested.
+  int order = -1;
 };
 
 struct ShaderDecl {
   std::string shaderType; // shader, surface, displacement, volume, light
   std::string name;
   SrcLoc loc;
+  /// How many functions the file defines before the shader (which of two
+  /// definitions of one signature its body calls: the later).
+  size_t functionsBefore = 0;
   std::vector<Param> params;
   StmtPtr body;
   std::vector<Metadatum> metadata;

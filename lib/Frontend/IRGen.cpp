@@ -545,11 +545,23 @@ OwningOpRef<ModuleOp> IRGen::emitProgram(const Program &program) {
   for (const auto &s : program.structs)
     structsByName[s->name] = s.get();
   for (const auto &fn : program.functions) {
+    // oslc warns of a second definition of a signature (the later is
+    // called from then on), listing the earlier ones, latest first.
+    std::string earlier;
+    for (const FunctionRef &f : llvm::reverse(root->funcs[fn->name]))
+      if (sameSignature(*f.decl, *fn))
+        earlier += "\n    " + fileLine(f.decl->loc);
+    if (!earlier.empty() &&
+        !diags.warning(fn->loc, "Function '" + oslcSignatureText(*fn) +
+                                    "' redefined in the same scope\n  Previous definitions:" +
+                                    earlier))
+      return nullptr;
     root->funcs[fn->name].push_back({fn.get(), root});
     allFunctions[fn->name].push_back(fn.get());
     collectFunctions(*fn->body);
   }
   collectFunctions(*shader.body);
+  shaderPosition = int(shader.functionsBefore);
 
   b.setInsertionPointToEnd(module->getBody());
   auto func = b.create<func::FuncOp>(loc(shader.loc), shader.name,

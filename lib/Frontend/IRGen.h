@@ -109,6 +109,12 @@ struct Var {
   ParamRef param;
 };
 
+/// Same return and parameter types (and outputs).
+bool sameSignature(const FunctionDecl &a, const FunctionDecl &b);
+/// A function's signature as oslc's warnings write it: "int f (float,
+/// output color)", "struct S" for a struct.
+std::string oslcSignatureText(const FunctionDecl &fn);
+
 struct Scope;
 /// A function and the scope it was defined in (its free names resolve
 /// there: globals for top-level functions, the enclosing body for nested
@@ -562,6 +568,12 @@ private:
   Var *shaderReturned = nullptr; // `return` in the shader body
   Var *exitFlag = nullptr;
   std::vector<InlineFrame> inlineStack;
+  /// How many file-level functions precede the shader.
+  int shaderPosition = 0;
+  /// Where the code being emitted stands among the file-level functions:
+  /// in the innermost one being inlined, else in the shader.
+  int usePosition() const;
+  bool redefinitionApplies(const FunctionDecl &later, const FunctionDecl &kept) const;
   /// The user functions some call inlined (the others are checked alone,
   /// see checkUncalledFunctions).
   llvm::DenseSet<const FunctionDecl *> inlinedFunctions;

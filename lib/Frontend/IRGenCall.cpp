@@ -207,8 +207,25 @@ std::optional<RValue> IRGen::emitUserCall(const Expr &e,
   return inlineCall(*best, e, args, lvalues);
 }
 
-/// Same return and parameter types (and outputs).
-static bool sameSignature(const FunctionDecl &a, const FunctionDecl &b) {
+int IRGen::usePosition() const {
+  for (auto frame = inlineStack.rbegin(); frame != inlineStack.rend(); ++frame)
+    if (frame->fn->order >= 0)
+      return frame->fn->order;
+  return shaderPosition;
+}
+
+/// Whether file-level function `later` rather than `kept` (the same
+/// signature) is the one the code being emitted calls: the last defined
+/// before it.
+bool IRGen::redefinitionApplies(const FunctionDecl &later, const FunctionDecl &kept) const {
+  int use = usePosition();
+  if (later.order < 0 || kept.order < 0 || later.order >= use)
+    return false;
+  return kept.order >= use || later.order > kept.order;
+}
+
+namespace osl::frontend {
+bool sameSignature(const FunctionDecl &a, const FunctionDecl &b) {
   if (a.returnType != b.returnType || a.params.size() != b.params.size())
     return false;
   for (size_t k = 0; k < a.params.size(); ++k)
@@ -216,6 +233,7 @@ static bool sameSignature(const FunctionDecl &a, const FunctionDecl &b) {
       return false;
   return true;
 }
+} // namespace osl::frontend
 
 /// oslc's preference among overloads only their return types tell apart
 /// (seen in its function-overloads test): lower is preferred.
@@ -243,17 +261,23 @@ static std::string declTypeText(const OslType &t) {
   return (t.isStructLike() ? "struct " : "") + t.str();
 }
 
+namespace osl::frontend {
+std::string oslcSignatureText(const FunctionDecl &fn) {
+  std::string s = declTypeText(fn.returnType) + " " + fn.name + " (";
+  for (size_t k = 0; k < fn.params.size(); ++k)
+    s += (k ? ", " : "") + std::string(fn.params[k].isOutput ? "output " : "") +
+         declTypeText(fn.params[k].type);
+  return s + ")";
+}
+} // namespace osl::frontend
+
 std::string IRGen::ambiguityMessage(const Expr &call, const std::vector<RValue> &args,
                                     const std::vector<const FunctionRef *> &ranked) {
   std::string argText;
   for (size_t k = 0; k < args.size(); ++k)
     argText += (k ? ", " : "") + declTypeText(args[k].type);
   auto declText = [&](const FunctionDecl &fn) {
-    std::string s = fileLine(fn.loc) + "\t" + declTypeText(fn.returnType) + " " + fn.name + " (";
-    for (size_t k = 0; k < fn.params.size(); ++k)
-      s += (k ? ", " : "") + std::string(fn.params[k].isOutput ? "output " : "") +
-           declTypeText(fn.params[k].type);
-    return s + ")";
+    return fileLine(fn.loc) + "\t" + oslcSignatureText(fn);
   };
   std::string text = "Ambiguous call to '" + call.name + " (" + argText + ")'\n" +
                      "  Chosen function is:\n    " + declText(*ranked.front()->decl) +
@@ -314,12 +338,18 @@ IRGen::resolveOverload(const std::vector<FunctionRef> &cands, const std::vector<
       best.clear();
       bestCost = cost;
     }
-    // A second declaration of the same signature (a prototype, a
-    // redefinition) is not a rival: the first found stands.
-    if (cost == bestCost && llvm::none_of(best, [&](const FunctionRef *g) {
-          return sameSignature(*g->decl, fn);
-        }))
+    // A second definition of the same signature is no rival: in one scope
+    // the last defined before the code being emitted stands (oslc warns of
+    // the redefinition; what follows it calls it), else the first found.
+    if (cost != bestCost)
+      continue;
+    auto same = llvm::find_if(best, [&](const FunctionRef *g) {
+      return sameSignature(*g->decl, fn);
+    });
+    if (same == best.end())
       best.push_back(&f);
+    else if ((*same)->scope == f.scope && redefinitionApplies(fn, *(*same)->decl))
+      *same = &f;
   }
   if (best.size() <= 1)
     return best.empty() ? nullptr : best.front();

@@ -32,6 +32,7 @@ public:
         program.shader = parseShader();
         if (!program.shader)
           return false;
+        program.shader->functionsBefore = program.functions.size();
         continue;
       }
       if (isTypeStart()) {
@@ -45,8 +46,10 @@ public:
         auto fn = parseFunctionRest(type);
         if (!fn)
           return false;
-        if (fn->body)
+        if (fn->body) {
+          fn->order = int(program.functions.size());
           program.functions.push_back(std::move(fn));
+        }
         continue;
       }
       error(t.loc, "expected a function or shader declaration, found " +
