@@ -403,23 +403,28 @@ struct LinkShaderGroupPass
   /// any loop, or nowhere if nothing reads it. A read of a constant output
   /// takes the constant instead.
   void placeLazily(Layer &l) {
-    SmallVector<ParamOp> reads;
-    llvm::StringMap<TypedAttr> constants = constantOutputs(l);
+    SmallVector<ParamOp> connected, reads;
     group.walk([&](ParamOp param) {
-      auto from = connection(param);
-      if (!from || from->first != l.name)
-        return;
-      std::string key = outputKey(splitComponentName(from->second).first, elementIndex(param));
+      if (auto from = connection(param); from && from->first == l.name)
+        connected.push_back(param);
+    });
+    // Folding the layer is only worth it when something reads it.
+    llvm::StringMap<TypedAttr> constants;
+    if (!connected.empty())
+      constants = constantOutputs(l);
+    for (ParamOp param : connected) {
+      StringRef output = connection(param)->second;
+      std::string key = outputKey(splitComponentName(output).first, elementIndex(param));
       auto constant = constants.find(key);
       if (constant == constants.end()) {
         reads.push_back(param);
-        return;
+        continue;
       }
       OpBuilder b(param);
       llvm::StringMap<Value> folded;
       folded[key] = b.create<arith::ConstantOp>(param.getLoc(), constant->second);
-      replaceConnected(param, folded, from->second);
-    });
+      replaceConnected(param, folded, output);
+    }
     SmallVector<Operation *> users;
     for (ParamOp param : reads)
       users.append(param->user_begin(), param->user_end());
