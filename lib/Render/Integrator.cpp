@@ -10,6 +10,7 @@
 #include "OslRuntime/ThreadPool.h"
 #include "OslFrontend/Frontend.h"
 
+#include "llvm/ADT/STLExtras.h"
 #include "llvm/Support/FileSystem.h"
 #include "llvm/Support/MemoryBuffer.h"
 #include "llvm/Support/Path.h"
@@ -119,8 +120,7 @@ private:
   void sampleLights(const ShadeRequest &q, Vec3 wo, size_t draw);
   /// The lights a path at primitive `prim` samples (every light but itself).
   int lightsSampledFrom(int prim) const {
-    return int(lights.size()) - (prim >= 0 && scene.prims[prim].isLight &&
-                                         scene.prims[prim].shader >= 0);
+    return int(lights.size()) - int(llvm::is_contained(lights, prim));
   }
   void traceShadowRays();
   void accumulate(float *sum);

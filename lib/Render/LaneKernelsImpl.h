@@ -17,9 +17,21 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace osl::render {
 namespace {
+
+/// fn(std::integral_constant<int, W>) for the lane count `width` (1, 4, 8
+/// or 16): each loop is instantiated once per width.
+template <typename Fn> void atWidth(int width, Fn fn) {
+  switch (width) {
+  case 16: return fn(std::integral_constant<int, 16>());
+  case 8: return fn(std::integral_constant<int, 8>());
+  case 4: return fn(std::integral_constant<int, 4>());
+  default: return fn(std::integral_constant<int, 1>());
+  }
+}
 
 /// A batch of W rays, padded past the count with copies of the last one.
 template <int W> struct RayLanes {
@@ -113,12 +125,7 @@ OSL_LANE_TARGET void intersectAt(const Scene &scene, const RayBatch &rays,
 
 void intersect(const Scene &scene, const RayBatch &rays, int width, std::vector<Hit> &hits) {
   hits.resize(rays.size());
-  switch (width) {
-  case 16: return intersectAt<16>(scene, rays, hits);
-  case 8: return intersectAt<8>(scene, rays, hits);
-  case 4: return intersectAt<4>(scene, rays, hits);
-  default: return intersectAt<1>(scene, rays, hits);
-  }
+  atWidth(width, [&](auto w) { intersectAt<decltype(w)::value>(scene, rays, hits); });
 }
 
 /// W sampler points, one per lane.
@@ -155,12 +162,7 @@ void drawPoints(PointDraws &draws, int width) {
   draws.x.resize(draws.size());
   draws.y.resize(draws.size());
   draws.z.resize(draws.size());
-  switch (width) {
-  case 16: return drawPointsAt<16>(draws);
-  case 8: return drawPointsAt<8>(draws);
-  case 4: return drawPointsAt<4>(draws);
-  default: return drawPointsAt<1>(draws);
-  }
+  atWidth(width, [&](auto w) { drawPointsAt<decltype(w)::value>(draws); });
 }
 
 } // namespace
