@@ -107,6 +107,15 @@ void osl_rt_setmessage(const char *where, const char *name, const char *typeName
 void osl_rt_getmessage(const char *where, const char *name, const char *typeName,
                        const char *kinds, int32_t *rows, int32_t width, uint32_t laneMask);
 
+//--- Point clouds (PointCloud.h) ---------------------------------------------//
+
+/// pointcloud_search, _get or _write (`function`, a PointCloudFunction) for
+/// the lanes in `laneMask`: `rows` as PointCloud.h lays them out for
+/// `layout` and `kinds`. Errors (a file that cannot be read, an attribute
+/// it lacks) are reported per point in OSL's renderer's words.
+void osl_rt_pointcloud(int32_t function, const char *layout, const char *kinds, int32_t *rows,
+                       int32_t width, uint32_t laneMask);
+
 //--- Closures (Closures.h) ---------------------------------------------------//
 
 /// Makes a primitive node of closure `id` for the lanes in `laneMask`: `rows`
@@ -138,6 +147,7 @@ void osl_rt_closure_add(int32_t *rows, int32_t width, uint32_t laneMask);
   X(osl_rt_message_reset)                                                                    \
   X(osl_rt_setmessage)                                                                       \
   X(osl_rt_getmessage)                                                                       \
+  X(osl_rt_pointcloud)                                                                       \
   X(osl_rt_closure_component)                                                                \
   X(osl_rt_closure_mul)                                                                      \
   X(osl_rt_closure_add)

@@ -677,6 +677,40 @@ def Osl_GetMessageOp : Osl_Op<"get_message", [AttrSizedOperandSegments,
 }
 
 //===----------------------------------------------------------------------===//
+// Point clouds
+//===----------------------------------------------------------------------===//
+
+def Osl_PointCloudOp : Osl_Op<"pointcloud", [AttrSizedOperandSegments,
+                                             MemoryEffects<[MemRead, MemWrite]>]> {
+  let summary = "pointcloud_search, pointcloud_get or pointcloud_write";
+  let description = [{
+    `function` is "search", "get" or "write". `inputs` are the function's
+    inputs and `current` the output arrays' elements as they are, with
+    `kinds` one letter per operand of both (OslAbi/PointCloud.h lists them
+    and the `layout` of the arrays). `status` is the function's result
+    (search: how many points were found; get and write: 1 on success),
+    `written` how many leading elements of each output array were written;
+    `values` are the arrays' elements after the call. All results are
+    varying. `mask`, set by osl-insert-mask-stack, names the points.
+
+    Example: `n = pointcloud_search("c.geo", P, 0.1, 4, 1, "index", idx)`:
+
+    ```mlir
+    %n, %w, %i0, %i1, %i2, %i3 = osl.pointcloud "search" "index:i:4" "stfiiiiii"
+        (%file, %P, %r, %max, %sort) (%c0, %c1, %c2, %c3) : ...
+    ```
+  }];
+  let arguments = (ins StrAttr:$function, StrAttr:$layout, StrAttr:$kinds,
+                       Variadic<Osl_Value>:$inputs, Variadic<Osl_Value>:$current,
+                       Optional<Osl_Bool>:$mask);
+  let results = (outs Osl_Value:$status, Osl_Value:$written, Variadic<Osl_Value>:$values);
+  let assemblyFormat = [{
+    $function $layout $kinds `(` $inputs `)` `(` $current `)` (`mask` $mask^)? attr-dict `:` functional-type(operands, results)
+  }];
+  let hasVerifier = 1;
+}
+
+//===----------------------------------------------------------------------===//
 // Closures
 //===----------------------------------------------------------------------===//
 

@@ -9,6 +9,7 @@
 #include "OslDialect/OslDialect.h"
 #include "OslAbi/Closures.h"
 #include "OslAbi/GlobalsLayout.h"
+#include "OslAbi/PointCloud.h"
 #include "OslAbi/Print.h"
 #include "OslAbi/Strings.h"
 
@@ -468,6 +469,52 @@ LogicalResult GetMessageOp::verify() {
   for (auto [c, v] : llvm::zip(getCurrent(), getValues()))
     if (!isVarying(v.getType()) || getUniformType(v.getType()) != getUniformType(c.getType()))
       return emitOpError("results must be the values' types, varying");
+  return success();
+}
+
+LogicalResult PointCloudOp::verify() {
+  auto function = ::osl::pointCloudFunction(getFunction());
+  if (!function)
+    return emitOpError("unknown point-cloud function '") << getFunction() << "'";
+  auto arrays = ::osl::parsePointCloudLayout(getLayout());
+  if (!arrays)
+    return emitOpError("malformed layout '") << getLayout() << "'";
+  std::string expected = ::osl::pointCloudInputKinds(*function);
+  size_t fixedInputs = expected.size();
+  if (getInputs().size() < fixedInputs)
+    return emitOpError("needs at least ") << fixedInputs << " inputs";
+  if (*function == ::osl::PointCloudFunction::Write) {
+    if (!getCurrent().empty())
+      return emitOpError("write has no output arrays");
+    for (const ::osl::PointCloudArray &a : *arrays) {
+      if (a.length != 1)
+        return emitOpError("write's attributes must have length 1");
+      expected += a.kind;
+    }
+  } else {
+    if (*function == ::osl::PointCloudFunction::Get) {
+      if (arrays->size() != 1 || !arrays->front().name.empty())
+        return emitOpError("get has one output array, named by an input");
+      expected.append(getInputs().size() - fixedInputs, 'i');
+    }
+    for (const ::osl::PointCloudArray &a : *arrays)
+      expected.append(size_t(a.length), a.kind);
+  }
+  if (getKinds() != expected)
+    return emitOpError("operand kinds '") << getKinds() << "' must be '" << expected << "'";
+  SmallVector<Value> operands(getInputs());
+  llvm::append_range(operands, getCurrent());
+  if (failed(verifyMessageOperands(*this, getKinds(), operands)))
+    return failure();
+  Type i32 = IntegerType::get(getContext(), 32);
+  for (Value r : {getStatus(), getWritten()})
+    if (!isVarying(r.getType()) || getUniformType(r.getType()) != i32)
+      return emitOpError("'status' and 'written' must be varying i32");
+  if (getValues().size() != getCurrent().size())
+    return emitOpError("needs one result per output element");
+  for (auto [c, v] : llvm::zip(getCurrent(), getValues()))
+    if (!isVarying(v.getType()) || getUniformType(v.getType()) != getUniformType(c.getType()))
+      return emitOpError("results must be the output elements' types, varying");
   return success();
 }
 

@@ -444,7 +444,7 @@ const char *const kUnsupported[] = {
     "smooth_linearstep", "raytype",
     "setmessage", "getmessage", "trace", "transformu",
     "splineinverse",
-    "pointcloud_search", "pointcloud_get", "pointcloud_write", "random", "exit", "arraylength", "spline", "noise",
+    "random", "exit", "arraylength", "spline", "noise",
     "snoise", "cellnoise", "hashnoise", "transform", "ptransform", "vtransform",
     "ntransform", "displace", "bump", "fmin", "fmax", "nsnoise",
     "gabor", "pgabor", "sincos",
@@ -673,6 +673,10 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
   auto message = emitMessageBuiltin(g, call, messageBuiltin);
   if (messageBuiltin)
     return message;
+  bool pointCloudBuiltin = true;
+  auto pointCloud = emitPointCloudBuiltin(g, call, pointCloudBuiltin);
+  if (pointCloudBuiltin)
+    return pointCloud;
   llvm::StringRef name = call.name;
   if (name == "noise" || name == "snoise" || name == "cellnoise" || name == "hashnoise" ||
       name == "pnoise" || name == "psnoise")

@@ -639,6 +639,25 @@ std::optional<RValue> emitTextureBuiltin(IRGen &gen, const Expr &call,
 /// is false when `call` is none of them.
 std::optional<RValue> emitMessageBuiltin(IRGen &gen, const Expr &call, bool &known);
 
+/// pointcloud_search(), pointcloud_get() and pointcloud_write()
+/// (PointCloudBuiltins.cpp); `known` is false when `call` is none of them.
+std::optional<RValue> emitPointCloudBuiltin(IRGen &gen, const Expr &call, bool &known);
+
+/// A value as the runtime's row operands: one per number, string handle,
+/// triple or closure, with one kind letter each (RowOperands.cpp).
+struct RowOperands {
+  std::vector<mlir::Value> values;
+  std::string kinds;
+};
+/// The kind letter of a value of type `t` (s i f t k).
+char rowKindOf(const OslType &t);
+/// The operands of `v`, or nullopt after reporting that `function` cannot
+/// pass its type.
+std::optional<RowOperands> rowOperands(IRGen &gen, const RValue &v, SrcLoc l,
+                                       llvm::StringRef function);
+/// `like` with its operands replaced by `values` (rowOperands' order).
+RValue fromRowOperands(const RValue &like, mlir::ValueRange values);
+
 /// isconnected() (ConnectionBuiltins.cpp); `known` is false for any other
 /// call.
 std::optional<RValue> emitConnectionBuiltin(IRGen &gen, const Expr &call, bool &known);

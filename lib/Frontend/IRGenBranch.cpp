@@ -269,7 +269,15 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
 
   OslType resultType;
   size_t resultLeaves = 0;
-  if (wantValue) {
+  if (wantValue && tv->type.isString() && ev->type.isString()) {
+    // Strings: each arm's handle (an element picked per point, a[i] ? ...).
+    resultType = tv->type;
+    resultLeaves = 1;
+    b.setInsertionPointToEnd(thenBlock);
+    thenVals.push_back(stringHandle(*tv, l));
+    b.setInsertionPointToEnd(elseBlock);
+    elseVals.push_back(stringHandle(*ev, l));
+  } else if (wantValue) {
     auto t = unify(tv->type, ev->type);
     if (!t || !(t->isNumeric() || t->isMatrix() || t->isClosure())) {
       error(l, "incompatible types in conditional expression: '" + tv->type.str() +
@@ -341,6 +349,8 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
   result.type = resultType;
   if (resultType.isMatrix())
     result.elems.assign(merged.end() - resultLeaves, merged.end());
+  else if (resultType.isString())
+    return RValue::runtimeString(merged.back());
   else
     result.value = merged.back();
   return result;

@@ -490,8 +490,11 @@ llvm::SmallVector<size_t> IRGen::libraryOutputArgs(const Expr &e) const {
   if (name == "split" && e.args.size() > 1) // split(str, results, ...)
     outputs.push_back(1);
   if (name == "getmatrix" || name == "getattribute" || name == "gettextureinfo" ||
-      name == "dict_value")
+      name == "dict_value" || name == "getmessage" || name == "pointcloud_get")
     outputs.push_back(e.args.size() - 1); // the value comes last
+  if (name == "pointcloud_search") // (file, center, radius, max, [sort,] name, array, ...)
+    for (size_t k = e.args.size() % 2 ? 6 : 5; k < e.args.size(); k += 2)
+      outputs.push_back(k);
   return outputs;
 }
 
@@ -551,6 +554,7 @@ bool IRGen::hasSideEffects(const Expr &e) {
   // (exit() stops lanes and printf prints: both only where evaluated.)
   if (e.kind == ExprKind::Call && !e.isCtor &&
       (allFunctions.count(e.name) || !libraryOutputArgs(e).empty() || e.name == "exit" ||
+       e.name == "pointcloud_write" || e.name == "setmessage" ||
        ::osl::printStreamCode(e.name) >= 0))
     return true;
   return llvm::any_of(e.args, [&](const ExprPtr &a) { return hasSideEffects(*a); });

@@ -19,61 +19,6 @@ using namespace mlir::osl;
 namespace osl::frontend {
 namespace {
 
-/// A value as message operands.
-struct MessageOperands {
-  std::vector<Value> values;
-  std::string kinds;
-};
-
-char kindOf(const OslType &t) {
-  return t.isTriple() ? 't' : t.isFloat() ? 'f' : t.isString() ? 's' : t.isClosure() ? 'k' : 'i';
-}
-
-/// The operands of `v`, or nullopt after reporting a type messages cannot
-/// carry.
-std::optional<MessageOperands> operandsOf(IRGen &g, const RValue &v, SrcLoc l,
-                                          llvm::StringRef function) {
-  MessageOperands ops;
-  const OslType &t = v.type;
-  if (t.isStructLike() || t.base == BaseType::Bool) {
-    g.error(l, "'" + function + "' cannot pass a value of type '" + t.str() + "' yet");
-    return std::nullopt;
-  }
-  if (t.isArray() && t.base == BaseType::String) {
-    for (const RValue &s : v.fields)
-      ops.values.push_back(g.stringHandle(s, l)), ops.kinds += 's';
-    return ops;
-  }
-  if (t.hasElems()) {
-    OslType element = t.base == BaseType::Matrix ? OslType(BaseType::Float) : t.element();
-    for (Value e : v.elems)
-      ops.values.push_back(e), ops.kinds += kindOf(element);
-    return ops;
-  }
-  ops.values.push_back(t.isString() ? g.stringHandle(v, l) : v.value);
-  ops.kinds += kindOf(t);
-  return ops;
-}
-
-/// `like` with its operands replaced by `values` (operandsOf's order).
-RValue fromOperands(const RValue &like, ValueRange values) {
-  RValue r = like;
-  const OslType &t = like.type;
-  if (t.isArray() && t.base == BaseType::String) {
-    for (size_t k = 0; k < r.fields.size(); ++k)
-      r.fields[k] = RValue::runtimeString(values[k]);
-    return r;
-  }
-  if (t.hasElems()) {
-    for (size_t k = 0; k < r.elems.size(); ++k)
-      r.elems[k] = values[k];
-    return r;
-  }
-  if (t.isString())
-    return RValue::runtimeString(values[0]);
-  return RValue::num(t, values[0]);
-}
-
 /// The message name: known when the shader is compiled (or chosen among
 /// such names per point).
 std::optional<RValue> messageName(IRGen &g, const Expr &arg, llvm::StringRef function) {
@@ -102,7 +47,7 @@ std::optional<RValue> emitSetMessage(IRGen &g, const Expr &call) {
   auto value = g.emitExpr(*call.args[1]);
   if (!value)
     return std::nullopt;
-  auto ops = operandsOf(g, *value, call.args[1]->loc, "setmessage");
+  auto ops = rowOperands(g, *value, call.args[1]->loc, "setmessage");
   if (!ops)
     return std::nullopt;
   auto done = g.forEachStringChoice(*name, call.loc, [&](const std::string &n) {
@@ -142,7 +87,7 @@ std::optional<RValue> emitGetMessage(IRGen &g, const Expr &call) {
   if (!dest)
     return std::nullopt;
   RValue current = g.loadLValue(*dest, call.loc);
-  auto ops = operandsOf(g, current, call.args[n - 1]->loc, "getmessage");
+  auto ops = rowOperands(g, current, call.args[n - 1]->loc, "getmessage");
   if (!ops)
     return std::nullopt;
   if (!source.empty()) // a trace's messages: testshade traces nothing
@@ -156,7 +101,7 @@ std::optional<RValue> emitGetMessage(IRGen &g, const Expr &call) {
   auto found = g.forEachStringChoice(*name, call.loc, [&](const std::string &nm) {
     auto get = b.create<GetMessageOp>(g.loc(call.loc), foundType, types, nm,
                                       current.type.str(), ops->kinds, ops->values, Value());
-    results.push_back(fromOperands(current, get.getValues()));
+    results.push_back(fromRowOperands(current, get.getValues()));
     return std::optional<RValue>(RValue::num(OslType(BaseType::Int), get.getFound()));
   });
   if (!found)

@@ -7,6 +7,7 @@
 
 #include "OslRuntime/Grid.h"
 #include "OslRuntime/Closure.h"
+#include "OslRuntime/PointCloud.h"
 #include "OslRuntime/PrintCall.h"
 #include "OslRuntime/Progress.h"
 #include "OslRuntime/ThreadPool.h"
@@ -327,6 +328,7 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
       std::fill(out, out + static_cast<size_t>(totalChannels) * width, 0.0f);
       // Closures a batch builds (Ci) are not images: drop them per batch.
       threadClosureArena().reset();
+      setPointCloudBatch(b * width);
       kernel(globalsOf(b), out, activeIn(b));
       takePrints(b);
       if (b > firstBatch)

@@ -9,6 +9,7 @@
 //===----------------------------------------------------------------------===//
 #include "Dictionaries.h"
 #include "OslAbi/EntryPoints.h"
+#include "OslAbi/Words.h"
 #include "OslRuntime/StringCall.h"
 #include "OslRuntime/PrintCall.h"
 #include "OslRuntime/Closure.h"
@@ -28,6 +29,8 @@
 #include <vector>
 
 using osl::StringValue;
+using osl::floatOfWord;
+using osl::wordOfFloat;
 
 namespace {
 
@@ -108,18 +111,6 @@ void reportOnce(const char *where, const std::string &message) {
 //===----------------------------------------------------------------------===//
 // One lane's operands
 //===----------------------------------------------------------------------===//
-
-float floatBits(int32_t bits) {
-  float f;
-  std::memcpy(&f, &bits, sizeof f);
-  return f;
-}
-
-int32_t bitsOf(float f) {
-  int32_t bits;
-  std::memcpy(&bits, &f, sizeof bits);
-  return bits;
-}
 
 /// A closure as OSL prints it: its primitives, weights multiplied through,
 /// one per line after the first: `(r, g, b) * name (param, ..., "keyword",
@@ -208,7 +199,7 @@ void readLane(const char *kinds, size_t nkinds, const int32_t *rows, int32_t wid
     o.kind = kinds[k];
     for (int32_t c = 0; c < osl::stringOperandRows(o.kind); ++c, at += width) {
       o.i = *at;
-      o.f[c] = floatBits(*at);
+      o.f[c] = floatOfWord(*at);
     }
     if (o.kind == 's')
       o.s = internTable().text(o.i);
@@ -287,9 +278,9 @@ int32_t callDictionary(int32_t function, const std::vector<StringValue> &a, std:
     std::string text;
     std::vector<double> numbers;
     if (!osl::dictAttribute(a[0].i, a[1].s, text))
-      return bitsOf(0);
+      return wordOfFloat(0);
     parseNumbers(text, 0, false, numbers);
-    return bitsOf(a[2].i >= 0 && size_t(a[2].i) < numbers.size()
+    return wordOfFloat(a[2].i >= 0 && size_t(a[2].i) < numbers.size()
                       ? float(numbers[size_t(a[2].i)])
                       : 0.0f);
   }

@@ -54,7 +54,7 @@ private:
       else if (mask)
         // Side effects (text, messages): only the points that reach them.
         llvm::TypeSwitch<Operation *>(&op)
-            .Case<PrintOp, SetMessageOp, GetMessageOp>(
+            .Case<PrintOp, SetMessageOp, GetMessageOp, PointCloudOp>(
                 [&](auto sideEffect) { sideEffect.getMaskMutable().assign(mask); });
       if (failed(result))
         return failure();
@@ -183,7 +183,7 @@ private:
     arm.walk([&](Operation *nested) {
       ++count;
       expensive |= isa<scf::WhileOp, WhileOp, NoiseOp, SplineInverseOp, TextureOp,
-                      StringCallOp, PrintOp, SetMessageOp, GetMessageOp>(nested);
+                      StringCallOp, PrintOp, SetMessageOp, GetMessageOp, PointCloudOp>(nested);
     });
     return expensive || count > skipThreshold;
   }

@@ -13,6 +13,7 @@
 #include "OslFrontend/Frontend.h"
 
 #include "OslRuntime/ImageOutput.h"
+#include "OslRuntime/PointCloud.h"
 #include "OslRuntime/PrintCall.h"
 #include "OslRuntime/LaneStats.h"
 #include "OslRuntime/StringCall.h"
@@ -255,7 +256,17 @@ int shadeInBands(RunOptions &options, const CompiledShader &shader,
 } // namespace
 
 int osl::statusAfterShading(const RunOptions &options) {
-  return !options.keepGoing && (textureFileErrors() > 0 || stringErrors() > 0) ? 1 : 0;
+  // The clouds pointcloud_write made are files once shading is over, as
+  // testshade's are when it ends.
+  std::string error;
+  if (!savePointClouds(error)) {
+    llvm::errs() << "osl-run: error: " << error << "\n";
+    return 1;
+  }
+  return !options.keepGoing &&
+                 (textureFileErrors() > 0 || pointCloudFileErrors() > 0 || stringErrors() > 0)
+             ? 1
+             : 0;
 }
 
 /// Marks the outputs written to files (or printed, --print) as kept;

@@ -33,6 +33,14 @@ Value rowAddress(OpBuilder &b, Location loc, Value base, int64_t row,
                                ArrayRef<LLVM::GEPArg>{int32_t(row * width)});
 }
 
+Value loadResultRow(OpBuilder &b, Location loc, Value base, int64_t row, int64_t width,
+                    Type element) {
+  auto load = b.create<LLVM::LoadOp>(loc, VectorType::get({width}, element),
+                                     rowAddress(b, loc, base, row, width), 4);
+  load->setAttr(kNoDerivativeAttr, b.getUnitAttr());
+  return load.getResult();
+}
+
 /// Declares runtime function `name` in the module once.
 LLVM::LLVMFuncOp runtimeDeclaration(OpBuilder &b, Operation *op, StringRef name,
                                     LLVM::LLVMFunctionType type) {

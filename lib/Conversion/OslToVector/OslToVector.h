@@ -111,6 +111,10 @@ Value kernelArg(Operation *op, unsigned i);
 Value activeLanes(OpBuilder &b, Location loc, Operation *op, int64_t width);
 /// Address of row `row` of a structure-of-arrays block of W-float rows.
 Value rowAddress(OpBuilder &b, Location loc, Value base, int64_t row, int64_t width);
+/// Row `row` of a block the runtime wrote, as `width` lanes of `element`: a
+/// value with no derivatives.
+Value loadResultRow(OpBuilder &b, Location loc, Value base, int64_t row, int64_t width,
+                    Type element);
 /// The LLVM type of a C type of the kernel ABI (OslAbi/EntryPoints.h).
 template <typename T> Type abiType(MLIRContext *ctx) {
   if constexpr (std::is_pointer_v<T>)

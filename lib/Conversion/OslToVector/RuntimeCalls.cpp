@@ -8,6 +8,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslToVector.h"
 
+#include "OslAbi/PointCloud.h"
 #include "OslAbi/Print.h"
 #include "OslAbi/Strings.h"
 #include "OslAbi/Texture.h"
@@ -210,11 +211,7 @@ struct MessageLowering : public OslPattern<OpTy> {
       return success();
     } else {
       auto loadRow = [&](int64_t row, Type element) {
-        auto load = rewriter.create<LLVM::LoadOp>(
-            loc, VectorType::get({width}, element),
-            rowAddress(rewriter, loc, block, row, width), 4);
-        load->setAttr(kNoDerivativeAttr, rewriter.getUnitAttr());
-        return load.getResult();
+        return loadResultRow(rewriter, loc, block, row, width, element);
       };
       SmallVector<Value> results = {loadRow(foundRow, i32)};
       Components packer{rewriter, loc, width};
@@ -231,6 +228,69 @@ struct MessageLowering : public OslPattern<OpTy> {
       rewriter.replaceOp(op, results);
       return success();
     }
+  }
+};
+
+/// osl.pointcloud: inputs and the output arrays' elements go to rows,
+/// osl_rt_pointcloud runs the active lanes, and each element comes back
+/// from its row where the runtime wrote it (its index below the `written`
+/// row), else it stays as it was, derivatives included: OSL zeroes the
+/// derivatives of the elements a lookup fills and no others.
+struct PointCloudLowering : public OslPattern<PointCloudOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(PointCloudOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    auto arrays = ::osl::parsePointCloudLayout(op.getLayout());
+    if (!arrays)
+      return op.emitError("malformed point-cloud layout");
+    SmallVector<Value> original(op.getInputs()), converted(adaptor.getInputs());
+    llvm::append_range(original, op.getCurrent());
+    llvm::append_range(converted, adaptor.getCurrent());
+    auto [rowBlock, statusRow] = operandRows(rewriter, loc, op, original, converted,
+                                             op.getKinds(), width, /*varying=*/true,
+                                             /*extraRows=*/2);
+    Value block = rowBlock;
+    Value mask = sideEffectLanes(rewriter, loc, op, adaptor.getMask(), width);
+    LLVM::LLVMFuncOp callee = runtimeDeclaration(rewriter, op, entry::osl_rt_pointcloud);
+    SmallVector<Value> args = {
+        i32Constant(rewriter, loc,
+                    static_cast<int32_t>(*::osl::pointCloudFunction(op.getFunction()))),
+        constantStringAddress(rewriter, loc, op.getLayout()),
+        constantStringAddress(rewriter, loc, op.getKinds()),
+        block,
+        i32Constant(rewriter, loc, width),
+        maskBits(rewriter, loc, mask)};
+    rewriter.create<LLVM::CallOp>(loc, callee, args);
+
+    Type i32 = rewriter.getI32Type();
+    auto loadRow = [&](int64_t row, Type element) {
+      return loadResultRow(rewriter, loc, block, row, width, element);
+    };
+    Value written = loadRow(statusRow + 1, i32);
+    SmallVector<Value> results = {loadRow(statusRow, i32), written};
+    Components components{rewriter, loc, width};
+    int64_t row = 0;
+    for (Value input : op.getInputs())
+      row += isTriple(getUniformType(input.getType())) ? 3 : 1;
+    size_t element = 0;
+    for (const ::osl::PointCloudArray &array : *arrays) {
+      for (int32_t k = 0; k < array.length && element < op.getCurrent().size(); ++k, ++element) {
+        Value current = op.getCurrent()[element];
+        Value filled = rewriter.create<arith::CmpIOp>(
+            loc, arith::CmpIPredicate::sgt, written,
+            lane::broadcast(rewriter, loc, i32Constant(rewriter, loc, k), width));
+        SmallVector<Value> rows;
+        for (Value was : components.unpack(adaptor.getCurrent()[element], current.getType(),
+                                           /*varying=*/true)) {
+          Value now = loadRow(row++, cast<VectorType>(was.getType()).getElementType());
+          rows.push_back(rewriter.create<arith::SelectOp>(loc, filled, now, was));
+        }
+        results.push_back(components.pack(rows, convert(op.getValues()[element].getType())));
+      }
+    }
+    rewriter.replaceOp(op, results);
+    return success();
   }
 };
 
@@ -499,6 +559,7 @@ struct UdimTileLowering : public OslPattern<UdimTileOp> {
 void mlir::osl::lowering::populateRuntimeCallPatterns(const VaryingTypeConverter &converter,
                                                       RewritePatternSet &patterns) {
   patterns.add<CountLanesLowering, MessageLowering<SetMessageOp>, MessageLowering<GetMessageOp>,
+               PointCloudLowering,
                TextureLowering, GetTextureInfoLowering, UdimTileLowering, StringConstantLowering,
                StringCallLowering, PrintLowering>(converter, patterns.getContext());
 }
