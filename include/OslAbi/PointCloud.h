@@ -1,4 +1,5 @@
-//===- PointCloud.h - pointcloud_search, _get and _write: the ABI -*- C++ -*-===//
+//===- PointCloud.h - pointcloud_search, _get and _write: the ABI -*- C++
+//-*-===//
 //
 // The three point-cloud functions are one op, osl.pointcloud, and one entry
 // point, osl_rt_pointcloud (EntryPoints.h). Its operands are rows as

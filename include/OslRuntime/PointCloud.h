@@ -1,4 +1,5 @@
-//===- PointCloud.h - Point clouds: files, search, and the host side -*- C++ -*-===//
+//===- PointCloud.h - Point clouds: files, search, and the host side -*- C++
+//-*-===//
 //
 // What pointcloud_search, pointcloud_get and pointcloud_write read and
 // write: clouds of points with named attributes, kept as Houdini's ASCII

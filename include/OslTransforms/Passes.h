@@ -31,6 +31,10 @@ enum class MathLevel {
 std::optional<MathLevel> parseMathLevel(llvm::StringRef name);
 const char *mathLevelName(MathLevel level);
 
+/// osl-fold-constants' patterns: lane operations on constants evaluated as
+/// the kernel would, selects and ifs on constant conditions decided.
+void populateFoldConstantsPatterns(RewritePatternSet &patterns);
+
 #define GEN_PASS_DECL
 #include "OslTransforms/Passes.h.inc"
 

@@ -80,6 +80,31 @@ def FoldConstants : Pass<"osl-fold-constants", "::mlir::func::FuncOp"> {
   let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::math::MathDialect"];
 }
 
+def UnrollConstantLoops : Pass<"osl-unroll-constant-loops", "::mlir::func::FuncOp"> {
+  let summary = "Unroll uniform loops whose trip count folds to a constant";
+  let description = [{
+    A loop over a small local array (`for (i = 0; i < n; ++i) a[i]`) reads
+    and writes its elements through a chain of selects on the index, one per
+    element, at every trip. Peeled one trip at a time, with
+    osl-fold-constants' patterns applied to each, a loop whose condition
+    folds to a constant at every trip becomes straight-line code whose
+    indices are constants: the elements are plain values, and a count kept
+    by an unrolled loop (`n += 1` under conditions that fold) becomes a
+    constant the next loop is unrolled with. A loop is left as it is when a
+    trip's condition does not fold, or when unrolling it would take more
+    than `max-trips` trips or add more than `max-ops` operations, or when
+    it indexes no array by a value it carries (unrolling it would only
+    cost compile time).
+  }];
+  let options = [
+    Option<"maxTrips", "max-trips", "int64_t", "32", "most trips a loop is unrolled for">,
+    Option<"maxOps", "max-ops", "int64_t", "1000",
+           "most operations the unrolled trips of one loop may hold">,
+  ];
+  let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::math::MathDialect",
+                           "::mlir::scf::SCFDialect"];
+}
+
 def VaryingPropagation : Pass<"osl-varying-propagation", "::mlir::func::FuncOp"> {
   let summary = "Infer which values are varying";
   let description = [{

@@ -30,8 +30,9 @@ std::optional<std::string> attributeName(IRGen &g, const Expr &arg, llvm::String
   if (!name)
     return std::nullopt;
   if (!name->isKnownString()) {
-    g.error(arg.loc, "'" + function + "' needs attribute names known when the shader is "
-                                      "compiled, got " +
+    g.error(arg.loc, "'" + function +
+                         "' needs attribute names known when the shader is "
+                         "compiled, got " +
                          (name->type.isString() ? std::string("one computed at run time")
                                                 : "'" + name->type.str() + "'"));
     return std::nullopt;
@@ -52,8 +53,8 @@ std::optional<OutputArray> outputArray(IRGen &g, const Expr &arg, llvm::StringRe
     return std::nullopt;
   const OslType &t = place->type;
   OslType element = t.isArray() ? t.element() : t;
-  if (!t.isArray() || !(element.isInt() || element.isFloat() || element.isTriple() ||
-                        element.isString())) {
+  if (!t.isArray() ||
+      !(element.isInt() || element.isFloat() || element.isTriple() || element.isString())) {
     g.error(arg.loc, "'" + function + "' needs an array of int, float, triple or string for \"" +
                          attribute + "\", got '" + t.str() + "'");
     return std::nullopt;
@@ -63,8 +64,8 @@ std::optional<OutputArray> outputArray(IRGen &g, const Expr &arg, llvm::StringRe
   if (!rows)
     return std::nullopt;
   if (rows->values.empty()) {
-    g.error(arg.loc, "'" + function + "' needs an array of at least one element for \"" +
-                         attribute + "\"");
+    g.error(arg.loc,
+            "'" + function + "' needs an array of at least one element for \"" + attribute + "\"");
     return std::nullopt;
   }
   return OutputArray{*place, current, std::move(*rows)};
@@ -76,8 +77,7 @@ std::optional<Value> fileName(IRGen &g, const Expr &arg, llvm::StringRef functio
   if (!file)
     return std::nullopt;
   if (!file->type.isString()) {
-    g.error(arg.loc, "'" + function + "' needs a string file name, got '" +
-                         file->type.str() + "'");
+    g.error(arg.loc, "'" + function + "' needs a string file name, got '" + file->type.str() + "'");
     return std::nullopt;
   }
   return g.stringHandle(*file, arg.loc);
@@ -110,9 +110,9 @@ RValue emitLookup(IRGen &g, const Expr &call, llvm::StringRef function,
     }
   }
   Type i32 = VaryingType::get(b.getI32Type());
-  auto op = b.create<PointCloudOp>(g.loc(call.loc), i32, i32, types, function,
-                                   ::osl::pointCloudLayout(layout), kinds, inputs, current,
-                                   Value());
+  auto op =
+      b.create<PointCloudOp>(g.loc(call.loc), i32, i32, types, function,
+                             ::osl::pointCloudLayout(layout), kinds, inputs, current, Value());
   size_t next = 0;
   for (OutputArray &o : outputs) {
     size_t n = o.rows.values.size();
@@ -162,10 +162,9 @@ std::optional<RValue> emitSearch(IRGen &g, const Expr &call) {
   // more is a mistake worth a word, as oslc's runtime gives it.
   auto asked = IRGen::getConstInt(*maxPoints);
   if (asked && *asked > capacity &&
-      !g.diagnostics().warning(call.loc, "arrays too small for pointcloud lookup: " +
-                                             std::to_string(*asked) +
-                                             " points asked for, at most " +
-                                             std::to_string(capacity) + " fit"))
+      !g.diagnostics().warning(
+          call.loc, "arrays too small for pointcloud lookup: " + std::to_string(*asked) +
+                        " points asked for, at most " + std::to_string(capacity) + " fit"))
     return std::nullopt;
   return emitLookup(g, call, "search", layout, "stfii",
                     {*file, *center, *radius, *maxPoints, *sort}, outputs);
@@ -187,13 +186,13 @@ std::optional<RValue> emitGet(IRGen &g, const Expr &call) {
   if (!file || !indices || !count || !attribute)
     return std::nullopt;
   if (!indices->type.isArray() || indices->type.base != BaseType::Int) {
-    g.error(args[1]->loc, "'pointcloud_get' needs an int array of indices, got '" +
-                              indices->type.str() + "'");
+    g.error(args[1]->loc,
+            "'pointcloud_get' needs an int array of indices, got '" + indices->type.str() + "'");
     return std::nullopt;
   }
   if (!attribute->type.isString()) {
-    g.error(args[3]->loc, "'pointcloud_get' needs a string attribute name, got '" +
-                              attribute->type.str() + "'");
+    g.error(args[3]->loc,
+            "'pointcloud_get' needs a string attribute name, got '" + attribute->type.str() + "'");
     return std::nullopt;
   }
   auto out = outputArray(g, *args[4], "pointcloud_get", "the attribute");
@@ -205,8 +204,8 @@ std::optional<RValue> emitGet(IRGen &g, const Expr &call) {
   llvm::append_range(inputs, indices->elems);
   std::vector<OutputArray> outputs;
   outputs.push_back(std::move(*out));
-  return emitLookup(g, call, "get", layout, "sis" + std::string(indices->elems.size(), 'i'),
-                    inputs, outputs);
+  return emitLookup(g, call, "get", layout, "sis" + std::string(indices->elems.size(), 'i'), inputs,
+                    outputs);
 }
 
 /// pointcloud_write(file, position, "name", value, ...).
@@ -219,8 +218,7 @@ std::optional<RValue> emitWrite(IRGen &g, const Expr &call) {
     return std::nullopt;
   }
   auto file = fileName(g, *args[0], "pointcloud_write");
-  auto position =
-      input(g, *args[1], OslType(BaseType::Point), "pointcloud_write", "the position");
+  auto position = input(g, *args[1], OslType(BaseType::Point), "pointcloud_write", "the position");
   if (!file || !position)
     return std::nullopt;
   std::vector<PointCloudArray> layout;
@@ -234,7 +232,8 @@ std::optional<RValue> emitWrite(IRGen &g, const Expr &call) {
     const OslType &t = value->type;
     if (!(t.isInt() || t.isFloat() || t.isTriple() || t.isString())) {
       g.error(args[k + 1]->loc, "'pointcloud_write' writes int, float, triple or string "
-                                "attributes, got '" + t.str() + "' for \"" + *name + "\"");
+                                "attributes, got '" +
+                                    t.str() + "' for \"" + *name + "\"");
       return std::nullopt;
     }
     auto rows = rowOperands(g, *value, args[k + 1]->loc, "pointcloud_write");

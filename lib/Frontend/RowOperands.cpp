@@ -1,4 +1,5 @@
-//===- RowOperands.cpp - Values as the runtime's rows of 32-bit words ------===//
+//===- RowOperands.cpp - Values as the runtime's rows of 32-bit words
+//------===//
 //
 // The runtime calls that take values of any type (messages, point clouds)
 // take them as operands one per number, string handle, triple or closure

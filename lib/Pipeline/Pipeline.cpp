@@ -53,6 +53,9 @@ void mlir::osl::buildOslLevelPipeline(OpPassManager &pm,
   // see it, as OSL's runtime optimizer folds (0 - 0 becomes a constant 0,
   // then 0^y is 0).
   fn.addPass(createFoldConstants());
+  // Loops over small arrays with constant bounds become straight-line
+  // code with constant indices.
+  fn.addPass(createUnrollConstantLoops());
   fn.addPass(createCanonicalizerPass());
   if (options.reference)
     fn.addPass(createUniformReference());

@@ -6,8 +6,8 @@
 // file are not needed for a point cloud and are not read.
 //
 //===----------------------------------------------------------------------===//
-#include "OslRuntime/PointCloud.h"
 #include "OslAbi/Words.h"
+#include "OslRuntime/PointCloud.h"
 
 #include <cctype>
 #include <cstdlib>
@@ -110,8 +110,7 @@ bool readGeoFile(const std::string &path, PointCloudData &cloud, std::string &er
     PointAttribute attr;
     long size;
     std::string type;
-    if (!words.next(attr.name) || !words.count(size) || !words.next(type) || size < 1 ||
-        size > 64)
+    if (!words.next(attr.name) || !words.count(size) || !words.next(type) || size < 1 || size > 64)
       return fail("a malformed point attribute");
     attr.components = static_cast<int32_t>(size);
     if (type == "index") {

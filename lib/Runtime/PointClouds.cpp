@@ -115,8 +115,7 @@ private:
 const LoadedCloud *openCloud(const std::string &file, const char *function, int32_t lane) {
   const LoadedCloud *cloud = file.empty() ? nullptr : &cloudNamed(file);
   if (!cloud || !cloud->error.empty()) {
-    std::string why = cloud && cloud->error.rfind("cannot read", 0) != 0 ? ": " + cloud->error
-                                                                         : "";
+    std::string why = cloud && cloud->error.rfind("cannot read", 0) != 0 ? ": " + cloud->error : "";
     report(lane, std::string(function) + ": could not open \"" + file + "\"" + why);
     return nullptr;
   }
@@ -126,18 +125,20 @@ const LoadedCloud *openCloud(const std::string &file, const char *function, int3
 /// Copies attribute `name` of the points `indices` (count of them) into the
 /// array whose first element is operand `operand`. False after reporting.
 bool fetch(const LoadedCloud &cloud, const std::string &file, const std::string &name,
-           const PointCloudArray &array, const int32_t *indices, int32_t count,
-           CallRows &rows, size_t operand, int32_t lane) {
+           const PointCloudArray &array, const int32_t *indices, int32_t count, CallRows &rows,
+           size_t operand, int32_t lane) {
   const PointAttribute *attr = cloud.data.find(name);
   if (!attr) {
     report(lane, "Accessing unexisting attribute " + name + " in pointcloud \"" + file + "\"");
     return false;
   }
   if (attr->oslKind() != array.kind) {
-    const char *osl = array.kind == 'i' ? "int" : array.kind == 'f' ? "float"
-                      : array.kind == 's' ? "string" : "triple";
+    const char *osl = array.kind == 'i'   ? "int"
+                      : array.kind == 'f' ? "float"
+                      : array.kind == 's' ? "string"
+                                          : "triple";
     report(lane, "Type of attribute \"" + name + "\" : " +
-                     (attr->type == 's' ? std::string("string")
+                     (attr->type == 's'   ? std::string("string")
                       : attr->type == 'i' ? std::string("int")
                                           : "float[" + std::to_string(attr->components) + "]") +
                      " not compatible with OSL's " + osl + " in \"" + file + "\" pointcloud");
@@ -146,9 +147,8 @@ bool fetch(const LoadedCloud &cloud, const std::string &file, const std::string 
   size_t npoints = cloud.data.size();
   for (int32_t k = 0; k < count; ++k)
     if (indices[k] < 0 || size_t(indices[k]) >= npoints) {
-      report(lane, "pointcloud_get: index " + std::to_string(indices[k]) +
-                       " is not a point of \"" + file + "\" (" + std::to_string(npoints) +
-                       " points)");
+      report(lane, "pointcloud_get: index " + std::to_string(indices[k]) + " is not a point of \"" +
+                       file + "\" (" + std::to_string(npoints) + " points)");
       return false;
     }
   for (int32_t k = 0; k < count; ++k) {
@@ -156,9 +156,8 @@ bool fetch(const LoadedCloud &cloud, const std::string &file, const std::string 
     for (int32_t c = 0; c < attr->components; ++c) {
       int32_t w = attr->words[p * attr->components + c];
       if (attr->type == 's')
-        w = osl_rt_string_intern(w >= 0 && size_t(w) < attr->strings.size()
-                                     ? attr->strings[size_t(w)].c_str()
-                                     : "");
+        w = osl_rt_string_intern(
+            w >= 0 && size_t(w) < attr->strings.size() ? attr->strings[size_t(w)].c_str() : "");
       rows.word(operand + k, c, lane) = w;
     }
   }
@@ -180,8 +179,7 @@ void search(const std::vector<PointCloudArray> &arrays, CallRows &rows, int32_t 
     maxPoints = std::min(maxPoints, a.length);
   std::vector<int32_t> indices;
   std::vector<float> distance2;
-  int32_t count = cloud->tree->nearest(center, rows.number(2, lane), maxPoints, indices,
-                                       distance2);
+  int32_t count = cloud->tree->nearest(center, rows.number(2, lane), maxPoints, indices, distance2);
   size_t operand = 5;
   for (const PointCloudArray &a : arrays) {
     if (a.name == "index" && a.kind == 'i') {
@@ -201,8 +199,8 @@ void search(const std::vector<PointCloudArray> &arrays, CallRows &rows, int32_t 
 void get(const PointCloudArray &array, size_t nindices, CallRows &rows, int32_t lane) {
   rows.written(lane) = 0;
   rows.status(lane) = 1; // asking for nothing always succeeds
-  int32_t count = std::min<int32_t>(rows.word(1, 0, lane),
-                                    std::min<int32_t>(array.length, int32_t(nindices)));
+  int32_t count =
+      std::min<int32_t>(rows.word(1, 0, lane), std::min<int32_t>(array.length, int32_t(nindices)));
   if (count <= 0)
     return;
   rows.status(lane) = 0;
@@ -213,8 +211,8 @@ void get(const PointCloudArray &array, size_t nindices, CallRows &rows, int32_t 
   std::vector<int32_t> indices(static_cast<size_t>(count));
   for (int32_t k = 0; k < count; ++k)
     indices[k] = rows.word(3 + k, 0, lane);
-  if (fetch(*cloud, file, stringText(rows.word(2, 0, lane)), array, indices.data(), count,
-            rows, 3 + nindices, lane)) {
+  if (fetch(*cloud, file, stringText(rows.word(2, 0, lane)), array, indices.data(), count, rows,
+            3 + nindices, lane)) {
     rows.status(lane) = 1;
     rows.written(lane) = count;
   }
@@ -322,10 +320,9 @@ extern "C" void osl_rt_pointcloud(int32_t function, const char *layout, const ch
     return; // the verifier rejects such an op
   osl::CallRows callRows(rows, width, kinds);
   int32_t call = osl::batchCalls++;
-  size_t nindices =
-      function == int32_t(osl::PointCloudFunction::Get) && !arrays->empty()
-          ? std::strlen(kinds) - 3 - size_t(arrays->front().length)
-          : 0;
+  size_t nindices = function == int32_t(osl::PointCloudFunction::Get) && !arrays->empty()
+                        ? std::strlen(kinds) - 3 - size_t(arrays->front().length)
+                        : 0;
   for (int32_t lane = 0; lane < width; ++lane) {
     if (!(laneMask >> lane & 1u))
       continue;

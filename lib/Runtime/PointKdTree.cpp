@@ -99,8 +99,7 @@ void PointKdTree::search(int32_t begin, int32_t end, const float center[3],
 }
 
 int32_t PointKdTree::nearest(const float center[3], float radius, int32_t maxPoints,
-                             std::vector<int32_t> &indices,
-                             std::vector<float> &distance2) const {
+                             std::vector<int32_t> &indices, std::vector<float> &distance2) const {
   indices.clear();
   distance2.clear();
   if (maxPoints <= 0 || !(radius > 0) || order.empty())

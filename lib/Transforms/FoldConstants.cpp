@@ -100,7 +100,8 @@ struct CmpOfConstants : public OpRewritePattern<CmpOp> {
     Location loc = op.getLoc();
     SmallVector<Value> lhs = constantComponents(b, loc, op.getLhs());
     SmallVector<Value> rhs = constantComponents(b, loc, op.getRhs());
-    b.replaceOp(op, lane::compareComponents(b, loc, stringifyCmpPredicate(op.getPredicate()), lhs, rhs, op.getUnordered()));
+    b.replaceOp(op, lane::compareComponents(b, loc, stringifyCmpPredicate(op.getPredicate()), lhs,
+                                            rhs, op.getUnordered()));
     return success();
   }
 };
@@ -182,40 +183,44 @@ struct IfOnConstant : public OpRewritePattern<IfOp> {
   }
 };
 
+} // namespace
+
+void mlir::osl::populateFoldConstantsPatterns(RewritePatternSet &patterns) {
+  MLIRContext *ctx = patterns.getContext();
+  auto lane = [&](StringRef name, LaneFn fn) { patterns.add<LaneOpOnConstants>(ctx, name, fn); };
+  lane(AddOp::getOperationName(), lane::add);
+  lane(SubOp::getOperationName(), lane::sub);
+  lane(MulOp::getOperationName(), lane::mul);
+  lane(DivOp::getOperationName(), lane::div);
+  lane(ModOp::getOperationName(), lane::mod);
+  lane(NegOp::getOperationName(), lane::neg);
+  lane(MinOp::getOperationName(), lane::min);
+  lane(MaxOp::getOperationName(), lane::max);
+  lane(AbsOp::getOperationName(), lane::abs);
+  lane(AndOp::getOperationName(), lane::logicalAnd);
+  lane(OrOp::getOperationName(), lane::logicalOr);
+  lane(NotOp::getOperationName(), lane::logicalNot);
+  lane(BitAndOp::getOperationName(), lane::bitAnd);
+  lane(BitOrOp::getOperationName(), lane::bitOr);
+  lane(BitXorOp::getOperationName(), lane::bitXor);
+  lane(BitNotOp::getOperationName(), lane::bitNot);
+  lane(ShlOp::getOperationName(), lane::shl);
+  lane(ShrOp::getOperationName(), lane::shr);
+  lane(StepOp::getOperationName(), lane::step);
+  lane(MixOp::getOperationName(), lane::mix);
+  lane(ClampOp::getOperationName(), lane::clamp);
+  patterns.add<CmpOfConstants, ConvertOfConstant, ConstructOfConstants, ExtractOfKnownTriple,
+               SelectOnConstant, IfOnConstant>(ctx);
+  IfOp::getCanonicalizationPatterns(patterns, ctx);
+}
+
+namespace {
 struct FoldConstantsPass : public mlir::osl::impl::FoldConstantsBase<FoldConstantsPass> {
   void runOnOperation() override {
-    MLIRContext *ctx = &getContext();
-    RewritePatternSet patterns(ctx);
-    auto lane = [&](StringRef name, LaneFn fn) {
-      patterns.add<LaneOpOnConstants>(ctx, name, fn);
-    };
-    lane(AddOp::getOperationName(), lane::add);
-    lane(SubOp::getOperationName(), lane::sub);
-    lane(MulOp::getOperationName(), lane::mul);
-    lane(DivOp::getOperationName(), lane::div);
-    lane(ModOp::getOperationName(), lane::mod);
-    lane(NegOp::getOperationName(), lane::neg);
-    lane(MinOp::getOperationName(), lane::min);
-    lane(MaxOp::getOperationName(), lane::max);
-    lane(AbsOp::getOperationName(), lane::abs);
-    lane(AndOp::getOperationName(), lane::logicalAnd);
-    lane(OrOp::getOperationName(), lane::logicalOr);
-    lane(NotOp::getOperationName(), lane::logicalNot);
-    lane(BitAndOp::getOperationName(), lane::bitAnd);
-    lane(BitOrOp::getOperationName(), lane::bitOr);
-    lane(BitXorOp::getOperationName(), lane::bitXor);
-    lane(BitNotOp::getOperationName(), lane::bitNot);
-    lane(ShlOp::getOperationName(), lane::shl);
-    lane(ShrOp::getOperationName(), lane::shr);
-    lane(StepOp::getOperationName(), lane::step);
-    lane(MixOp::getOperationName(), lane::mix);
-    lane(ClampOp::getOperationName(), lane::clamp);
-    patterns.add<CmpOfConstants, ConvertOfConstant, ConstructOfConstants,
-                 ExtractOfKnownTriple, SelectOnConstant, IfOnConstant>(ctx);
-    IfOp::getCanonicalizationPatterns(patterns, ctx);
+    RewritePatternSet patterns(&getContext());
+    populateFoldConstantsPatterns(patterns);
     if (failed(applyPatternsAndFoldGreedily(getOperation(), std::move(patterns))))
       signalPassFailure();
   }
 };
-
 } // namespace

@@ -1,4 +1,5 @@
-//===- PointCloudTest.cpp - kd-tree search and .geo files ------------------===//
+//===- PointCloudTest.cpp - kd-tree search and .geo files
+//------------------===//
 #include "OslRuntime/PointCloud.h"
 
 #include <gtest/gtest.h>
@@ -113,13 +114,13 @@ TEST(GeoFile, ReportsWhatIsWrong) {
   PointCloudData cloud;
   EXPECT_FALSE(readGeoFile(path + ".missing", cloud, error));
   EXPECT_NE(error.find("cannot read"), std::string::npos) << error;
-  for (const char *text :
-       {"not a geo file\n", "PGEOMETRY V5\nNPoints 2 NPrims 0\n",
-        "PGEOMETRY V5\nNPoints 2 NPrims 0\nNPointGroups 0 NPrimGroups 0\n"
-        "NPointAttrib 0 NVertexAttrib 0 NPrimAttrib 0 NAttrib 0\n0 0 0 1\n0 0\n",
-        "PGEOMETRY V5\nNPoints 1 NPrims 0\nNPointGroups 0 NPrimGroups 0\n"
-        "NPointAttrib 1 NVertexAttrib 0 NPrimAttrib 0 NAttrib 0\nPointAttrib\n"
-        "m 16 matrix 0\n0 0 0 1 (0)\n"}) {
+  for (const char *text : {"not a geo file\n", "PGEOMETRY V5\nNPoints 2 NPrims 0\n",
+                           "PGEOMETRY V5\nNPoints 2 NPrims 0\nNPointGroups 0 NPrimGroups 0\n"
+                           "NPointAttrib 0 NVertexAttrib 0 NPrimAttrib 0 NAttrib 0\n0 0 0 1\n0 "
+                           "0\n",
+                           "PGEOMETRY V5\nNPoints 1 NPrims 0\nNPointGroups 0 NPrimGroups 0\n"
+                           "NPointAttrib 1 NVertexAttrib 0 NPrimAttrib 0 NAttrib 0\nPointAttrib\n"
+                           "m 16 matrix 0\n0 0 0 1 (0)\n"}) {
     FILE *f = std::fopen(path.c_str(), "w");
     ASSERT_TRUE(f);
     std::fputs(text, f);
