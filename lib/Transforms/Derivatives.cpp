@@ -42,8 +42,8 @@ namespace {
 constexpr const char *kGlobalRowAttr = "osl.global_row";
 /// Marks the loads of derivative rows made here.
 constexpr const char *kDerivativeRowAttr = "osl.derivative_row";
-/// On a loop rebuilt to carry derivatives: how many of its inits and
-/// results it had before (the rest are derivatives).
+/// On a loop or branch rebuilt to carry derivatives: how many of its inits
+/// and results it had before (the rest are derivatives).
 constexpr const char *kPrimalCountsAttr = "osl.primal_counts";
 
 class Differentiator {
@@ -272,7 +272,11 @@ private:
     auto thenYield = ifOp.thenYield(), elseYield = ifOp.elseYield();
     SmallVector<unsigned> floats;
     SmallVector<Value> thenD, elseD;
-    for (unsigned i = 0; i < ifOp.getNumResults(); ++i) {
+    // Only the branch's own results: those a rebuild for another axis added
+    // are derivatives, which have none (and would lead back to the loop
+    // being rebuilt, through the loop-carried derivatives they use).
+    size_t primal = primalCounts(ifOp, 0).second;
+    for (unsigned i = 0; i < primal; ++i) {
       if (!isFloatValue(ifOp.getResult(i)))
         continue;
       FailureOr<Value> t = derive(thenYield.getOperand(i), user);
@@ -300,6 +304,8 @@ private:
                                        /*withElse=*/true);
     rebuilt.getThenRegion().takeBody(ifOp.getThenRegion());
     rebuilt.getElseRegion().takeBody(ifOp.getElseRegion());
+    rebuilt->setAttr(kPrimalCountsAttr,
+                     DenseI64ArrayAttr::get(ifOp.getContext(), {0, int64_t(primal)}));
     unsigned n = ifOp.getNumResults();
     for (unsigned i = 0; i < n; ++i) {
       Value old = ifOp.getResult(i);

@@ -223,6 +223,47 @@ func.func @loop_carried_while(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
 
 // -----
 
+// Both Dx and Dy of a value a loop computes under a branch (a `break`'s
+// flag): the loop is rebuilt once per axis, and the second rebuild must not
+// differentiate the derivative the first added to the branch (that led back
+// to the loop being rebuilt, forever).
+// CHECK-LABEL: func.func @both_axes_through_branch
+// CHECK: %[[R:.+]]:4 = scf.while
+// CHECK: scf.if %{{.+}} -> (vector<4xf32>, vector<4xf32>, vector<4xf32>)
+// CHECK: arith.addf %[[R]]#2
+// CHECK: arith.addf %[[R]]#3
+func.func @both_axes_through_branch(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %k0 = arith.constant 0 : i32
+  %one = arith.constant 1 : i32
+  %three = arith.constant 3 : i32
+  %r:2 = scf.while (%x = %u, %k = %k0) : (vector<4xf32>, i32) -> (vector<4xf32>, i32) {
+    %go = arith.cmpi slt, %k, %three : i32
+    scf.condition(%go) %x, %k : vector<4xf32>, i32
+  } do {
+  ^bb0(%x2: vector<4xf32>, %k2: i32):
+    %early = arith.cmpi sgt, %k2, %one : i32
+    %n = scf.if %early -> (vector<4xf32>) {
+      scf.yield %x2 : vector<4xf32>
+    } else {
+      %f = arith.constant dense<2.0> : vector<4xf32>
+      %twice = arith.mulf %x2, %f : vector<4xf32>
+      scf.yield %twice : vector<4xf32>
+    }
+    %k3 = arith.addi %k2, %one : i32
+    scf.yield %n, %k3 : vector<4xf32>, i32
+  }
+  %dx = osl.lane_deriv x %r#0 : vector<4xf32>
+  %dy = osl.lane_deriv y %r#0 : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %dx, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  llvm.intr.masked.store %dy, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
+
+// -----
+
 // A uniform (scalar) value carried around a loop, like an fbm's frequency,
 // meets the varying u through a broadcast: the same at every point, so its
 // derivative is 0 and d(u * freq)/dx is dudx * freq (row 35: 140 floats in).
