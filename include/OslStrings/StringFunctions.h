@@ -40,11 +40,17 @@ struct StringResult {
 StringResult evalStringFunction(int32_t code, const std::vector<StringValue> &operands,
                                 std::string &error);
 
+/// How a conversion is rendered: format() is C's printf; printf, fprintf,
+/// warning and error go through fmt in OSL, which differs for strings with
+/// a width (always at the left) and for %o of a negative int (sign and
+/// magnitude).
+enum class FormatStyle { C, Fmt };
+
 /// `format` applied to `values` as OSL's printf and format do: C printf
-/// value by value, triples as three numbers separated by spaces. On an
-/// error sets `error` and returns "".
+/// value by value (with `style`'s differences), triples as three numbers
+/// separated by spaces. On an error sets `error` and returns "".
 std::string formatValues(std::string_view format, const StringValue *values, size_t count,
-                         std::string &error);
+                         std::string &error, FormatStyle style = FormatStyle::C);
 
 /// Why `pattern` is not a valid regular expression (std::regex,
 /// ECMAScript), or "" when it is.

@@ -8,6 +8,7 @@
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/Matchers.h"
+#include "mlir/IR/TypeUtilities.h"
 #include "mlir/IR/PatternMatch.h"
 
 using namespace mlir;
@@ -195,6 +196,53 @@ struct PowOfZeroBase : public OpRewritePattern<PowOp> {
   }
 };
 
+/// pow(x, c) for a constant float c, rewritten as OSL's optimizer rewrites
+/// it (constfold_pow): c = 0 gives 1 and 1 gives x, whatever x is; 2 gives
+/// x*x, 0.5 sqrt(x), -0.5 inversesqrt(x), 1/3 cbrt(x). These round apart
+/// from pow's by an ulp or more, and shaders' outputs show it.
+struct PowOfConstantExponent : public OpRewritePattern<PowOp> {
+  using OpRewritePattern::OpRewritePattern;
+  LogicalResult matchAndRewrite(PowOp op, PatternRewriter &b) const override {
+    // A float exponent (with a triple base, the front end made it a splat
+    // triple; a triple exponent of three values is not rewritten, as in OSL).
+    Attribute exponent;
+    if (!matchPattern(op.getRhs(), m_Constant(&exponent)))
+      return failure();
+    float c;
+    if (auto f = dyn_cast<FloatAttr>(exponent))
+      c = float(f.getValueAsDouble());
+    else if (auto dense = dyn_cast<DenseFPElementsAttr>(exponent); dense && dense.isSplat())
+      c = dense.getSplatValue<APFloat>().convertToFloat();
+    else
+      return failure();
+    Value x = op.getLhs();
+    Location loc = op.getLoc();
+    Value result;
+    if (c == 0.0f) {
+      Type base = getUniformType(op.getType());
+      Value one = b.create<arith::ConstantOp>(loc, b.getFloatAttr(mlir::getElementTypeOrSelf(base), 1.0));
+      if (isa<VectorType>(base))
+        one = b.create<ConstructOp>(loc, one, one, one);
+      result = isVarying(op.getType()) ? b.create<BroadcastOp>(loc, op.getType(), one).getResult()
+                                       : one;
+    } else if (c == 1.0f) {
+      result = x;
+    } else if (c == 2.0f) {
+      result = b.create<MulOp>(loc, x, x);
+    } else if (c == 0.5f) {
+      result = b.create<SqrtOp>(loc, x);
+    } else if (c == -0.5f) {
+      result = b.create<InverseSqrtOp>(loc, x);
+    } else if (c == 1.0f / 3.0f) {
+      result = b.create<CbrtOp>(loc, x);
+    }
+    if (!result || result.getType() != op.getType())
+      return failure();
+    b.replaceOp(op, result);
+    return success();
+  }
+};
+
 /// x - x is 0 even when x is not a constant (an inf or a NaN at run time):
 /// OSL's optimizer folds it so (constfold_sub), and shaders' outputs
 /// show it.
@@ -231,7 +279,7 @@ void MulOp::getCanonicalizationPatterns(RewritePatternSet &results, MLIRContext 
 }
 
 void PowOp::getCanonicalizationPatterns(RewritePatternSet &results, MLIRContext *context) {
-  results.add<PowOfZeroBase>(context);
+  results.add<PowOfZeroBase, PowOfConstantExponent>(context);
 }
 
 LogicalResult WhileOp::verifyRegions() {

@@ -377,7 +377,7 @@ extern "C" void osl_rt_print(const char *where, int32_t stream, const char *kind
     readLane(kinds, nkinds, rows, width, lane, scratch);
     std::string error;
     std::string text = osl::formatValues(operands[leading - 1].s, operands.data() + leading,
-                                         operands.size() - leading, error);
+                                         operands.size() - leading, error, osl::FormatStyle::Fmt);
     if (!error.empty()) {
       reportOnce(where, error);
       continue;

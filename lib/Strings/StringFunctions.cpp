@@ -81,28 +81,43 @@ std::string printfText(const std::string &spec, char letter, T value) {
   return text;
 }
 
-std::string formatNumber(const Conversion &c, double value, bool isInt) {
+std::string formatNumber(const Conversion &c, double value, bool isInt, osl::FormatStyle style) {
   if (c.letter == 's') // a number printed as text: its usual form
     return isInt ? printfText(c.spec, 'd', int(value)) : printfText(c.spec, 'g', value);
+  if (style == osl::FormatStyle::Fmt && c.letter == 'o' && value < 0) {
+    // OSL formats through fmt, whose octal of a negative int is its sign
+    // and magnitude (-45), not C's two's complement (37777777733).
+    std::string digits = printfText("%", 'o', unsigned(-int64_t(value)));
+    return printfText(c.spec, 's', ("-" + digits).c_str()); // (width, '-' as C's)
+  }
   if (isIntLetter(c.letter))
     return printfText(c.spec, c.letter, int(value));
   return printfText(c.spec, c.letter, value);
 }
 
+/// A string under `spec`; fmt puts a string at the left of its width
+/// whatever the flags (OSL's printf of `%10s` is "abc       ").
+std::string formatString(const std::string &spec, const char *text, osl::FormatStyle style) {
+  std::string left = spec;
+  if (style == osl::FormatStyle::Fmt && left.find('-') == std::string::npos)
+    left.insert(1, "-");
+  return printfText(left, 's', text);
+}
+
 /// One value under one conversion; triples print their components
 /// separated by spaces, as OSL does; closures as OSL prints them.
-std::string formatValue(const Conversion &c, const StringValue &v) {
+std::string formatValue(const Conversion &c, const StringValue &v, osl::FormatStyle style) {
   switch (v.kind) {
   case 'k':
   case 's':
-    return printfText(c.spec, 's', std::string(v.s).c_str());
+    return formatString(c.spec, std::string(v.s).c_str(), style);
   case 'i':
-    return formatNumber(c, double(v.i), true);
+    return formatNumber(c, double(v.i), true, style);
   case 'f':
-    return formatNumber(c, double(v.f[0]), false);
+    return formatNumber(c, double(v.f[0]), false, style);
   default:
-    return formatNumber(c, v.f[0], false) + " " + formatNumber(c, v.f[1], false) + " " +
-           formatNumber(c, v.f[2], false);
+    return formatNumber(c, v.f[0], false, style) + " " + formatNumber(c, v.f[1], false, style) +
+           " " + formatNumber(c, v.f[2], false, style);
   }
 }
 
@@ -135,14 +150,14 @@ std::string walkFormat(std::string_view format, std::string &literal, Fn onConve
 } // namespace
 
 std::string osl::formatValues(std::string_view format, const StringValue *values, size_t count,
-                              std::string &error) {
+                              std::string &error, FormatStyle style) {
   std::string out;
   size_t next = 0;
   error = walkFormat(format, out, [&](const Conversion &c) -> std::string {
     if (next >= count)
       return "format string \"" + std::string(format) + "\" needs more values than the " +
              std::to_string(count) + " given";
-    out += formatValue(c, values[next++]);
+    out += formatValue(c, values[next++], style);
     return "";
   });
   return error.empty() ? out : std::string();

@@ -1,12 +1,15 @@
 // RUN: osl-opt %s -split-input-file --canonicalize | FileCheck %s
 
 // 0^y is 0 for a y not known to be 0, as OSL's optimizer folds it (where y
-// is 0 at run time OSL's own pow would give 1); 0^0 stays a pow.
+// is 0 at run time OSL's own pow would give 1); x^0 is 1, 0^0 included,
+// as OSL's optimizer decides y = 0 first.
 // CHECK-LABEL: func.func @pow_of_zero
-// CHECK: %[[ZERO:.+]] = arith.constant 0.000000e+00 : f32
+// CHECK-DAG: %[[ZERO:.+]] = arith.constant 0.000000e+00 : f32
+// CHECK-DAG: %[[ONE:.+]] = arith.constant 1.000000e+00 : f32
 // CHECK: %[[SPLAT:.+]] = osl.broadcast %[[ZERO]]
-// CHECK: osl.pow
+// CHECK-NOT: osl.pow
 // CHECK: osl.output "p" = %[[SPLAT]]
+// CHECK: osl.output "q" = %[[ONE]]
 func.func @pow_of_zero() {
   %zero = arith.constant 0.0 : f32
   %u = osl.global "u" : !osl.varying<f32>
@@ -14,6 +17,63 @@ func.func @pow_of_zero() {
   %q = osl.pow %zero, %zero : f32, f32 -> f32
   osl.output "p" = %p : !osl.varying<f32>
   osl.output "q" = %q : f32
+  return
+}
+
+// -----
+
+// pow(x, c) for the constants OSL's optimizer rewrites: 1 (x), 2 (x*x),
+// 0.5 (sqrt), -0.5 (inversesqrt), 1/3 (cbrt), a float exponent of a triple
+// (the front end's splat) included; 0 gives 1 for a triple too; other
+// exponents, and triple exponents of different values, stay pows.
+// CHECK-LABEL: func.func @pow_of_constant_exponent
+// CHECK-DAG: %[[ONE:.+]] = arith.constant 1.000000e+00 : f32
+// CHECK-DAG: %[[U:.+]] = osl.global "u"
+// CHECK-DAG: %[[P:.+]] = osl.global "P"
+// CHECK: osl.output "one" = %[[U]]
+// CHECK: %[[SQ:.+]] = osl.mul %[[U]], %[[U]]
+// CHECK: osl.output "two" = %[[SQ]]
+// CHECK: %[[SQRT:.+]] = osl.sqrt %[[U]]
+// CHECK: osl.output "half" = %[[SQRT]]
+// CHECK: %[[RSQRT:.+]] = osl.inversesqrt %[[U]]
+// CHECK: osl.output "minus_half" = %[[RSQRT]]
+// CHECK: %[[CBRT:.+]] = osl.cbrt %[[P]]
+// CHECK: osl.output "third" = %[[CBRT]]
+// CHECK: %[[ONES:.+]] = osl.construct %[[ONE]], %[[ONE]], %[[ONE]]
+// CHECK: %[[VONES:.+]] = osl.broadcast %[[ONES]]
+// CHECK: osl.output "zero" = %[[VONES]]
+// CHECK: %[[OTHER:.+]] = osl.pow %[[U]]
+// CHECK: osl.output "other" = %[[OTHER]]
+// CHECK: %[[TRIPLE:.+]] = osl.pow %[[P]]
+// CHECK: osl.output "triple" = %[[TRIPLE]]
+func.func @pow_of_constant_exponent() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %c0 = arith.constant 0.0 : f32
+  %zeros = arith.constant dense<0.0> : vector<3xf32>
+  %c1 = arith.constant 1.0 : f32
+  %c2 = arith.constant 2.0 : f32
+  %half = arith.constant 0.5 : f32
+  %mhalf = arith.constant -0.5 : f32
+  %third = arith.constant dense<0.333333343> : vector<3xf32>
+  %other = arith.constant 3.0 : f32
+  %t = arith.constant dense<[0.5, 1.0, 2.0]> : vector<3xf32>
+  %a = osl.pow %u, %c1 : !osl.varying<f32>, f32 -> !osl.varying<f32>
+  osl.output "one" = %a : !osl.varying<f32>
+  %b = osl.pow %u, %c2 : !osl.varying<f32>, f32 -> !osl.varying<f32>
+  osl.output "two" = %b : !osl.varying<f32>
+  %c = osl.pow %u, %half : !osl.varying<f32>, f32 -> !osl.varying<f32>
+  osl.output "half" = %c : !osl.varying<f32>
+  %d = osl.pow %u, %mhalf : !osl.varying<f32>, f32 -> !osl.varying<f32>
+  osl.output "minus_half" = %d : !osl.varying<f32>
+  %e = osl.pow %P, %third : !osl.varying<vector<3xf32>>, vector<3xf32> -> !osl.varying<vector<3xf32>>
+  osl.output "third" = %e : !osl.varying<vector<3xf32>>
+  %f = osl.pow %P, %zeros : !osl.varying<vector<3xf32>>, vector<3xf32> -> !osl.varying<vector<3xf32>>
+  osl.output "zero" = %f : !osl.varying<vector<3xf32>>
+  %g = osl.pow %u, %other : !osl.varying<f32>, f32 -> !osl.varying<f32>
+  osl.output "other" = %g : !osl.varying<f32>
+  %h = osl.pow %P, %t : !osl.varying<vector<3xf32>>, vector<3xf32> -> !osl.varying<vector<3xf32>>
+  osl.output "triple" = %h : !osl.varying<vector<3xf32>>
   return
 }
 
