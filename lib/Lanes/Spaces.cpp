@@ -2,8 +2,8 @@
 //
 // testshade's fixed spaces (../shared/conformance/README.md): "common" =
 // "world" = "camera"; shader->common rotates 45 degrees about z then
-// translates (1,0,0); object->common rotates 90 degrees about z then
-// translates (0,1,0); myspace->common scales by (1,2,1). Matrices are
+// translates (1,0,0); object->common rotates 90 degrees about z (by the
+// float pi/2, as testshade's Imath does) then translates (0,1,0); myspace->common scales by (1,2,1). Matrices are
 // composed in double and rounded to float once, when emitted.
 //
 // The camera spaces follow testshade's SimpleRenderer: common->screen is
@@ -36,8 +36,13 @@ std::optional<Matrix44> toCommon(StringRef space) {
   double c = std::sqrt(0.5);
   if (space == "shader")
     return Matrix44{c, c, 0, 0, -c, c, 0, 0, 0, 0, 1, 0, 1, 0, 0, 1};
-  if (space == "object")
-    return Matrix44{0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 1};
+  if (space == "object") {
+    // testshade rotates by the float pi/2 with float cos and sin (Imath's
+    // rotate): its cosine is -4.37113883e-08, not 0, and shaders that print
+    // the matrix or transform by it show that.
+    double co = std::cos(float(M_PI_2)), si = std::sin(float(M_PI_2));
+    return Matrix44{co, si, 0, 0, -si, co, 0, 0, 0, 0, 1, 0, 0, 1, 0, 1};
+  }
   if (space == "myspace")
     return Matrix44{1, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   return std::nullopt;
