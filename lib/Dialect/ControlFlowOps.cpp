@@ -257,9 +257,11 @@ struct SubOfItself : public OpRewritePattern<SubOp> {
 };
 
 /// x * 0 and 0 * x are 0 for any x, inf and NaN included, when the 0 is a
-/// constant: OSL's optimizer folds them so (constfold_mul).
+/// constant: OSL's optimizer folds them so (constfold_mul), before it
+/// evaluates a product of constants: -1 * 0 is 0, not -0 (hence the
+/// benefit, above osl-fold-constants' evaluation).
 struct MulByZero : public OpRewritePattern<MulOp> {
-  using OpRewritePattern::OpRewritePattern;
+  MulByZero(MLIRContext *ctx) : OpRewritePattern(ctx, /*benefit=*/2) {}
   LogicalResult matchAndRewrite(MulOp op, PatternRewriter &b) const override {
     if (!isConstantZero(op.getLhs()) && !isConstantZero(op.getRhs()))
       return failure();

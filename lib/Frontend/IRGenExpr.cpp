@@ -161,12 +161,18 @@ std::optional<RValue> IRGen::emitUnary(const Expr &e, const OslType *expected) {
     }
     return RValue::num(v->type, b.create<BitNotOp>(loc(e.loc), v->value));
   }
-  // Negation; fold literals so `-1` stays a constant.
+  // Negation; fold literals so `-1` stays a constant. A literal's negation
+  // is a constant of oslc's .oso, where -0 reads back as 0: OSL prints
+  // `-0.0` as 0 (a variable's negation, folded at run time, stays -0).
   if (auto c = v->value.getDefiningOp<arith::ConstantOp>()) {
     if (auto ia = dyn_cast<IntegerAttr>(c.getValue()))
       return RValue::num(v->type, constInt(int32_t(0u - uint32_t(ia.getInt())), e.loc));
+    bool literal = e.args[0]->kind == ExprKind::FloatLit || e.args[0]->kind == ExprKind::IntLit;
     if (auto fa = dyn_cast<FloatAttr>(c.getValue()))
-      return RValue::num(v->type, constFloat(-float(fa.getValueAsDouble()), e.loc));
+      return RValue::num(v->type, constFloat(literal && fa.getValue().isZero()
+                                                 ? 0.0f
+                                                 : -float(fa.getValueAsDouble()),
+                                             e.loc));
   }
   return RValue::num(v->type, b.create<NegOp>(loc(e.loc), v->value));
 }

@@ -212,6 +212,7 @@ void mlir::osl::populateFoldConstantsPatterns(RewritePatternSet &patterns) {
   patterns.add<CmpOfConstants, ConvertOfConstant, ConstructOfConstants, ExtractOfKnownTriple,
                SelectOnConstant, IfOnConstant>(ctx);
   IfOp::getCanonicalizationPatterns(patterns, ctx);
+  MulOp::getCanonicalizationPatterns(patterns, ctx); // x * 0 before evaluating
 }
 
 namespace {

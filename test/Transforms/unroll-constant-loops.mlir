@@ -1,7 +1,7 @@
 // RUN: osl-opt %s -split-input-file --osl-unroll-constant-loops | FileCheck %s
 // RUN: osl-opt %s -split-input-file --osl-unroll-constant-loops=max-trips=1 | FileCheck %s --check-prefix=TRIPS
 
-// `a[n] = u * i; n += 1` for i in 0..2 then `c += a[k]` for k < n: the
+// `a[n] = u * i; n += 1` for i in 1..2 then `c += a[k]` for k < n: the
 // first loop unrolls (its index n folds at every trip), which makes n a
 // constant the second loop then unrolls with; no select on an index is
 // left.
@@ -24,10 +24,10 @@ func.func @array_loops() {
   %zero = arith.constant 0.0 : f32
   %c0 = arith.constant 0 : i32
   %c1 = arith.constant 1 : i32
-  %c2 = arith.constant 2 : i32
-  %r:4 = osl.while(%zero, %zero, %c0, %c0 : f32, f32, i32, i32) -> f32, f32, i32, i32 cond {
+  %c3 = arith.constant 3 : i32
+  %r:4 = osl.while(%zero, %zero, %c0, %c1 : f32, f32, i32, i32) -> f32, f32, i32, i32 cond {
   ^bb0(%a0: f32, %a1: f32, %n: i32, %i: i32):
-    %go = osl.cmp lt, %i, %c2 : i32, i32 -> i1
+    %go = osl.cmp lt, %i, %c3 : i32, i32 -> i1
     osl.condition %go : i1, %a0, %a1, %n, %i : f32, f32, i32, i32
   } do {
   ^bb0(%a0: f32, %a1: f32, %n: i32, %i: i32):
