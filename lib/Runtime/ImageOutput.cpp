@@ -86,16 +86,27 @@ bool writeImage(const std::string &path, int xres, int yres, int channels,
     error = "cannot write an empty image to " + path;
     return false;
   }
+  // Written beside, then renamed: an image that cannot be written (a
+  // format that does not take its channels) leaves no empty file, and an
+  // earlier image of that name stays as it was.
+  std::string temporary = path + ".part";
   auto writer =
-      openWriter(path, path, specOf(xres, yres, channels, dataType, integerValues), error);
-  if (!writer)
-    return false;
-  if (!writer->writeRows(0, yres, data, error)) {
-    std::string ignored;
-    writer->close(ignored);
-    return false;
+      openWriter(temporary, path, specOf(xres, yres, channels, dataType, integerValues), error);
+  bool written = writer && writer->writeRows(0, yres, data, error);
+  if (writer) {
+    std::string closing;
+    if (!writer->close(closing) && written) {
+      error = closing;
+      written = false;
+    }
   }
-  return writer->close(error);
+  if (written && std::rename(temporary.c_str(), path.c_str()) != 0) {
+    error = "cannot rename " + temporary + " to " + path + ": " + std::strerror(errno);
+    written = false;
+  }
+  if (!written)
+    std::remove(temporary.c_str());
+  return written;
 }
 
 struct ImageStream::Impl {

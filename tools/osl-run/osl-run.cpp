@@ -46,16 +46,18 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
                     std::string &error) {
   auto requested = options.outputs;
   if (requested.empty()) {
-    auto image = std::find_if(shader.outputs.begin(), shader.outputs.end(),
-                              [](const OutputSpec &o) { return !o.closure; });
+    // The default image is a PNG: an output of at most 4 channels (not a
+    // matrix's 16).
+    auto pictured = [](const OutputSpec &o) { return !o.closure && o.channels <= 4; };
+    auto image = std::find_if(shader.outputs.begin(), shader.outputs.end(), pictured);
     // A shader without image outputs still runs (for its printf output,
     // as testshade runs it); no image is written.
     if (image == shader.outputs.end())
       return true;
     // A group's root layer writes plain names; other layers' outputs
     // ("layer.name") come first in the kernel when every layer runs.
-    auto rootImage = std::find_if(image, shader.outputs.end(), [](const OutputSpec &o) {
-      return !o.closure && o.name.find('.') == std::string::npos;
+    auto rootImage = std::find_if(image, shader.outputs.end(), [&](const OutputSpec &o) {
+      return pictured(o) && o.name.find('.') == std::string::npos;
     });
     if (rootImage != shader.outputs.end())
       image = rootImage;
