@@ -127,8 +127,13 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
     // A struct's fields are outputs of their own, NAME.FIELD, which layers
     // connect (a struct input takes them field by field).
     forEachStructLeaf(p.name, v->type, v->val, [&](const std::string &name, RValue &leaf) {
-      if (leaf.type.isString())
-        return; // strings are compile-time
+      if (leaf.type.isString()) {
+        // Strings are compile-time values; one a later layer reads is an
+        // output of its handle, which the group links.
+        if (llvm::is_contained(options.connectedOutputs, name))
+          b.create<OutputOp>(loc(p.loc), name, stringHandle(leaf, p.loc));
+        return;
+      }
       if (leaf.type.hasElems()) {
         // One output per element (a matrix: 16, row-major); the compiler
         // merges them into one image with as many channels.
@@ -282,6 +287,13 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   if (!init)
     return false;
   RValue val = *init;
+  // A string an upstream layer computes: a run-time handle, which the group
+  // links as it links numbers (strings are otherwise compile-time values).
+  if (t.isString() && llvm::is_contained(options.connectedInputs, p.name)) {
+    Value handle = stringHandle(val, p.loc);
+    val = RValue::runtimeString(
+        b.create<ParamOp>(loc(p.loc), handle.getType(), p.name, handle).getResult());
+  }
   // (A closure parameter takes no instance value, but may be connected.)
   if (t.hasElems() || !t.isString()) {
     wrapInParamOps(val, p.name, p.loc);
