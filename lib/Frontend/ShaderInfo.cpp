@@ -159,8 +159,14 @@ std::string defaultText(const Param &p) {
   if (t.base == BaseType::String) {
     c.strings.resize(t.isArray() ? count : 1);
   } else {
-    if (c.numbers.size() == 1 && count > 1 && per > 1 && !t.isArray())
+    if (c.numbers.size() == 1 && per == 16 && !t.isArray()) {
+      double d = c.numbers[0]; // matrix m = 2: the diagonal
+      c.numbers.assign(16, 0.0);
+      for (size_t k = 0; k < 16; k += 5)
+        c.numbers[k] = d;
+    } else if (c.numbers.size() == 1 && count > 1 && per > 1 && !t.isArray()) {
       c.numbers.assign(count, c.numbers[0]); // color c = 0.5
+    }
     if (c.numbers.size() != count)
       c.numbers.assign(count, 0.0); // computed per point: unknown here
   }
