@@ -25,7 +25,8 @@ func.func @pow_of_zero() {
 // pow(x, c) for the constants OSL's optimizer rewrites: 1 (x), 2 (x*x),
 // 0.5 (sqrt), -0.5 (inversesqrt), 1/3 (cbrt), a float exponent of a triple
 // (the front end's splat) included; 0 gives 1 for a triple too; other
-// exponents, and triple exponents of different values, stay pows.
+// exponents, triple exponents of different values, and a constant base
+// (OSL evaluates its pow, which clamps) stay pows.
 // CHECK-LABEL: func.func @pow_of_constant_exponent
 // CHECK-DAG: %[[ONE:.+]] = arith.constant 1.000000e+00 : f32
 // CHECK-DAG: %[[U:.+]] = osl.global "u"
@@ -46,6 +47,8 @@ func.func @pow_of_zero() {
 // CHECK: osl.output "other" = %[[OTHER]]
 // CHECK: %[[TRIPLE:.+]] = osl.pow %[[P]]
 // CHECK: osl.output "triple" = %[[TRIPLE]]
+// CHECK: %[[BOTH:.+]] = osl.pow %{{.+}}, %{{.+}} : f32, f32
+// CHECK: osl.output "both_constant" = %[[BOTH]]
 func.func @pow_of_constant_exponent() {
   %u = osl.global "u" : !osl.varying<f32>
   %P = osl.global "P" : !osl.varying<vector<3xf32>>
@@ -74,6 +77,10 @@ func.func @pow_of_constant_exponent() {
   osl.output "other" = %g : !osl.varying<f32>
   %h = osl.pow %P, %t : !osl.varying<vector<3xf32>>, vector<3xf32> -> !osl.varying<vector<3xf32>>
   osl.output "triple" = %h : !osl.varying<vector<3xf32>>
+  // Both constant: OSL's own (clamped) pow, not x*x (1e20^2 is FLT_MAX).
+  %big = arith.constant 1.0e20 : f32
+  %i = osl.pow %big, %c2 : f32, f32 -> f32
+  osl.output "both_constant" = %i : f32
   return
 }
 
