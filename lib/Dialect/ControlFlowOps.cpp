@@ -208,6 +208,9 @@ struct PowOfConstantExponent : public OpRewritePattern<PowOp> {
     Attribute exponent;
     if (!matchPattern(op.getRhs(), m_Constant(&exponent)))
       return failure();
+    // (Checked first: a pattern that fails must not have changed the IR.)
+    if (op.getLhs().getType() != op.getType())
+      return failure();
     float c;
     if (auto f = dyn_cast<FloatAttr>(exponent))
       c = float(f.getValueAsDouble());

@@ -328,7 +328,8 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
       std::fill(out, out + static_cast<size_t>(totalChannels) * width, 0.0f);
       // Closures a batch builds (Ci) are not images: drop them per batch.
       threadClosureArena().reset();
-      setPointCloudBatch(b * width);
+      // (A band's points follow the rows above it.)
+      setPointCloudBatch(long(rowBegin) * long(cols) + b * width);
       kernel(globalsOf(b), out, activeIn(b));
       takePrints(b);
       if (b > firstBatch)

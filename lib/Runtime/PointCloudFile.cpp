@@ -10,6 +10,8 @@
 #include "OslRuntime/PointCloud.h"
 
 #include <cctype>
+#include <climits>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -35,7 +37,8 @@ const PointAttribute *PointCloudData::find(const std::string &name) const {
 namespace {
 
 /// Whitespace-separated words, parentheses counting as whitespace (a
-/// point's values are in parentheses, touching the first and last).
+/// point's values are in parentheses, touching the first and last); a
+/// word in double quotes runs to its closing quote.
 class GeoWords {
 public:
   explicit GeoWords(std::istream &in) : in(in) {}
@@ -47,6 +50,17 @@ public:
         if (!word.empty())
           return true;
         continue;
+      }
+      if (word.empty() && c == '"') { // a quoted string: spaces and all
+        word += c;
+        while (in.get(c)) {
+          word += c;
+          if (c == '\\' && in.get(c))
+            word += c;
+          else if (c == '"')
+            return true;
+        }
+        return false;
       }
       word += c;
     }
@@ -60,11 +74,37 @@ public:
     value = std::strtod(w.c_str(), &end);
     return end && *end == '\0';
   }
+  /// A count: a whole number in [0, 2^31) (the kd-tree's indices are
+  /// int32), never trusted to size anything before the data is read.
   bool count(long &value) {
     double d;
-    if (!number(d) || d < 0 || d != static_cast<double>(static_cast<long>(d)))
+    if (!number(d) || !(d >= 0 && d <= double(INT32_MAX)) || d != std::floor(d))
       return false;
     value = static_cast<long>(d);
+    return true;
+  }
+  /// An int value of an attribute, in int32's range.
+  bool integer(int32_t &value) {
+    double d;
+    if (!number(d) || !(d >= double(INT32_MIN) && d <= double(INT32_MAX)))
+      return false;
+    value = static_cast<int32_t>(d);
+    return true;
+  }
+  /// A word, its quotes removed (Partio quotes an index attribute's
+  /// strings, with \ escapes).
+  bool text(std::string &word) {
+    if (!next(word))
+      return false;
+    if (word.size() >= 2 && word.front() == '"' && word.back() == '"') {
+      std::string unquoted;
+      for (size_t i = 1; i + 1 < word.size(); ++i) {
+        if (word[i] == '\\' && i + 2 < word.size())
+          ++i;
+        unquoted += word[i];
+      }
+      word = unquoted;
+    }
     return true;
   }
 
@@ -118,10 +158,12 @@ bool readGeoFile(const std::string &path, PointCloudData &cloud, std::string &er
       if (size != 1 || !words.count(nstrings))
         return fail("a malformed index attribute");
       attr.type = 's';
-      attr.strings.resize(static_cast<size_t>(nstrings));
-      for (std::string &s : attr.strings)
-        if (!words.next(s))
+      for (long k = 0; k < nstrings; ++k) {
+        std::string text;
+        if (!words.text(text))
           return fail("a malformed index attribute");
+        attr.strings.push_back(std::move(text));
+      }
     } else {
       if (type != "float" && type != "vector" && type != "int")
         return fail("attribute type '" + type + "' is not supported");
@@ -134,12 +176,12 @@ bool readGeoFile(const std::string &path, PointCloudData &cloud, std::string &er
     }
     cloud.attributes.push_back(std::move(attr));
   }
-  for (PointAttribute &a : cloud.attributes)
-    a.words.reserve(static_cast<size_t>(npoints) * a.components);
+  // (Nothing is sized from the header's counts: a file that claims more
+  // points than it holds ends in an error, not a huge allocation.)
   for (long p = 0; p < npoints; ++p) {
     double v;
     for (int k = 0; k < 4; ++k) { // x y z w
-      if (!words.number(v))
+      if (!words.number(v) || (k < 3 && !std::isfinite(float(v))))
         return fail("point " + std::to_string(p) + " is malformed");
       if (k < 3)
         cloud.attributes[0].words.push_back(wordOfFloat(static_cast<float>(v)));
@@ -147,10 +189,11 @@ bool readGeoFile(const std::string &path, PointCloudData &cloud, std::string &er
     for (size_t a = 1; a < cloud.attributes.size(); ++a) {
       PointAttribute &attr = cloud.attributes[a];
       for (int32_t k = 0; k < attr.components; ++k) {
-        if (!words.number(v))
+        int32_t word;
+        bool ok = attr.type == 'f' ? words.number(v) : words.integer(word);
+        if (!ok)
           return fail("point " + std::to_string(p) + " is malformed");
-        attr.words.push_back(attr.type == 'f' ? wordOfFloat(static_cast<float>(v))
-                                              : static_cast<int32_t>(v));
+        attr.words.push_back(attr.type == 'f' ? wordOfFloat(static_cast<float>(v)) : word);
       }
     }
   }
@@ -173,8 +216,12 @@ bool writeGeoFile(const std::string &path, const PointCloudData &cloud, std::str
     out << attr.name << ' ' << attr.components << ' ';
     if (attr.type == 's') {
       out << "index " << attr.strings.size();
-      for (const std::string &s : attr.strings)
-        out << ' ' << s;
+      for (const std::string &s : attr.strings) { // quoted, as Partio writes them
+        out << " \"";
+        for (char c : s)
+          out << (c == '"' || c == '\\' ? "\\" : "") << c;
+        out << '"';
+      }
     } else {
       out << (attr.type == 'i' ? "int" : attr.isVector ? "vector" : "float");
       for (int32_t k = 0; k < attr.components; ++k)

@@ -24,6 +24,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <unordered_map>
 
 namespace osl {
 namespace {
@@ -37,7 +38,7 @@ struct LoadedCloud {
 
 std::atomic<int> fileErrors{0};
 
-const LoadedCloud &cloudNamed(const std::string &path) {
+const LoadedCloud &loadCloud(const std::string &path) {
   static std::mutex mutex;
   static std::map<std::string, std::unique_ptr<LoadedCloud>> clouds;
   std::lock_guard<std::mutex> lock(mutex);
@@ -53,6 +54,16 @@ const LoadedCloud &cloudNamed(const std::string &path) {
       cloud->tree = std::make_unique<PointKdTree>(cloud->positions);
     }
   }
+  return *cloud;
+}
+
+/// loadCloud, remembered per thread: every lane of a lookup asks, and
+/// clouds live as long as the process.
+const LoadedCloud &cloudNamed(const std::string &path) {
+  thread_local std::unordered_map<std::string, const LoadedCloud *> known;
+  const LoadedCloud *&cloud = known[path];
+  if (!cloud)
+    cloud = &loadCloud(path);
   return *cloud;
 }
 

@@ -102,7 +102,8 @@ public:
       auto testYield = cast<scf::YieldOp>(test.getRegion().front().getTerminator());
       std::optional<bool> goOn = constantCondition(testYield.getOperand(0));
       if (!goOn || (*goOn && (trip >= maxTrips || ops > maxOps))) {
-        // Put back as it was: later trips use earlier ones only.
+        // Put back (but for constants the folding hoisted to the
+        // function's entry, dead): later trips use earlier ones only.
         for (scf::ExecuteRegionOp t : llvm::reverse(trips))
           t.erase();
         return goOn ? Outcome::TooBig : Outcome::NotConstant;
@@ -145,7 +146,14 @@ private:
       mapped.push_back(mapping.lookupOrDefault(v));
     b.create<scf::YieldOp>(loc, mapped);
     b.setInsertionPointAfter(region);
-    (void)applyPatternsAndFoldGreedily(region.getRegion(), folding);
+    // The region's ops (nested ones too: an arm a folded branch inlines is
+    // folded with them) and those the folding makes; the region is not
+    // isolated from above, so the greedy driver takes them as a list.
+    SmallVector<Operation *> ops;
+    region.getRegion().walk([&](Operation *op) { ops.push_back(op); });
+    GreedyRewriteConfig config;
+    config.strictMode = GreedyRewriteStrictness::ExistingAndNewOps;
+    (void)applyOpPatternsAndFold(ops, folding, config);
     // Folding may change a yielded value's type (a varying-looking value
     // folded to a uniform constant): the region's results follow it.
     auto terminator = cast<scf::YieldOp>(copy->getTerminator());
@@ -155,16 +163,21 @@ private:
   }
 
   /// What `region` yields, as values usable after it: a value defined
-  /// outside it (a folded constant, hoisted) itself, so that the next trip
-  /// folds with it; else the region's result.
+  /// outside it itself, a constant folded inside it a copy made before it
+  /// (so that the next trip folds with it); else the region's result.
   static SmallVector<Value> exits(scf::ExecuteRegionOp region) {
     auto yield = cast<scf::YieldOp>(region.getRegion().front().getTerminator());
     SmallVector<Value> values;
-    for (auto [result, value] : llvm::zip(region.getResults(), yield.getOperands()))
-      values.push_back(region->isProperAncestor(value.getParentRegion()->getParentOp()) ||
-                               value.getParentRegion() == &region.getRegion()
-                           ? Value(result)
-                           : value);
+    OpBuilder b(region);
+    for (auto [result, value] : llvm::zip(region.getResults(), yield.getOperands())) {
+      bool inside = region->isProperAncestor(value.getParentRegion()->getParentOp()) ||
+                    value.getParentRegion() == &region.getRegion();
+      // A constant folded inside: a copy before the region.
+      if (inside && matchPattern(value, m_Constant()))
+        values.push_back(b.clone(*value.getDefiningOp())->getResult(0));
+      else
+        values.push_back(inside ? Value(result) : value);
+    }
     return values;
   }
 
@@ -196,19 +209,24 @@ struct UnrollConstantLoopsPass
   void runOnOperation() override {
     func::FuncOp func = getOperation();
     LoopUnroller unroller(folding, maxTrips, maxOps);
+    // Loops unrolled inside loops unrolled: at most 4 * max-ops operations
+    // more in the whole function, however deep the nest.
+    int64_t budget = 4 * maxOps, before = countOps(func.getBody());
     llvm::SmallPtrSet<Operation *, 8> tooBig;
     for (bool changed = true; changed;) {
       changed = false;
       SmallVector<WhileOp> loops;
       func.walk([&](WhileOp loop) { loops.push_back(loop); }); // innermost first
       for (WhileOp loop : loops) {
-        if (tooBig.count(loop))
+        if (tooBig.count(loop) || countOps(func.getBody()) - before > budget)
           continue;
         Outcome outcome = unroller.unroll(loop);
         if (outcome == Outcome::TooBig)
           tooBig.insert(loop);
         if (outcome == Outcome::Unrolled) {
           changed = true;
+          // Loops erased with it may leave their addresses to new ones.
+          tooBig.clear();
           break;
         }
       }
