@@ -32,6 +32,10 @@ bool writeImage(const std::string &path, int xres, int yres, int channels,
                 const float *data, std::string &error,
                 const std::string &dataType = "", bool integerValues = false);
 
+/// The name writeImage and ImageStream write `path` under until it is
+/// complete.
+std::string partialImagePath(const std::string &path);
+
 /// An image written a band of rows at a time, so an image larger than
 /// memory never has to be held whole (osl-run streams huge grids). Same
 /// file contents as writeImage. `path` is written under a temporary name

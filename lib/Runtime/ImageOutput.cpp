@@ -86,28 +86,16 @@ bool writeImage(const std::string &path, int xres, int yres, int channels,
     error = "cannot write an empty image to " + path;
     return false;
   }
-  // Written beside, then renamed: an image that cannot be written (a
-  // format that does not take its channels) leaves no empty file, and an
-  // earlier image of that name stays as it was.
-  std::string temporary = path + ".part";
-  auto writer =
-      openWriter(temporary, path, specOf(xres, yres, channels, dataType, integerValues), error);
-  bool written = writer && writer->writeRows(0, yres, data, error);
-  if (writer) {
-    std::string closing;
-    if (!writer->close(closing) && written) {
-      error = closing;
-      written = false;
-    }
-  }
-  if (written && std::rename(temporary.c_str(), path.c_str()) != 0) {
-    error = "cannot rename " + temporary + " to " + path + ": " + std::strerror(errno);
-    written = false;
-  }
-  if (!written)
-    std::remove(temporary.c_str());
-  return written;
+  // Written beside, then renamed (ImageStream): an image that cannot be
+  // written leaves no file, and an earlier image of that name stays as it was.
+  ImageStream stream;
+  if (!stream.open(path, xres, yres, channels, error, dataType, integerValues) ||
+      !stream.writeRows(0, yres, data, error))
+    return false; // the stream removes what it began
+  return stream.close(error);
 }
+
+std::string partialImagePath(const std::string &path) { return path + ".part"; }
 
 struct ImageStream::Impl {
   std::unique_ptr<image::Writer> writer;
@@ -132,9 +120,11 @@ bool ImageStream::open(const std::string &path, int xres, int yres, int channels
   impl = std::make_unique<Impl>();
   impl->path = path;
   // Same directory, so the rename is atomic; the format comes from `path`.
-  impl->temporary = path + ".part";
+  impl->temporary = partialImagePath(path);
   impl->writer = openWriter(impl->temporary, path,
                             specOf(xres, yres, channels, dataType, integerValues), error);
+  if (!impl->writer) // (a format refusing the channels may have created it)
+    std::remove(impl->temporary.c_str());
   return impl->writer != nullptr;
 }
 

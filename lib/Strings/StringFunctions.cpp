@@ -9,6 +9,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslStrings/StringFunctions.h"
+#include "OslAbi/Words.h"
 
 #include <OpenImageIO/strutil.h>
 
@@ -25,12 +26,6 @@ using osl::StringResult;
 using osl::StringValue;
 
 namespace {
-
-int32_t bitsOf(float f) {
-  int32_t bits;
-  std::memcpy(&bits, &f, sizeof bits);
-  return bits;
-}
 
 //===----------------------------------------------------------------------===//
 // format
@@ -293,7 +288,7 @@ int32_t numberResult(int32_t function, const std::vector<StringValue> &a, std::s
   case kStoi:
     return int32_t(std::atoi(std::string(a[0].s).c_str()));
   case kStof:
-    return bitsOf(float(std::atof(std::string(a[0].s).c_str())));
+    return osl::wordOfFloat(float(std::atof(std::string(a[0].s).c_str())));
   case kRegexSearch:
   case kRegexMatch: {
     const std::regex *re = compiledRegex(a[1].s, error);

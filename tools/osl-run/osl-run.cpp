@@ -329,8 +329,9 @@ bool writeResults(const RunOptions &options, const CompiledShader &shader,
     if (file == "null")
       continue;
     std::string error;
-    // (writeImage writes FILE.part and renames it: a timeout removes that.)
-    std::string beingWritten = file + ".part";
+    // (writeImage writes a partial file and renames it: a timeout removes
+    // that.)
+    std::string beingWritten = partialImagePath(file);
     setImagesBeingWritten({beingWritten.c_str()});
     bool written = writeImage(file, imageWidth(options.grid), imageHeight(options.grid),
                               shader.outputs[index].channels, result.images[index].data(),
