@@ -12,7 +12,9 @@
 // osl-outline-library), keyed by its MLIR: a function whose object is
 // already known becomes a declaration there, so the rest of the lowering,
 // the translation and LLVM never see its body (most of a noise-heavy
-// shader's compile time). The others are compiled alone after translation.
+// shader's compile time). The others are split from the kernel after the
+// lowering, each into a module of its own, and compiled on the compile
+// threads beside the kernel.
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLCOMPILER_LIBRARYOBJECTS_H
@@ -21,15 +23,13 @@
 #include "OslRuntime/Jit.h"
 
 #include "llvm/ADT/StringMap.h"
+#include "llvm/IR/LLVMContext.h"
+#include "llvm/IR/Module.h"
 #include "llvm/Support/Error.h"
 
 #include <memory>
 #include <string>
 #include <vector>
-
-namespace llvm {
-class Module;
-} // namespace llvm
 
 namespace mlir {
 class ModuleOp;
@@ -65,11 +65,35 @@ struct LibraryUse {
 LibraryUse findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &options,
                               Stats *stats);
 
-/// Compiles each function of `use.toCompile` defined in `kernel` alone,
-/// stores its object under its key (memory and cache) and leaves a
-/// declaration in `kernel`.
-llvm::Error compileLibraryFunctions(llvm::Module &kernel, LibraryUse &use,
-                                    const LibraryKeyOptions &options, Stats *stats);
+/// One function of `LibraryUse::toCompile` alone in an LLVM module of its
+/// own context, so that any thread can compile it while the kernel compiles
+/// on another.
+struct LibraryJob {
+  std::string name, key;
+  std::unique_ptr<llvm::LLVMContext> context;
+  std::unique_ptr<llvm::Module> module;
+  /// Set by compileLibraryJob: the object, or why there is none.
+  std::shared_ptr<const std::string> object;
+  std::string error;
+  /// The object came from another compile of this process meanwhile.
+  bool reused = false;
+};
+
+/// Moves each function of `use.toCompile` out of `kernel` (lowered to the
+/// LLVM dialect) into a job of its own, with copies of the globals and
+/// declarations it uses, translated to LLVM IR; `kernel` keeps an external
+/// declaration.
+std::vector<LibraryJob> splitLibraryJobs(mlir::ModuleOp kernel, const LibraryUse &use,
+                                         std::string &error);
+
+/// Optimizes and compiles `job` for the host on the calling thread, unless
+/// another compile of this process has its object by now. Thread-safe.
+void compileLibraryJob(LibraryJob &job, const LibraryKeyOptions &options);
+
+/// Adds the jobs' objects to `use` and keeps them, under their keys, for the
+/// process and in the cache. False (with `error`) if a job failed.
+bool keepLibraryObjects(std::vector<LibraryJob> &jobs, LibraryUse &use,
+                        const LibraryKeyOptions &options, std::string &error);
 
 } // namespace osl
 

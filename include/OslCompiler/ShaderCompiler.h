@@ -219,16 +219,21 @@ private:
   std::unique_ptr<CompiledShader> loadObject(const CachedKernel &entry);
   bool defineRuntimeSymbols(Jit &target);
   LibraryKeyOptions libraryKeyOptions() const;
+  /// The kernel's and the library jobs' code, generated side by side on
+  /// the codegen threads; false after printing the error.
+  bool generateCode();
 
   CompileOptions options;
   CacheUse cacheUsed = CacheUse::Off;
-  /// Keep the object code of the kernel (for the cache).
-  bool keepObject = false;
   /// Compile the library functions apart (LibraryObjects.h).
   bool splitLibrary = true;
   /// The library functions the kernel calls: their objects and where
   /// they came from.
   LibraryUse library;
+  /// Those still to compile (translate), compiled beside the kernel.
+  std::vector<LibraryJob> libraryJobs;
+  /// The kernel's object code (generateCode), linked and cached.
+  std::string kernelObject;
   llvm::raw_ostream &errs;
   /// What the front end warned of in this compile.
   std::string warnings;

@@ -71,6 +71,10 @@ public:
   /// for many kernels.
   static llvm::Expected<std::string> compileObject(llvm::Module &module,
                                                    LlvmPipeline pipeline);
+  /// Host code for `module`, optimized already (optimize), as an object
+  /// file, on the calling thread's machine: any thread may compile a module
+  /// whose context no other thread uses.
+  static llvm::Expected<std::string> generateObject(llvm::Module &module);
 
   /// Hands `module` to the JIT; code is generated at the first lookup of
   /// one of its symbols. Sets the JIT's DataLayout if the module has none.

@@ -6,18 +6,17 @@
 #include "OslRuntime/Stats.h"
 
 #include "mlir/Dialect/Func/IR/FuncOps.h"
+#include "mlir/Dialect/LLVMIR/LLVMDialect.h"
 #include "mlir/IR/BuiltinOps.h"
 #include "mlir/IR/SymbolTable.h"
+#include "mlir/Target/LLVMIR/Export.h"
+#include "llvm/ADT/SetVector.h"
 #include "llvm/ADT/SmallPtrSet.h"
 #include "llvm/ADT/SmallString.h"
 #include "llvm/ADT/StringSet.h"
 #include "llvm/Config/llvm-config.h"
-#include "llvm/IR/Constants.h"
-#include "llvm/IR/InstIterator.h"
-#include "llvm/IR/Module.h"
 #include "llvm/Support/Path.h"
 #include "llvm/Support/raw_ostream.h"
-#include "llvm/Transforms/Utils/Cloning.h"
 
 #include <mutex>
 
@@ -88,49 +87,119 @@ std::string objectKey(mlir::func::FuncOp func, mlir::SymbolTable &symbols,
   return key;
 }
 
-/// The global variables `f` reads, directly or through constant
-/// expressions (the noise routines' tables).
-std::vector<llvm::GlobalVariable *> globalsRead(llvm::Function &f) {
-  std::vector<llvm::GlobalVariable *> found;
-  llvm::SmallPtrSet<const llvm::Value *, 16> seen;
-  std::vector<const llvm::Value *> work;
-  for (llvm::Instruction &inst : llvm::instructions(f))
-    for (const llvm::Value *op : inst.operands())
-      work.push_back(op);
+/// A copy of the lowered library function `func` in a module of its own:
+/// with copies of the globals it reads (the noise tables) and declarations
+/// of the functions it calls, the function itself external.
+mlir::OwningOpRef<mlir::ModuleOp> moduleAlone(mlir::LLVM::LLVMFuncOp func, mlir::ModuleOp kernel,
+                                              mlir::SymbolTable &symbols) {
+  // The symbols it uses, and the symbols those use (a global's initializer).
+  llvm::SetVector<mlir::Operation *> used;
+  llvm::SmallVector<mlir::Operation *> work{func};
   while (!work.empty()) {
-    const llvm::Value *v = work.back();
-    work.pop_back();
-    if (!llvm::isa<llvm::Constant>(v) || !seen.insert(v).second)
+    mlir::Operation *op = work.pop_back_val();
+    auto uses = mlir::SymbolTable::getSymbolUses(op);
+    if (!uses)
       continue;
-    if (auto *gv = llvm::dyn_cast<llvm::GlobalVariable>(v)) {
-      found.push_back(const_cast<llvm::GlobalVariable *>(gv));
-      if (gv->hasInitializer())
-        work.push_back(gv->getInitializer());
-      continue;
-    }
-    if (auto *c = llvm::dyn_cast<llvm::ConstantExpr>(v))
-      for (const llvm::Value *op : c->operands())
-        work.push_back(op);
+    for (const mlir::SymbolTable::SymbolUse &use : *uses)
+      if (mlir::Operation *symbol = symbols.lookup(use.getSymbolRef().getRootReference()))
+        if (symbol != func.getOperation() && used.insert(symbol))
+          work.push_back(symbol);
   }
-  return found;
-}
-
-/// `f` (and the globals it reads) alone in a module, compiled.
-llvm::Expected<std::string> compileAlone(llvm::Module &kernel, llvm::Function &f,
-                                         LlvmPipeline pipeline) {
-  std::vector<llvm::GlobalVariable *> globals = globalsRead(f);
-  llvm::SmallPtrSet<const llvm::GlobalValue *, 8> keep(globals.begin(), globals.end());
-  keep.insert(&f);
-  llvm::ValueToValueMapTy map;
-  std::unique_ptr<llvm::Module> alone = llvm::CloneModule(
-      kernel, map, [&](const llvm::GlobalValue *gv) { return keep.contains(gv); });
-  llvm::Function *copy = alone->getFunction(f.getName());
-  copy->setLinkage(llvm::GlobalValue::ExternalLinkage);
-  copy->setVisibility(llvm::GlobalValue::DefaultVisibility);
-  return Jit::compileObject(*alone, pipeline);
+  mlir::OpBuilder b(func.getContext());
+  mlir::OwningOpRef<mlir::ModuleOp> alone = mlir::ModuleOp::create(func.getLoc());
+  for (mlir::NamedAttribute attr : kernel->getAttrs())
+    if (attr.getName() != mlir::SymbolTable::getSymbolAttrName())
+      (*alone)->setAttr(attr.getName(), attr.getValue());
+  b.setInsertionPointToEnd(alone->getBody());
+  for (mlir::Operation &op : kernel.getBody()->getOperations()) {
+    if (!used.contains(&op))
+      continue;
+    mlir::Operation *copy = b.clone(op);
+    if (auto callee = mlir::dyn_cast<mlir::LLVM::LLVMFuncOp>(copy))
+      if (!callee.isExternal()) {
+        callee.eraseBody();
+        callee.setLinkage(mlir::LLVM::Linkage::External);
+      }
+  }
+  auto copy = mlir::cast<mlir::LLVM::LLVMFuncOp>(b.clone(*func));
+  copy.setLinkage(mlir::LLVM::Linkage::External);
+  copy.setVisibility_(mlir::LLVM::Visibility::Default);
+  return alone;
 }
 
 } // namespace
+
+std::vector<LibraryJob> osl::splitLibraryJobs(mlir::ModuleOp kernel, const LibraryUse &use,
+                                              std::string &error) {
+  std::vector<LibraryJob> jobs;
+  mlir::SymbolTable symbols(kernel);
+  for (const auto &entry : use.toCompile) {
+    auto func = symbols.lookup<mlir::LLVM::LLVMFuncOp>(entry.getKey());
+    if (!func || func.isExternal())
+      continue; // the lowering dropped it: nothing calls it
+    LibraryJob job;
+    job.name = entry.getKey().str();
+    job.key = entry.getValue();
+    job.context = std::make_unique<llvm::LLVMContext>();
+    mlir::OwningOpRef<mlir::ModuleOp> alone = moduleAlone(func, kernel, symbols);
+    job.module = mlir::translateModuleToLLVMIR(*alone, *job.context, job.name);
+    if (!job.module) {
+      error = "translation of library function '" + job.name + "' to LLVM IR failed";
+      return {};
+    }
+    // The kernel calls it; the job's object defines it.
+    func.eraseBody();
+    func.setLinkage(mlir::LLVM::Linkage::External);
+    func.setVisibility_(mlir::LLVM::Visibility::Default);
+    jobs.push_back(std::move(job));
+  }
+  return jobs;
+}
+
+void osl::compileLibraryJob(LibraryJob &job, const LibraryKeyOptions &options) {
+  {
+    // Another compile of this process may have made it meanwhile.
+    ProcessObjects &memory = processObjects();
+    std::lock_guard<std::mutex> lock(memory.mutex);
+    if (auto it = memory.byKey.find(job.key); it != memory.byKey.end()) {
+      job.object = it->second;
+      job.reused = true;
+      return;
+    }
+  }
+  auto built = Jit::compileObject(*job.module, options.pipeline);
+  if (!built) {
+    job.error = llvm::toString(built.takeError());
+    return;
+  }
+  job.object = std::make_shared<const std::string>(std::move(*built));
+}
+
+bool osl::keepLibraryObjects(std::vector<LibraryJob> &jobs, LibraryUse &use,
+                             const LibraryKeyOptions &options, std::string &error) {
+  std::string directory = libraryDirectory(options);
+  ProcessObjects &memory = processObjects();
+  for (LibraryJob &job : jobs) {
+    if (!job.object) {
+      error = "library function '" + job.name + "': " + job.error;
+      return false;
+    }
+    if (job.reused) {
+      ++use.fromMemory;
+    } else {
+      ++use.compiled;
+      std::string ignored; // an unwritable cache costs a later run a compile
+      if (!directory.empty())
+        KernelCache(directory).store(job.key, CachedKernel{job.name, {}, *job.object, {}, "", ""},
+                                     ignored);
+      std::lock_guard<std::mutex> lock(memory.mutex);
+      job.object = memory.byKey.try_emplace(job.key, job.object).first->second;
+    }
+    use.objects.push_back(job.object);
+  }
+  use.toCompile.clear();
+  return true;
+}
 
 LibraryUse osl::findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &options,
                                    Stats *stats) {
@@ -152,47 +221,4 @@ LibraryUse osl::findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOption
     }
   }
   return use;
-}
-
-llvm::Error osl::compileLibraryFunctions(llvm::Module &kernel, LibraryUse &use,
-                                         const LibraryKeyOptions &options, Stats *stats) {
-  ScopedTimer timer(stats, "library");
-  std::string directory = libraryDirectory(options);
-  ProcessObjects &memory = processObjects();
-  std::vector<llvm::Function *> compiled;
-  for (llvm::Function &f : kernel) {
-    if (f.isDeclaration() || !f.getName().starts_with(abi::kLibrarySymbolPrefix))
-      continue;
-    auto key = use.toCompile.find(f.getName());
-    if (key == use.toCompile.end())
-      return llvm::createStringError(llvm::inconvertibleErrorCode(),
-                                     "library function '" + f.getName() +
-                                         "' has no key (findLibraryObjects did not see it)");
-    // Another thread may have compiled it meanwhile: then link that one.
-    std::shared_ptr<const std::string> object = lookupObject(key->second, directory, use);
-    if (!object) {
-      auto built = compileAlone(kernel, f, options.pipeline);
-      if (!built)
-        return built.takeError();
-      object = std::make_shared<const std::string>(std::move(*built));
-      ++use.compiled;
-      std::string error; // an unwritable cache costs a later run a compile
-      if (!directory.empty())
-        KernelCache(directory).store(key->second,
-                                     CachedKernel{f.getName().str(), {}, *object, {}, "", ""},
-                                     error);
-      std::lock_guard<std::mutex> lock(memory.mutex);
-      memory.byKey.try_emplace(key->second, object);
-    }
-    use.objects.push_back(std::move(object));
-    compiled.push_back(&f);
-  }
-  // The kernel calls them; the objects define them.
-  for (llvm::Function *f : compiled) {
-    f->deleteBody();
-    f->setLinkage(llvm::GlobalValue::ExternalLinkage);
-    f->setVisibility(llvm::GlobalValue::DefaultVisibility);
-  }
-  use.toCompile.clear();
-  return llvm::Error::success();
 }

@@ -9,6 +9,7 @@
 #include "OslDialect/OslDialect.h"
 #include "OslAbi/EntryPoints.h"
 #include "OslPipeline/Pipeline.h"
+#include "OslRuntime/ThreadPool.h"
 
 #include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
 #include "mlir/IR/Diagnostics.h"
@@ -209,8 +210,20 @@ LibraryKeyOptions ShaderCompiler::libraryKeyOptions() const {
 }
 
 bool ShaderCompiler::translate() {
+  if (splitLibrary) {
+    // Each library function still to compile leaves the kernel for a
+    // module of its own, compiled beside it (generateCode).
+    ScopedTimer timer(stats, "library");
+    std::string error;
+    libraryJobs = splitLibraryJobs(*mlirModule, library, error);
+    if (!error.empty()) {
+      errs << "error: " << error << "\n";
+      return false;
+    }
+  }
   {
     ScopedTimer timer(stats, "llvm translate");
+    llvmIR.reset(); // an earlier compile's, of the context replaced here
     llvmContext = std::make_unique<llvm::LLVMContext>();
     llvmIR = mlir::translateModuleToLLVMIR(*mlirModule, *llvmContext, shaderName);
     if (!llvmIR) {
@@ -218,19 +231,55 @@ bool ShaderCompiler::translate() {
       return false;
     }
   }
-  auto created = Jit::create(stats, keepObject);
+  auto created = Jit::create(stats);
   if (!created) {
     errs << "error: " << llvm::toString(created.takeError()) << "\n";
     return false;
   }
   jit = std::move(*created);
-  if (splitLibrary)
-    if (llvm::Error e = compileLibraryFunctions(*llvmIR, library, libraryKeyOptions(), stats)) {
-      errs << "error: " << llvm::toString(std::move(e)) << "\n";
-      return false;
-    }
   if (llvm::Error e = jit->optimize(*llvmIR, options.llvmPipeline)) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
+    return false;
+  }
+  return true;
+}
+
+/// The threads that generate code: one per core, the compiling thread one
+/// of them. Kept for the process, so each keeps its TargetMachine.
+static ThreadPool &codegenThreads() {
+  static ThreadPool pool(0);
+  return pool;
+}
+
+bool ShaderCompiler::generateCode() {
+  ScopedTimer timer(stats, "jit codegen");
+  LibraryKeyOptions keyOptions = libraryKeyOptions();
+  std::string kernelError;
+  auto kernel = [&] {
+    auto object = Jit::generateObject(*llvmIR);
+    if (object)
+      kernelObject = std::move(*object);
+    else
+      kernelError = llvm::toString(object.takeError());
+  };
+  if (libraryJobs.empty()) {
+    kernel();
+  } else {
+    // The kernel first: it is usually the largest.
+    codegenThreads().parallelFor(int(libraryJobs.size()) + 1, [&](int task) {
+      if (task == 0)
+        kernel();
+      else
+        compileLibraryJob(libraryJobs[size_t(task) - 1], keyOptions);
+    });
+  }
+  std::string error;
+  bool kept = keepLibraryObjects(libraryJobs, library, keyOptions, error);
+  libraryJobs.clear();
+  llvmIR.reset(); // codegen rewrote it; the object is what is left
+  llvmContext.reset();
+  if (!kernelError.empty() || !kept) {
+    errs << "error: " << (kernelError.empty() ? error : kernelError) << "\n";
     return false;
   }
   return true;
@@ -260,14 +309,14 @@ static bool addLibraryObjects(Jit &target, llvm::ArrayRef<llvm::StringRef> objec
 }
 
 std::unique_ptr<CompiledShader> ShaderCompiler::load() {
-  if (!defineRuntimeSymbols(*jit))
+  if (!defineRuntimeSymbols(*jit) || !generateCode())
     return nullptr;
   std::vector<llvm::StringRef> objects;
   for (const auto &object : library.objects)
     objects.push_back(*object);
   if (!addLibraryObjects(*jit, objects, errs))
     return nullptr;
-  if (llvm::Error e = jit->addModule(std::move(llvmIR), std::move(llvmContext))) {
+  if (llvm::Error e = jit->addObject(llvm::MemoryBuffer::getMemBufferCopy(kernelObject))) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return nullptr;
   }
@@ -403,14 +452,12 @@ ShaderCompiler::compileCached(const std::string &key,
     found = CacheLookup::Corrupt; // a well-formed file the linker refused
   }
   cacheUsed = found == CacheLookup::Miss ? CacheUse::Miss : CacheUse::Rebuilt;
-  keepObject = true;
   std::unique_ptr<CompiledShader> shader = stages();
-  keepObject = false;
-  if (!shader || shader->jit->compiledObject().empty())
+  if (!shader || kernelObject.empty())
     return shader;
   ScopedTimer timer(stats, "kernel cache");
   std::string error;
-  CachedKernel stored{shader->name, shader->outputs, shader->jit->compiledObject().str(),
+  CachedKernel stored{shader->name, shader->outputs, kernelObject,
                       {}, warnings, reports};
   for (const auto &object : library.objects)
     stored.libraries.push_back(*object);
