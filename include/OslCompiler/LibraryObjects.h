@@ -51,15 +51,25 @@ struct LibraryKeyOptions {
 /// A kernel's library functions and where their objects came from.
 struct LibraryUse {
   int fromMemory = 0, fromDisk = 0, compiled = 0;
+  /// Found in the library built with osl-mlir (prebuiltLibraryDirectory).
+  int prebuilt = 0;
   /// The objects the kernel links.
   std::vector<std::shared_ptr<const std::string>> objects;
   /// Functions still defined in the kernel, to compile: their keys by name.
   llvm::StringMap<std::string> toCompile;
 };
 
+/// Where the objects compiled when osl-mlir was built are:
+/// <prefix>/share/osl-mlir/library beside <prefix>/bin of the running
+/// executable (tools/osl-run/library/BuildLibrary.cmake makes them), read,
+/// never written; empty when there is none or $OSL_MLIR_NO_PREBUILT_LIBRARY
+/// is set (to measure compiling everything).
+std::string prebuiltLibraryDirectory();
+
 /// For each library function defined in `module` (after
-/// osl-outline-library): the object this process or the cache already has
-/// (the function becomes a declaration), else its key in `toCompile`.
+/// osl-outline-library): the object this process, the cache or the
+/// prebuilt library already has (the function becomes a declaration), else
+/// its key in `toCompile`.
 /// The key is the function's MLIR with the symbols it references, the
 /// compiler's identity, the LLVM version, the host and `options`.
 LibraryUse findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &options,

@@ -78,18 +78,28 @@ std::string KernelCache::defaultDirectory() {
 }
 
 std::string KernelCache::compilerIdentity() {
-  Dl_info info;
-  if (!dladdr(reinterpret_cast<void *>(&KernelCache::compilerIdentity), &info) ||
-      !info.dli_fname)
-    return "unknown";
-  std::string path = info.dli_fname;
-  if (path.find('/') == std::string::npos)
-    path = "/proc/self/exe"; // the main executable reports its bare name
-  struct stat st;
-  if (stat(path.c_str(), &st) != 0)
-    return "unknown";
-  return path + " " + std::to_string(st.st_size) + " " + std::to_string(st.st_mtim.tv_sec) +
-         "." + std::to_string(st.st_mtim.tv_nsec);
+  // Computed once: the file does not change under a running process, and a
+  // relative path would resolve differently after a change of directory.
+  static const std::string identity = []() -> std::string {
+    Dl_info info;
+    if (!dladdr(reinterpret_cast<void *>(&KernelCache::compilerIdentity), &info) || !info.dli_fname)
+      return "unknown";
+    // The main executable reports argv[0] (a bare name when found on PATH,
+    // else as typed): its canonical path names it the same however it was
+    // started, so the entries one invocation made serve the others.
+    std::string path = info.dli_fname;
+    if (path.find('/') == std::string::npos)
+      path = "/proc/self/exe";
+    llvm::SmallString<256> real;
+    if (!llvm::sys::fs::real_path(path, real))
+      path = real.str().str();
+    struct stat st;
+    if (stat(path.c_str(), &st) != 0)
+      return "unknown";
+    return path + " " + std::to_string(st.st_size) + " " + std::to_string(st.st_mtim.tv_sec) + "." +
+           std::to_string(st.st_mtim.tv_nsec);
+  }();
+  return identity;
 }
 
 std::string KernelCache::pathFor(llvm::StringRef key) const {
@@ -144,8 +154,7 @@ CacheLookup KernelCache::lookup(llvm::StringRef key, CachedKernel &entry) const 
   return CacheLookup::Hit;
 }
 
-bool KernelCache::store(llvm::StringRef key, const CachedKernel &entry,
-                        std::string &error) const {
+bool KernelCache::store(llvm::StringRef key, const CachedKernel &entry, std::string &error) const {
   if (std::error_code ec = llvm::sys::fs::create_directories(directory)) {
     error = "cannot create '" + directory + "': " + ec.message();
     return false;
@@ -167,8 +176,7 @@ bool KernelCache::store(llvm::StringRef key, const CachedKernel &entry,
   std::string path = pathFor(key);
   llvm::SmallString<256> temp;
   int fd;
-  if (std::error_code ec =
-          llvm::sys::fs::createUniqueFile(path + ".%%%%%%.tmp", fd, temp)) {
+  if (std::error_code ec = llvm::sys::fs::createUniqueFile(path + ".%%%%%%.tmp", fd, temp)) {
     error = "cannot write in '" + directory + "': " + ec.message();
     return false;
   }

@@ -15,9 +15,11 @@
 #include "llvm/ADT/SmallString.h"
 #include "llvm/ADT/StringSet.h"
 #include "llvm/Config/llvm-config.h"
+#include "llvm/Support/FileSystem.h"
 #include "llvm/Support/Path.h"
 #include "llvm/Support/raw_ostream.h"
 
+#include <cstdlib>
 #include <mutex>
 
 using namespace osl;
@@ -43,8 +45,38 @@ std::string libraryDirectory(const LibraryKeyOptions &options) {
   return path.str().str();
 }
 
-/// The object under `key`: this process's copy, else the cache's (kept in
-/// the process from then on); null when neither has it.
+} // namespace
+
+std::string osl::prebuiltLibraryDirectory() {
+  static const std::string directory = []() -> std::string {
+    if (const char *off = std::getenv("OSL_MLIR_NO_PREBUILT_LIBRARY"); off && *off)
+      return "";
+    // The main executable's: <prefix>/bin/osl-run finds <prefix>/share.
+    std::string exe = llvm::sys::fs::getMainExecutable(
+        nullptr, reinterpret_cast<void *>(&osl::prebuiltLibraryDirectory));
+    if (exe.empty())
+      return "";
+    llvm::SmallString<256> path(llvm::sys::path::parent_path(llvm::sys::path::parent_path(exe)));
+    llvm::sys::path::append(path, "share", "osl-mlir", "library");
+    return llvm::sys::fs::is_directory(path) ? path.str().str() : "";
+  }();
+  return directory;
+}
+
+namespace {
+
+/// The object under `key` in the cache `directory`, if it has it.
+std::shared_ptr<const std::string> readObject(const std::string &key,
+                                              const std::string &directory) {
+  CachedKernel entry;
+  if (directory.empty() || KernelCache(directory).lookup(key, entry) != CacheLookup::Hit)
+    return nullptr;
+  return std::make_shared<const std::string>(std::move(entry.object));
+}
+
+/// The object under `key`: this process's copy, else the cache's, else the
+/// prebuilt library's (kept in the process from then on); null when none
+/// has it.
 std::shared_ptr<const std::string> lookupObject(const std::string &key,
                                                 const std::string &directory, LibraryUse &use) {
   ProcessObjects &memory = processObjects();
@@ -55,11 +87,14 @@ std::shared_ptr<const std::string> lookupObject(const std::string &key,
       return it->second;
     }
   }
-  CachedKernel entry;
-  if (directory.empty() || KernelCache(directory).lookup(key, entry) != CacheLookup::Hit)
+  std::shared_ptr<const std::string> object = readObject(key, directory);
+  if (object) {
+    ++use.fromDisk;
+  } else if ((object = readObject(key, prebuiltLibraryDirectory()))) {
+    ++use.prebuilt;
+  } else {
     return nullptr;
-  auto object = std::make_shared<const std::string>(std::move(entry.object));
-  ++use.fromDisk;
+  }
   std::lock_guard<std::mutex> lock(memory.mutex);
   return memory.byKey.try_emplace(key, object).first->second;
 }

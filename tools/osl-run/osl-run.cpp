@@ -375,7 +375,8 @@ void reportRun(const RunOptions &options, ShaderCompiler &compiler,
     if (const LibraryUse &lib = compiler.libraryUse(); !lib.objects.empty())
       llvm::errs() << "library functions: " << lib.objects.size() << " ("
                    << lib.compiled << " compiled, " << lib.fromDisk << " from the cache, "
-                   << lib.fromMemory << " compiled earlier in this run)\n";
+                   << lib.fromMemory << " compiled earlier in this run, " << lib.prebuilt
+                   << " prebuilt)\n";
     const GroupStats &g = compiler.groupStats();
     if (options.isGroup && g.opsBefore > 0)
       llvm::errs() << "group: before specialisation " << g.layersBefore << " layers, "
