@@ -198,11 +198,18 @@ def osl_run_ms(stdout):
     return float(m.group(1)) * 1e3 if m else float("nan")
 
 
-def our_compile_ms(stderr):
-    total = 0.0
-    for m in re.finditer(r"^  (\S[^\n]*?)\s+([0-9.]+) ms$", stderr, re.M):
+def our_compile_ms(run):
+    """Source-to-kernel time of a --stats run; NaN if the run failed or
+    printed no stages (so that it cannot pass for a free compile)."""
+    total, stages = 0.0, 0
+    for m in re.finditer(r"^  (\S[^\n]*?)\s+([0-9.]+) ms$", run.stderr, re.M):
         if m.group(1) not in ("shading", "write images", "total"):
             total += float(m.group(2))
+            stages += 1
+    if run.returncode != 0 or stages == 0:
+        print("  note: osl-run --stats gave no compile time (exit %d): %s" % (
+            run.returncode, run.stderr.strip().splitlines()[-1:] or ""), flush=True)
+        return float("nan")
     return total
 
 
@@ -288,10 +295,10 @@ def main():
                     opt[c.name] = min(opt[c.name], osl_opt_ms(p1.stdout))
                     first[c.name] = min(first[c.name], osl_run_ms(p1.stdout))
                 else:
-                    ours_compile[c.name] = min(ours_compile[c.name], our_compile_ms(p1.stderr))
+                    ours_compile[c.name] = min(ours_compile[c.name], our_compile_ms(p1))
                     # Again compiling every noise routine.
                     _, pa = tools.run(which, c, 16, 1, stats=True, prebuilt=False)
-                    ours_all[c.name] = min(ours_all[c.name], our_compile_ms(pa.stderr))
+                    ours_all[c.name] = min(ours_all[c.name], our_compile_ms(pa))
 
     points = a.res * a.res
     print("\n%-40s %9s %9s %7s   %9s %9s %9s %7s %7s %9s %7s" % (
