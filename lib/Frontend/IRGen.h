@@ -368,6 +368,11 @@ private:
   /// a `return` there is supported.
   bool emitStmt(const Stmt &s, bool tail);
   bool emitStmtList(const std::vector<StmtPtr> &stmts, size_t from, bool tail);
+  /// Statements [from, end) of `stmts`, on the lanes where `jumped` (the
+  /// or of `flags`, set by a break, continue, return or exit before them)
+  /// is false.
+  bool emitUnlessJumped(mlir::Value jumped, const std::vector<Var *> &flags, SrcLoc l,
+                        const std::vector<StmtPtr> &stmts, size_t from, bool tail);
   bool emitScoped(const Stmt &s, bool tail);
   bool emitScoped(const std::vector<StmtPtr> &stmts, bool tail);
   bool emitDecl(const Stmt &s);

@@ -61,8 +61,16 @@ bool IRGen::emitStmtList(const std::vector<StmtPtr> &stmts, size_t from, bool ta
       auto continuingArm = [&]() -> std::optional<RValue> {
         Scope *saved = current;
         current = newScope(current);
-        bool ok = (!continuing || emitStmt(*continuing, false)) &&
-                  emitStmtList(stmts, i + 1, true);
+        // The continuing arm may itself return on some lanes (`else if
+        // (c) return x;`): the rest runs only on the others.
+        bool ok = !continuing || emitStmt(*continuing, false);
+        if (ok) {
+          std::vector<Var *> flags;
+          Value jumped = jumpedCondition(continuing ? continuing->loc : s.loc,
+                                         /*withContinue=*/true, &flags);
+          ok = jumped ? emitUnlessJumped(jumped, flags, s.loc, stmts, i + 1, true)
+                      : emitStmtList(stmts, i + 1, true);
+        }
         current = saved;
         if (!ok)
           return std::nullopt;
@@ -80,38 +88,42 @@ bool IRGen::emitStmtList(const std::vector<StmtPtr> &stmts, size_t from, bool ta
     // The rest of the list runs only where no jump has happened.
     std::vector<Var *> flags;
     Value jumped = jumpedCondition(s.loc, /*withContinue=*/true, &flags);
-    if (!jumped)
-      continue;
-    llvm::StringSet<> names;
-    for (size_t k = i + 1; k < stmts.size(); ++k)
-      scanAssigned(*stmts[k], names);
-    for (Var *f : flags)
-      names.insert(f->name);
-    auto rest = [&]() -> std::optional<RValue> {
-      Scope *saved = current;
-      current = newScope(current);
-      // The flags are clear on the lanes that run the rest; one the rest
-      // does not set keeps its value from before (no merge needed).
-      std::vector<std::pair<Var *, RValue>> before;
-      Value clear = constBool(false, s.loc);
-      for (Var *f : flags) {
-        before.push_back({f, f->val});
-        f->val = RValue::num(OslType(BaseType::Bool), clear);
-      }
-      bool ok = emitStmtList(stmts, i + 1, tail);
-      for (auto &[f, old] : before)
-        if (f->val.value == clear)
-          f->val = old;
-      current = saved;
-      if (!ok)
-        return std::nullopt;
-      return RValue::voidValue();
-    };
-    auto nothing = []() -> std::optional<RValue> { return RValue::voidValue(); };
-    Value running = b.create<NotOp>(loc(s.loc), jumped);
-    return emitIfRegion(running, s.loc, names, rest, nothing, false).has_value();
+    if (jumped)
+      return emitUnlessJumped(jumped, flags, s.loc, stmts, i + 1, tail);
   }
   return true;
+}
+
+bool IRGen::emitUnlessJumped(Value jumped, const std::vector<Var *> &flags, SrcLoc l,
+                             const std::vector<StmtPtr> &stmts, size_t from, bool tail) {
+  llvm::StringSet<> names;
+  for (size_t k = from; k < stmts.size(); ++k)
+    scanAssigned(*stmts[k], names);
+  for (Var *f : flags)
+    names.insert(f->name);
+  auto rest = [&]() -> std::optional<RValue> {
+    Scope *saved = current;
+    current = newScope(current);
+    // The flags are clear on the lanes that run the rest; one the rest
+    // does not set keeps its value from before (no merge needed).
+    std::vector<std::pair<Var *, RValue>> before;
+    Value clear = constBool(false, l);
+    for (Var *f : flags) {
+      before.push_back({f, f->val});
+      f->val = RValue::num(OslType(BaseType::Bool), clear);
+    }
+    bool ok = emitStmtList(stmts, from, tail);
+    for (auto &[f, old] : before)
+      if (f->val.value == clear)
+        f->val = old;
+    current = saved;
+    if (!ok)
+      return std::nullopt;
+    return RValue::voidValue();
+  };
+  auto nothing = []() -> std::optional<RValue> { return RValue::voidValue(); };
+  Value running = b.create<NotOp>(loc(l), jumped);
+  return emitIfRegion(running, l, names, rest, nothing, false).has_value();
 }
 
 //===----------------------------------------------------------------------===//
