@@ -39,7 +39,7 @@ inline constexpr StringFunction kStringFunctions[] = {
     // split(str, results[N], sep, maxsplit) is these two, named so that no
     // shader can call them: how many pieces fill results (at most N), and
     // piece k.
-    {"split:count", "ssii", 'i'}, {"split:piece", "ssii", 's'},
+    {"split:count", "ssii", 'i'}, {"split:piece", "ssiii", 's'},
     // regex_search / regex_match(subject, results[N], regex) fill results
     // with entry k of each: (subject, regex, full match?, k, the entry's
     // old value) -> its new value.

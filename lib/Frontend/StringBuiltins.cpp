@@ -373,9 +373,10 @@ std::optional<RValue> StringCall::emit() {
   return RValue::num(OslType(result == 'f' ? BaseType::Float : BaseType::Int), v);
 }
 
-/// split(str, results[N], sep = "", maxsplit = -1): the runtime counts the
-/// pieces (at most N) and hands out each; results[k] takes piece k where k
-/// is below the count and keeps its value elsewhere. Returns the count.
+/// split(str, results[N], sep = "", maxsplit = N): the runtime counts the
+/// pieces (at most maxsplit, kept within [0, N], as OSL's) and hands out
+/// each; results[k] takes piece k where k is below the count and keeps its
+/// value elsewhere. Returns the count.
 std::optional<RValue> emitSplit(IRGen &g, const Expr &call) {
   const char *usageText = "int split(string str, output string results[], string sep, "
                           "int maxsplit), with sep and maxsplit optional";
@@ -397,7 +398,7 @@ std::optional<RValue> emitSplit(IRGen &g, const Expr &call) {
       return std::nullopt;
     sep = *s;
   }
-  Value maxsplit = g.constInt(-1, call.loc);
+  Value maxsplit; // the results' length unless given
   if (n > 3) {
     auto m = g.emitExpr(*call.args[3]);
     if (!m)
@@ -417,15 +418,42 @@ std::optional<RValue> emitSplit(IRGen &g, const Expr &call) {
   Value strHandle = g.stringHandle(*str, call.loc);
   Value sepHandle = g.stringHandle(sep, call.loc);
   int length = dest->type.arrayLen;
-  auto call4 = [&](llvm::StringRef function, Value last) {
-    return b.create<StringCallOp>(l, b.getI32Type(), function, "ssii",
-                                  ValueRange{strHandle, sepHandle, maxsplit, last})
-        .getResult();
-  };
-  Value count = call4("split:count", g.constInt(length, call.loc));
+  Value lengthValue = g.constInt(length, call.loc);
+  if (!maxsplit)
+    maxsplit = lengthValue;
+  Value count = b.create<StringCallOp>(l, b.getI32Type(), "split:count", "ssii",
+                                       ValueRange{strHandle, sepHandle, maxsplit, lengthValue})
+                    .getResult();
   RValue results = g.loadLValue(*dest, call.loc);
+  std::optional<int64_t> knownMaxsplit = IRGen::getConstInt(maxsplit);
+  if (str->isKnownString() && sep.isKnownString() && knownMaxsplit) {
+    // Known operands: split now and assign the whole array, the elements
+    // past the pieces "" (OSL's optimizer folds split so; its run-time
+    // split keeps them, as the code below does).
+    auto known = [&](const char *function, int32_t last) {
+      std::vector<::osl::StringValue> values(5);
+      values[0].kind = values[1].kind = 's';
+      values[0].s = str->str;
+      values[1].s = sep.str;
+      values[2].kind = values[3].kind = values[4].kind = 'i';
+      values[2].i = int32_t(*knownMaxsplit);
+      values[3].i = length;
+      values[4].i = last;
+      std::string error;
+      return ::osl::evalStringFunction(::osl::stringFunctionCode(function), values, error);
+    };
+    int32_t pieces = known("split:count", length).bits; // (its fifth operand unused)
+    for (int k = 0; k < length; ++k)
+      results.fields[size_t(k)] = RValue::string(k < pieces ? known("split:piece", k).text : "");
+    g.storeLValue(*dest, results, call.loc);
+    return RValue::num(OslType(BaseType::Int), g.constInt(pieces, call.loc));
+  }
   for (int k = 0; k < length; ++k) {
-    Value piece = call4("split:piece", g.constInt(k, call.loc));
+    Value piece = b.create<StringCallOp>(
+                       l, b.getI32Type(), "split:piece", "ssiii",
+                       ValueRange{strHandle, sepHandle, maxsplit, lengthValue,
+                                  g.constInt(k, call.loc)})
+                      .getResult();
     Value filled = g.cmp("lt", g.constInt(k, call.loc), count, call.loc);
     Value old = g.stringHandle(results.fields[size_t(k)], call.loc);
     results.fields[size_t(k)] = RValue::runtimeString(g.select(filled, piece, old, call.loc));

@@ -192,13 +192,16 @@ std::string_view substring(std::string_view s, int32_t start, int32_t length) {
   return s.substr(size_t(b), size_t(std::clamp(length, 0, n)));
 }
 
-/// The pieces of `s` as Python's str.split(sep, maxsplit) makes them (what
-/// OSL's split does): an empty `sep` splits at runs of whitespace and drops
-/// leading and trailing whitespace; a negative `maxsplit` does not limit.
+/// The pieces of `s` as OSL's split makes them (OpenImageIO's
+/// Strutil::split): at most `limit` pieces, the last holding the rest of the
+/// string; an empty `sep` splits at runs of whitespace and skips the
+/// whitespace before each piece.
 std::vector<std::string_view> splitPieces(std::string_view s, std::string_view sep,
-                                          int32_t maxsplit) {
+                                          int32_t limit) {
   std::vector<std::string_view> pieces;
-  auto limited = [&] { return maxsplit >= 0 && int32_t(pieces.size()) >= maxsplit; };
+  if (limit <= 0 || s.empty())
+    return pieces; // an empty string has no pieces
+  auto last = [&] { return int32_t(pieces.size()) + 1 >= limit; };
   if (sep.empty()) {
     auto space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
     size_t i = 0;
@@ -207,11 +210,8 @@ std::vector<std::string_view> splitPieces(std::string_view s, std::string_view s
         ++i;
       if (i >= s.size())
         break;
-      if (limited()) {
-        size_t end = s.size();
-        while (end > i && space(s[end - 1]))
-          --end;
-        pieces.push_back(s.substr(i, end - i));
+      if (last()) {
+        pieces.push_back(s.substr(i));
         break;
       }
       size_t j = i;
@@ -223,7 +223,7 @@ std::vector<std::string_view> splitPieces(std::string_view s, std::string_view s
     return pieces;
   }
   size_t start = 0;
-  while (!limited()) {
+  while (!last()) {
     size_t at = s.find(sep, start);
     if (at == std::string_view::npos)
       break;
@@ -232,6 +232,12 @@ std::vector<std::string_view> splitPieces(std::string_view s, std::string_view s
   }
   pieces.push_back(s.substr(start));
   return pieces;
+}
+
+/// split's limit on pieces: its maxsplit within [0, the results' length]
+/// (OSL's osl_split).
+int32_t splitLimit(int32_t maxsplit, int32_t resultLength) {
+  return std::clamp(maxsplit, 0, std::max(resultLength, 0));
 }
 
 /// regex_search / regex_match's results entry `k`: entries 2i and 2i+1 are
@@ -301,7 +307,7 @@ int32_t numberResult(int32_t function, const std::vector<StringValue> &a, std::s
   case kRegexResult: // (subject, regex, full match?, k, old value)
     return regexResult(a[0].s, a[1].s, a[2].i != 0, a[3].i, a[4].i, error);
   case kSplitCount: // (str, sep, maxsplit, result length)
-    return std::min(int32_t(splitPieces(a[0].s, a[1].s, a[2].i).size()), a[3].i);
+    return int32_t(splitPieces(a[0].s, a[1].s, splitLimit(a[2].i, a[3].i)).size());
   }
   return 0;
 }
@@ -321,9 +327,10 @@ std::string stringResult(int32_t function, const std::vector<StringValue> &a,
   case kSubstr:
     return std::string(
         substring(a[0].s, a[1].i, a.size() > 2 ? a[2].i : int32_t(a[0].s.size())));
-  case kSplitPiece: { // (str, sep, maxsplit, k)
-    std::vector<std::string_view> pieces = splitPieces(a[0].s, a[1].s, a[2].i);
-    return a[3].i >= 0 && size_t(a[3].i) < pieces.size() ? std::string(pieces[size_t(a[3].i)])
+  case kSplitPiece: { // (str, sep, maxsplit, result length, k)
+    std::vector<std::string_view> pieces =
+        splitPieces(a[0].s, a[1].s, splitLimit(a[2].i, a[3].i));
+    return a[4].i >= 0 && size_t(a[4].i) < pieces.size() ? std::string(pieces[size_t(a[4].i)])
                                                           : std::string();
   }
   }
