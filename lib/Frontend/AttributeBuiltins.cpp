@@ -209,6 +209,13 @@ std::optional<RValue> emitGetAttribute(IRGen &g, const Expr &call) {
   return found;
 }
 
+std::optional<std::string> testshadeStringUserdata(const IRGen &g, llvm::StringRef name) {
+  if (const ::osl::UserDatum *d = g.userDatum(name))
+    if (d->type == "string")
+      return d->value;
+  return std::nullopt;
+}
+
 std::optional<std::pair<Value, Value>> testshadeUserdata(IRGen &g, llvm::StringRef name,
                                                          const OslType &type, SrcLoc l) {
   // Data given on the command line (--userdata) is the same on every point.

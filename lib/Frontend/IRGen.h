@@ -711,6 +711,10 @@ std::optional<std::vector<RValue>> emitArgs(IRGen &gen, const Expr &call);
 std::optional<std::pair<mlir::Value, mlir::Value>>
 testshadeUserdata(IRGen &gen, llvm::StringRef name, const OslType &type, SrcLoc l);
 
+/// The string user data (--userdata:type=string) for a lockgeom=0 string
+/// parameter `name`: the same on every point, so known now.
+std::optional<std::string> testshadeStringUserdata(const IRGen &gen, llvm::StringRef name);
+
 /// The name of the hidden variable holding a function's return value.
 inline constexpr const char *kReturnVarName = "$return";
 /// The hidden jump flags (see the file comment).

@@ -287,9 +287,15 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   if (!init)
     return false;
   RValue val = *init;
+  bool connected = llvm::is_contained(options.connectedInputs, p.name);
+  // Per-geometry string data (lockgeom=0) given on the command line takes
+  // precedence, as numbers do below: one string for every point.
+  if (t.isString() && !t.isArray() && !connected && isLockgeomZero(p))
+    if (std::optional<std::string> data = testshadeStringUserdata(*this, p.name))
+      val = RValue::string(*data);
   // A string an upstream layer computes: a run-time handle, which the group
   // links as it links numbers (strings are otherwise compile-time values).
-  if (t.isString() && llvm::is_contained(options.connectedInputs, p.name)) {
+  if (t.isString() && connected) {
     Value handle = stringHandle(val, p.loc);
     val = RValue::runtimeString(
         b.create<ParamOp>(loc(p.loc), handle.getType(), p.name, handle).getResult());
