@@ -46,7 +46,8 @@ enum ClosureId : int32_t {
 };
 
 /// Most of testshade's and testrender's closures take a "label" keyword
-/// (not microfacet, reflection and refraction, which OSL prints without one).
+/// (not oren_nayar, translucent, ward, microfacet, reflection and
+/// refraction, which OSL prints without one and warns of one given).
 #define OSL_LABEL_KEYWORD "label:s"
 #define OSL_MX_KEYWORDS "label:s"
 #define OSL_MX_OREN_NAYAR_KEYWORDS "label:s,energy_compensation:i"
@@ -56,10 +57,10 @@ inline constexpr ClosureSignature kClosures[] = {
     {"emission", "", ""},
     {"background", "", ""},
     {"diffuse", "n", OSL_LABEL_KEYWORD},
-    {"oren_nayar", "nf", OSL_LABEL_KEYWORD},
-    {"translucent", "n", OSL_LABEL_KEYWORD},
+    {"oren_nayar", "nf", ""},
+    {"translucent", "n", ""},
     {"phong", "nf", OSL_LABEL_KEYWORD},
-    {"ward", "nnff", OSL_LABEL_KEYWORD},
+    {"ward", "nnff", ""},
     // distribution, N, U, xalpha, yalpha, eta, refract (0 reflect, 1 refract, 2 both)
     {"microfacet", "snnfffi", ""},
     // N, eta; eta 0 means no Fresnel term (reflection(N))

@@ -127,9 +127,12 @@ std::optional<RValue> emitClosureBuiltin(IRGen &g, const Expr &call, bool &known
       accepted |= name == key.str;
     });
     if (!accepted) {
-      g.valueError(keyLoc,
-                   "closure '" + call.name + "' has no keyword parameter '" + key.str + "'");
-      return std::nullopt;
+      // OSL warns and ignores it (testshade's oren_nayar, for one, has no
+      // "label").
+      if (!g.diagnostics().warning(keyLoc, "unsupported closure keyword argument \"" +
+                                               key.str + "\" for " + call.name + " (ignored)"))
+        return std::nullopt;
+      continue;
     }
     keywords[key.str] = rest[k + 1];
   }
