@@ -33,15 +33,14 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
   auto knownBases = g.compileTimeStrings(basisName, call.args[0]->loc, "the spline basis");
   if (!knownBases)
     return std::nullopt;
-  std::vector<std::string> bases = *knownBases;
-  for (const std::string &basis : bases) {
-    if (!splineBasisFromName(basis)) {
-      g.valueError(call.args[0]->loc, "unknown spline basis '" + basis +
-                                          "' (expected catmull-rom, bezier, bspline, hermite, "
-                                          "linear or constant)");
+  // OSL evaluates a basis it does not know as linear; say so.
+  for (const std::string &basis : *knownBases)
+    if (!splineBasisFromName(basis) &&
+        !g.diagnostics().warning(call.args[0]->loc,
+                                 "unknown spline basis '" + basis +
+                                     "' is linear (known: catmull-rom, bezier, bspline, "
+                                     "hermite, linear, constant)"))
       return std::nullopt;
-    }
-  }
   const RValue &x = (*args)[1];
   if (!x.type.isScalar())
     return wrong();
@@ -110,7 +109,7 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
   }
   Type t = withUniformity(irType(g.builder(), knotType), varying);
   return g.forEachStringChoice(basisName, call.loc, [&](const std::string &basis) {
-    SplineBasis kind = *splineBasisFromName(basis);
+    SplineBasis kind = splineBasisFromName(basis).value_or(SplineBasis::linear);
     Value v =
         inverse
             ? g.builder().create<SplineInverseOp>(g.loc(call.loc), t, kind, xv, count, kv)
