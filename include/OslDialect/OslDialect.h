@@ -39,6 +39,11 @@ Type withUniformity(Type uniform, bool varying);
 /// The zero of an osl value type (varying: broadcast): 0, the zero triple,
 /// false, or the empty closure.
 Value buildZero(OpBuilder &b, Location loc, Type type);
+/// Marks an osl.mul that computes inside a library routine (a matrix
+/// inverse, a determinant) rather than a product the shader writes: OSL
+/// runs those in C++, so x * 0 keeps IEEE's sign there (-0 for a negative
+/// x), while its optimizer folds a shader's x * 0 to 0.
+constexpr llvm::StringLiteral kIeeeProductAttr = "osl.ieee_product";
 /// The result type of a lane-wise op of this kind over these operands.
 Type inferLaneResultType(LaneKind kind, ValueRange operands);
 LogicalResult verifyLaneOp(Operation *op, LaneKind kind);

@@ -266,10 +266,13 @@ struct SubOfItself : public OpRewritePattern<SubOp> {
 /// x * 0 and 0 * x are 0 for any x, inf and NaN included, when the 0 is a
 /// constant: OSL's optimizer folds them so (constfold_mul), before it
 /// evaluates a product of constants: -1 * 0 is 0, not -0 (hence the
-/// benefit, above osl-fold-constants' evaluation).
+/// benefit, above osl-fold-constants' evaluation). Not the products of a
+/// library routine's code (kIeeeProductAttr).
 struct MulByZero : public OpRewritePattern<MulOp> {
   MulByZero(MLIRContext *ctx) : OpRewritePattern(ctx, /*benefit=*/2) {}
   LogicalResult matchAndRewrite(MulOp op, PatternRewriter &b) const override {
+    if (op->hasAttr(kIeeeProductAttr))
+      return failure();
     if (!isConstantZero(op.getLhs()) && !isConstantZero(op.getRhs()))
       return failure();
     b.replaceOp(op, buildZero(b, op.getLoc(), op.getType()));

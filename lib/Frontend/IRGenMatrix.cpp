@@ -56,7 +56,10 @@ Value IRGen::fMul(Value x, Value y, SrcLoc l) {
   auto a = constF32(x), c = constF32(y);
   if (a && c)
     return constFloat(*a * *c, l);
-  return b.create<MulOp>(loc(l), x, y);
+  // Matrix code is OSL's C++: x * 0 keeps its sign.
+  auto product = b.create<MulOp>(loc(l), x, y);
+  product->setAttr(kIeeeProductAttr, b.getUnitAttr());
+  return product;
 }
 
 Value IRGen::fDiv(Value x, Value y, SrcLoc l) {
