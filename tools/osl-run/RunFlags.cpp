@@ -162,13 +162,28 @@ bool parseFiniteFloat(const char *text, float &out) {
   return true;
 }
 
-/// testshade's --scaleuv U V and --offsetuv U V: u = U * u0 + offset.
+/// testshade's --scaleuv U V and --offsetst U V: u = U * u0 + offset.
 template <float GridOptions::*U, float GridOptions::*V> bool uvPairFlag(FlagParser &p) {
   if (!p.need(2))
     return false;
   if (!parseFiniteFloat(p.argv[p.i + 1], p.o.grid.*U) ||
       !parseFiniteFloat(p.argv[p.i + 2], p.o.grid.*V))
     return p.fail(p.flag + " needs two finite numbers");
+  p.i += 2;
+  return true;
+}
+
+/// testshade 1.13's --offsetuv reads its two numbers and stores them
+/// nowhere (its hidden old name, --offsetst, offsets): the same images
+/// need the same, said aloud.
+bool ignoredOffsetFlag(FlagParser &p) {
+  float u = 0, v = 0;
+  if (!p.need(2))
+    return false;
+  if (!parseFiniteFloat(p.argv[p.i + 1], u) || !parseFiniteFloat(p.argv[p.i + 2], v))
+    return p.fail(p.flag + " needs two finite numbers");
+  llvm::errs() << "osl-run: warning: --offsetuv is ignored, as testshade 1.13 ignores it; "
+                  "--offsetst U V offsets u and v\n";
   p.i += 2;
   return true;
 }
@@ -571,7 +586,8 @@ const Flag kFlags[] = {
     {{"--iters"}, itersFlag},
     {{"--center"}, setGridFlag<&GridOptions::center>},
     {{"--scaleuv"}, uvPairFlag<&GridOptions::uscale, &GridOptions::vscale>},
-    {{"--offsetuv"}, uvPairFlag<&GridOptions::uoffset, &GridOptions::voffset>},
+    {{"--offsetst"}, uvPairFlag<&GridOptions::uoffset, &GridOptions::voffset>},
+    {{"--offsetuv"}, ignoredOffsetFlag},
     {{"--vary_udxdy"}, setGridFlag<&GridOptions::varyUdxdy>},
     {{"--vary_vdxdy"}, setGridFlag<&GridOptions::varyVdxdy>},
     {{"--vary_pdxdy"}, setGridFlag<&GridOptions::varyPdxdy>},

@@ -85,8 +85,9 @@ const char *const osl::kUsage =
     "                         double: precise math and all arithmetic in f64\n"
     "                         (a reference for measuring errors)\n"
     "  --center               shade pixel centres: u = (x+0.5)/X\n"
-    "  --scaleuv U V, --offsetuv U V  scale, then offset u and v (and P,\n"
-    "                         dudx, dvdy) as testshade does\n"
+    "  --scaleuv U V, --offsetst U V  scale, then offset u and v (and P,\n"
+    "                         dudx, dvdy) as testshade does (its --offsetuv\n"
+    "                         is ignored, as testshade 1.13 ignores it)\n"
     "  -I DIR                 search DIR for #include files\n"
     "  -D NAME[=VALUE], -U NAME  define or undefine a macro, as oslc does\n"
     "  -Werror                warnings are errors, as with oslc -Werror\n"
@@ -162,7 +163,7 @@ namespace {
 /// the single-dash forms become the double-dash ones osl-run parses.
 std::string testshadeSpelling(std::string a) {
   static const char *const kLong[] = {
-      "param", "layer", "connect", "center", "debugnan", "scaleuv", "offsetuv", "iters", "entry", "reparam", "group",
+      "param", "layer", "connect", "center", "debugnan", "scaleuv", "offsetuv", "offsetst", "iters", "entry", "reparam", "group",
       "shader", "od", "vary_udxdy", "vary_vdxdy", "vary_pdxdy", "colorspace",
       "options", "debug", "res", "raytype", "raytype_opt", "groupoutputs",
       "batched", "groupname", "jbufferMB", "inbuffer", "userdata_isconnected", "expr"};
