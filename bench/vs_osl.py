@@ -208,7 +208,7 @@ def our_compile_ms(run):
             stages += 1
     if run.returncode != 0 or stages == 0:
         print("  note: osl-run --stats gave no compile time (exit %d): %s" % (
-            run.returncode, run.stderr.strip().splitlines()[-1:] or ""), flush=True)
+            run.returncode, (run.stderr.strip().splitlines() or [""])[-1]), flush=True)
         return float("nan")
     return total
 
@@ -299,6 +299,14 @@ def main():
                     # Again compiling every noise routine.
                     _, pa = tools.run(which, c, 16, 1, stats=True, prebuilt=False)
                     ours_all[c.name] = min(ours_all[c.name], our_compile_ms(pa))
+
+    # A shader whose every --stats run failed has no compile time (NaN,
+    # left out of the means and said so), not infinity.
+    for table in (ours_compile, ours_all):
+        for name, ms in table.items():
+            if not math.isfinite(ms):
+                table[name] = float("nan")
+                print("  note: no compile time for %s" % name, flush=True)
 
     points = a.res * a.res
     print("\n%-40s %9s %9s %7s   %9s %9s %9s %7s %7s %9s %7s" % (

@@ -41,6 +41,10 @@ struct CachedKernel;
 struct CompileOptions {
   /// Lanes per batch: 1, 4, 8 or 16; 0 picks the widest the host supports.
   int width = 0;
+  /// 1: the compiling thread generates all code; otherwise the library
+  /// functions still to compile are generated beside the kernel, one
+  /// thread per core (osl-run's -t).
+  int compileThreads = 0;
   std::vector<ParamOverride> params;
   /// Directories searched by #include (after the including file's own).
   std::vector<std::string> includePaths;

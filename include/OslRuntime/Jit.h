@@ -103,6 +103,17 @@ public:
   static llvm::Expected<std::string> emitAssembly(llvm::Module &module,
                                                   Stats *stats = nullptr);
 
+  /// Turns LLVM's machine scheduler off for the process (unless LLVM's
+  /// command line set it): it spreads a long block's live ranges (a noise
+  /// body is one block of ~700 vector instructions), and the register
+  /// allocator then spends most of codegen evicting and spilling; without
+  /// it Perlin noise's function compiles in 60% of the time with fewer
+  /// spills, and kernels shade as fast or faster (bench/RESULTS.md). A
+  /// process-wide LLVM option, so the tools call it at start, before any
+  /// thread compiles; a program embedding osl-mlir beside other LLVM users
+  /// chooses.
+  static void disableMachineScheduler();
+
   /// Widest batch the host runs in vector registers: 16 with AVX-512F, 8
   /// with AVX2, else 4.
   static int hostMaxWidth();

@@ -262,8 +262,10 @@ bool ShaderCompiler::generateCode() {
     else
       kernelError = llvm::toString(object.takeError());
   };
-  if (libraryJobs.empty()) {
+  if (libraryJobs.empty() || options.compileThreads == 1) {
     kernel();
+    for (LibraryJob &job : libraryJobs)
+      compileLibraryJob(job, keyOptions);
   } else {
     // The kernel first: it is usually the largest.
     codegenThreads().parallelFor(int(libraryJobs.size()) + 1, [&](int task) {

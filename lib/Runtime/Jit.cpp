@@ -31,24 +31,11 @@ namespace osl {
 
 namespace {
 
-/// LLVM's machine scheduler spreads a long block's live ranges (a noise
-/// body is one block of ~700 vector instructions), and the register
-/// allocator then spends most of codegen evicting and spilling: without
-/// it Perlin noise's function compiles in 60% of the time, with fewer
-/// spills, and kernels shade as fast or faster (bench/RESULTS.md). The
-/// option is process-wide; one set on LLVM's command line is kept.
-void disableMachineScheduler() {
-  llvm::cl::Option *option = llvm::cl::getRegisteredOptions().lookup("enable-misched");
-  if (option && option->getNumOccurrences() == 0)
-    option->addOccurrence(0, "enable-misched", "false");
-}
-
 void initializeNativeTargetOnce() {
   static std::once_flag once;
   std::call_once(once, [] {
     llvm::InitializeNativeTarget();
     llvm::InitializeNativeTargetAsmPrinter();
-    disableMachineScheduler();
   });
 }
 
@@ -369,3 +356,9 @@ std::string Jit::hostDescription() {
 }
 
 } // namespace osl
+
+void osl::Jit::disableMachineScheduler() {
+  llvm::cl::Option *option = llvm::cl::getRegisteredOptions().lookup("enable-misched");
+  if (option && option->getNumOccurrences() == 0)
+    option->addOccurrence(0, "enable-misched", "false");
+}

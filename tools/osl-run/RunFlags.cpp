@@ -326,6 +326,9 @@ bool ignored(FlagParser &) { return true; }
 bool threadsFlag(FlagParser &p) {
   if (!p.need(1) || !parseInt(p.next(), p.o.grid.threads) || p.o.grid.threads < 0)
     return p.fail("-t needs a thread count (0 = all cores)");
+  // -t 1 compiles on one thread too (as OSL does, which bench/vs_osl.py
+  // compares against).
+  p.o.compile.compileThreads = p.o.grid.threads;
   return true;
 }
 

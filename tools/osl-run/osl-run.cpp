@@ -5,6 +5,7 @@
 // outputs are written as images through OpenImageIO.
 //
 //===----------------------------------------------------------------------===//
+#include "OslRuntime/Jit.h"
 #include "Dependencies.h"
 #include "GroupAssembly.h"
 #include "GroupSummary.h"
@@ -388,6 +389,8 @@ void reportRun(const RunOptions &options, ShaderCompiler &compiler,
 }
 
 int main(int argc, char **argv) {
+  // Kernels compile faster without it (Jit.h).
+  osl::Jit::disableMachineScheduler();
   llvm::InitLLVM init(argc, argv);
   for (int signal : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT})
     std::signal(signal, dieOnSignal);
