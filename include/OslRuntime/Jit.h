@@ -50,10 +50,7 @@ public:
   /// level Aggressive) that resolves undefined symbols in the current
   /// process (libm, the runtime library if exported). When `stats` is set,
   /// each step adds its time there; it must outlive the Jit.
-  /// With `keepObject`, the object file codegen produces is kept (see
-  /// compiledObject), for the kernel cache.
-  static llvm::Expected<std::unique_ptr<Jit>> create(Stats *stats = nullptr,
-                                                     bool keepObject = false);
+  static llvm::Expected<std::unique_ptr<Jit>> create(Stats *stats = nullptr);
   ~Jit();
 
   /// The host TargetMachine of the thread that created this Jit, for
@@ -81,13 +78,9 @@ public:
   llvm::Error addModule(std::unique_ptr<llvm::Module> module,
                         std::unique_ptr<llvm::LLVMContext> context);
 
-  /// Hands over an object file compiled earlier (by a Jit created with
-  /// keepObject) for the same host; it is linked at the first lookup.
+  /// Hands over an object file compiled for the same host (generateObject,
+  /// compileObject, or the kernel cache); it is linked at the first lookup.
   llvm::Error addObject(std::unique_ptr<llvm::MemoryBuffer> object);
-
-  /// The object file of the last module compiled, if the Jit keeps objects
-  /// and a lookup has compiled one; empty otherwise.
-  llvm::StringRef compiledObject() const;
 
   /// Defines host functions or data by address, for runtime entry points
   /// that are not exported from the executable.
@@ -130,8 +123,6 @@ private:
   /// The creating thread's machine (owned by that thread).
   llvm::TargetMachine *tm = nullptr;
   std::unique_ptr<llvm::orc::LLJIT> lljit;
-  class ObjectKeeper;
-  std::unique_ptr<ObjectKeeper> keeper;
 };
 
 } // namespace osl

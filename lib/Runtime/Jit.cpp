@@ -4,7 +4,6 @@
 #include "MaskPhis.h"
 #include "OslRuntime/Stats.h"
 
-#include "llvm/ExecutionEngine/ObjectCache.h"
 #include "llvm/ExecutionEngine/Orc/CompileUtils.h"
 #include "llvm/ExecutionEngine/Orc/ExecutionUtils.h"
 #include "llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h"
@@ -123,40 +122,22 @@ llvm::Expected<llvm::TargetMachine &> threadTargetMachine() {
 /// compiles on the thread that looks a symbol up).
 class ThreadMachineCompiler : public llvm::orc::IRCompileLayer::IRCompiler {
 public:
-  ThreadMachineCompiler(llvm::TargetMachine &tm, llvm::ObjectCache *keeper)
-      : IRCompiler(llvm::orc::irManglingOptionsFromTargetOptions(tm.Options)),
-        keeper(keeper) {}
+  explicit ThreadMachineCompiler(llvm::TargetMachine &tm)
+      : IRCompiler(llvm::orc::irManglingOptionsFromTargetOptions(tm.Options)) {}
   llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>>
   operator()(llvm::Module &module) override {
     auto tm = threadTargetMachine();
     if (!tm)
       return tm.takeError();
-    return llvm::orc::SimpleCompiler(*tm, keeper)(module);
+    return llvm::orc::SimpleCompiler(*tm)(module);
   }
-
-private:
-  llvm::ObjectCache *keeper;
 };
 
 } // namespace
 
-/// Copies each object file codegen produces; never supplies one (a cached
-/// object is added with addObject, after the cache has checked it).
-class Jit::ObjectKeeper : public llvm::ObjectCache {
-public:
-  void notifyObjectCompiled(const llvm::Module *,
-                            llvm::MemoryBufferRef object) override {
-    last.assign(object.getBufferStart(), object.getBufferEnd());
-  }
-  std::unique_ptr<llvm::MemoryBuffer> getObject(const llvm::Module *) override {
-    return nullptr;
-  }
-  std::string last;
-};
-
 Jit::~Jit() = default;
 
-llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats, bool keepObject) {
+llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats) {
   ScopedTimer timer(stats, "jit setup");
   auto builder = hostBuilder();
   if (!builder)
@@ -173,16 +154,13 @@ llvm::Expected<std::unique_ptr<Jit>> Jit::create(Stats *stats, bool keepObject) 
 
   llvm::orc::LLJITBuilder lljitBuilder;
   lljitBuilder.setJITTargetMachineBuilder(std::move(*builder));
-  if (keepObject)
-    jit->keeper = std::make_unique<ObjectKeeper>();
-  ObjectKeeper *keeper = jit->keeper.get();
   lljitBuilder.setCompileFunctionCreator(
-      [keeper](llvm::orc::JITTargetMachineBuilder)
+      [](llvm::orc::JITTargetMachineBuilder)
           -> llvm::Expected<std::unique_ptr<llvm::orc::IRCompileLayer::IRCompiler>> {
         auto tm = threadTargetMachine();
         if (!tm)
           return tm.takeError();
-        return std::make_unique<ThreadMachineCompiler>(*tm, keeper);
+        return std::make_unique<ThreadMachineCompiler>(*tm);
       });
   auto lljit = lljitBuilder.create();
   if (!lljit)
@@ -282,10 +260,6 @@ llvm::Error Jit::addObject(std::unique_ptr<llvm::MemoryBuffer> object) {
   return lljit->addObjectFile(std::move(object));
 }
 
-llvm::StringRef Jit::compiledObject() const {
-  return keeper ? llvm::StringRef(keeper->last) : llvm::StringRef();
-}
-
 llvm::Error
 Jit::defineSymbols(llvm::ArrayRef<std::pair<llvm::StringRef, void *>> symbols) {
   llvm::orc::SymbolMap map;
@@ -355,10 +329,10 @@ std::string Jit::hostDescription() {
   return text;
 }
 
-} // namespace osl
-
-void osl::Jit::disableMachineScheduler() {
+void Jit::disableMachineScheduler() {
   llvm::cl::Option *option = llvm::cl::getRegisteredOptions().lookup("enable-misched");
   if (option && option->getNumOccurrences() == 0)
     option->addOccurrence(0, "enable-misched", "false");
 }
+
+} // namespace osl
