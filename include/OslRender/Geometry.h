@@ -31,15 +31,10 @@ struct RayBatch {
 
 /// intersect() of every ray of `rays` into `hits`, `width` rays at a time
 /// (1, 4, 8 or 16 SIMD lanes; the hits are the same at every width).
-void intersectBatch(const Scene &scene, const RayBatch &rays, int width,
-                    std::vector<Hit> &hits);
-
-/// A hit point's geometry as the shader sees it.
-struct SurfaceGeometry {
-  Vec3 p, n, dPdu, dPdv; // n: outward, unit
-  float u = 0, v = 0;
-};
-SurfaceGeometry surfaceAt(const Primitive &prim, Vec3 p);
+void intersectBatch(const Scene &scene, const RayBatch &rays, int width, std::vector<Hit> &hits);
+/// The same for rays which[0..n) of `rays`, into hits[0..n).
+void intersectBatch(const Scene &scene, const RayBatch &rays, const std::vector<int> &which,
+                    int width, std::vector<Hit> &hits);
 
 /// What surfacearea() answers (emitters divide their power by it), as
 /// testrender answers: a quad's area, a sphere's silhouette (pi r^2).

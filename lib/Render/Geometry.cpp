@@ -1,5 +1,6 @@
 //===- Geometry.cpp - Spheres and quads -----------------------------------===//
 #include "OslRender/Geometry.h"
+#include "OslRender/RenderMath.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,30 +12,6 @@ constexpr float kPi = 3.14159265358979f;
 
 } // namespace
 
-SurfaceGeometry surfaceAt(const Primitive &prim, Vec3 p) {
-  SurfaceGeometry g;
-  g.p = p;
-  if (prim.kind == Primitive::Sphere) {
-    Vec3 n = normalize(p - prim.center);
-    g.n = n;
-    float phi = std::atan2(n.z, n.x);
-    g.u = phi / (2 * kPi) + (phi < 0 ? 1 : 0);
-    g.v = std::acos(std::clamp(n.y, -1.0f, 1.0f)) / kPi;
-    float r = prim.radius;
-    g.dPdu = Vec3(-n.z, 0, n.x) * (2 * kPi * r);
-    g.dPdv = cross(g.dPdu, n);
-    g.dPdv = normalize(g.dPdv) * (kPi * r);
-  } else {
-    g.n = normalize(cross(prim.edgeX, prim.edgeY));
-    Vec3 h = p - prim.corner;
-    g.u = dot(h, prim.edgeX) / dot(prim.edgeX, prim.edgeX);
-    g.v = dot(h, prim.edgeY) / dot(prim.edgeY, prim.edgeY);
-    g.dPdu = prim.edgeX;
-    g.dPdv = prim.edgeY;
-  }
-  return g;
-}
-
 LightSample sampleLight(const Primitive &prim, Vec3 x, float rx, float ry) {
   LightSample s;
   if (prim.kind == Primitive::Sphere) {
@@ -44,9 +21,10 @@ LightSample sampleLight(const Primitive &prim, Vec3 x, float rx, float ry) {
       return s; // inside the light: not sampled
     float cosMax = std::sqrt(std::max(0.0f, 1 - r2 / d2));
     float cosT = 1 - rx * (1 - cosMax), sinT = std::sqrt(std::max(0.0f, 1 - cosT * cosT));
-    float phi = 2 * kPi * ry;
+    float sinPhi, cosPhi;
+    polySinCos(2 * kPi * ry, sinPhi, cosPhi);
     Frame f(toC / std::sqrt(d2));
-    s.dir = f.toWorld(Vec3(sinT * std::cos(phi), sinT * std::sin(phi), cosT));
+    s.dir = f.toWorld(Vec3(sinT * cosPhi, sinT * sinPhi, cosT));
     s.pdf = 1 / (2 * kPi * (1 - cosMax));
     return s;
   }

@@ -1,14 +1,15 @@
 //===- Integrator.cpp - Wavefront path tracing with batched shading -------===//
 #include "LaneKernels.h"
+#include "OslAbi/GlobalsLayout.h"
+#include "OslFrontend/Frontend.h"
 #include "OslRender/Bsdf.h"
 #include "OslRender/Geometry.h"
+#include "OslRender/RenderMath.h"
 #include "OslRender/Renderer.h"
 #include "OslRender/Sampler.h"
 #include "OslRuntime/Closure.h"
-#include "OslAbi/GlobalsLayout.h"
 #include "OslRuntime/Progress.h"
 #include "OslRuntime/ThreadPool.h"
-#include "OslFrontend/Frontend.h"
 
 #include "llvm/ADT/STLExtras.h"
 #include "llvm/Support/FileSystem.h"
@@ -31,12 +32,6 @@ constexpr int kWavePaths = 4096;
 constexpr int kTileSize = 8;
 constexpr int kRouletteBounce = 5;
 
-/// testrender's pixel filter: a uniform number warped to a tent on [-1, 1).
-float tent(float u) {
-  u *= 2;
-  return u < 1 ? std::sqrt(u) - 1 : 1 - std::sqrt(2 - u);
-}
-
 float powerHeuristic(float a, float b) {
   if (std::isinf(a))
     return 1;
@@ -46,9 +41,8 @@ float powerHeuristic(float a, float b) {
 
 struct Path {
   int pixel = 0;
-  Vec3 o, d, throughput{1, 1, 1}, radiance;
+  Vec3 throughput{1, 1, 1}, radiance;
   float bsdfPdf = kInf; // of the last bounce; infinite for the camera and specular lobes
-  int bounce = 0, self = -1;
   /// What raytype() answers for the points the ray reaches (kRayTypes bits).
   int32_t rayType = rayTypeBit("camera");
   bool alive = true;
@@ -56,35 +50,24 @@ struct Path {
   Sampler rng;
 };
 
-/// What one lane of a shading batch gets: the point's globals.
-struct ShadeRequest {
-  int path = 0;
-  Vec3 p, i, n, ng, dPdu, dPdv;
-  float u = 0, v = 0;
-  float area = 0; // the primitive's (surfacearea())
-  bool backfacing = false;
-  int32_t rayType = 0; // kRayTypes bits
-  Vec3 contrib; // light queries: what the light's emission is multiplied by
-};
-
-/// The globals of a hit: the normal faces the incoming ray (testrender).
-ShadeRequest hitRequest(const Primitive &prim, Vec3 o, Vec3 d, float t) {
-  SurfaceGeometry g = surfaceAt(prim, o + d * t);
-  ShadeRequest r;
-  r.p = g.p;
-  r.i = d;
-  r.n = r.ng = g.n;
-  r.dPdu = g.dPdu;
-  r.dPdv = g.dPdv;
-  r.area = surfaceArea(prim);
-  r.u = g.u;
-  r.v = g.v;
-  if (dot(d, g.n) > 0) {
-    r.n = r.ng = -g.n;
-    r.backfacing = true;
+/// Points to shade with one shader: where each is (its geometry computed
+/// in lanes), the path it belongs to, and for light queries what the
+/// light's emission is multiplied by.
+struct ShadeQueue {
+  HitPoints at;
+  std::vector<int> path;
+  std::vector<Vec3> contrib;
+  /// The ray type every point answers (-1: each its path's own).
+  int32_t rayType = -1;
+  /// Escaped rays: P and I are the direction, and there is no surface.
+  bool background = false;
+  void clear() {
+    at.clear();
+    path.clear();
+    contrib.clear();
   }
-  return r;
-}
+  size_t size() const { return path.size(); }
+};
 
 } // namespace
 
@@ -92,8 +75,9 @@ ShadeRequest hitRequest(const Primitive &prim, Vec3 o, Vec3 d, float t) {
 class PathWave {
 public:
   PathWave(const Renderer &r)
-      : r(r), scene(r.scene), width(r.laneWidth),
-        globals(size_t(kGlobalRows) * r.laneWidth), queues(scene.shaders.size()) {
+      : r(r), scene(r.scene), prims(r.scene), width(r.laneWidth),
+        globals(size_t(kGlobalRows) * r.laneWidth), queues(scene.shaders.size()),
+        lightQueries(scene.shaders.size()) {
     for (int l = 0; l < int(scene.prims.size()); ++l)
       if (scene.prims[l].isLight && scene.prims[l].shader >= 0)
         lights.push_back(l);
@@ -101,6 +85,18 @@ public:
     for (const Renderer::Kernel &k : r.kernels)
       rows = std::max(rows, k.outputRows);
     outputs.resize(size_t(rows) * width);
+    for (ShadeQueue &q : lightQueries)
+      q.rayType = rayTypeBit("shadow"); // lights are seen along shadow rays
+    misses.background = true;
+    const RenderOptions &opt = r.options;
+    const Camera &cam = scene.camera;
+    camera.eye = cam.eye;
+    camera.dir = normalize(cam.lookAt - cam.eye);
+    float k = std::tan(cam.fovDegrees * kPi / 360);
+    camera.right = normalize(cross(camera.dir, cam.up)) * (float(opt.xres) * k / float(opt.yres));
+    camera.up = normalize(cross(camera.right, camera.dir)) * k;
+    camera.xres = opt.xres;
+    camera.yres = opt.yres;
   }
 
   /// Traces samples [s0, s1) of every pixel in `pixels`, adding their
@@ -115,40 +111,49 @@ private:
   bool intersectPaths();
   void shadeMisses();
   void scatterAll(int bounce);
-  bool startScatter(const ShadeRequest &q);
-  void scatter(const ShadeRequest &q, int bounce, size_t first);
-  void sampleLights(const ShadeRequest &q, Vec3 wo, size_t draw);
+  bool startScatter(const ShadeQueue &q, size_t i);
+  void scatter(const ShadeQueue &q, size_t i, int bounce, size_t first);
+  void sampleLights(const ShadeQueue &q, size_t i, Vec3 wo, size_t draw);
   /// The lights a path at primitive `prim` samples (every light but itself).
   int lightsSampledFrom(int prim) const {
     return int(lights.size()) - int(llvm::is_contained(lights, prim));
   }
   void traceShadowRays();
   void accumulate(float *sum);
-  void shade(int shader, const std::vector<ShadeRequest> &requests,
-             const std::function<void(const ShadeRequest &, int32_t)> &use);
-  void setRow(int row, int lane, float v) { globals[size_t(row) * width + lane] = v; }
-  void setTriple(int row, int lane, Vec3 v) {
-    setRow(row, lane, v.x);
-    setRow(row + 1, lane, v.y);
-    setRow(row + 2, lane, v.z);
+  /// Shades `q`'s points with `shader`, `width` at a time, and calls
+  /// use(index in q, closure handle) for each.
+  template <typename Use> void shade(int shader, const ShadeQueue &q, Use use);
+  void copyRow(int row, const std::vector<float> &from, size_t start, int n) {
+    std::copy_n(from.begin() + start, n, globals.begin() + size_t(row) * width);
+  }
+  /// The shading normal and side a closure is interpreted with.
+  static ShadingPoint pointOf(const ShadeQueue &q, size_t i) {
+    return {-q.at.d(i), q.at.n(i), q.at.backfacing[i] != 0};
   }
 
   const Renderer &r;
   const Scene &scene;
+  PrimTable prims;
   int width;
+  CameraSetup camera;
   std::vector<float> globals, outputs;
   std::vector<Path> paths;
+  /// Each path's next ray (origin, direction, the primitive it leaves).
+  RayBatch pathRays;
   std::vector<ShadingResult> results;
-  std::vector<std::vector<ShadeRequest>> queues;
-  std::vector<std::vector<ShadeRequest>> lightQueries;
-  std::vector<ShadeRequest> misses;
+  std::vector<ShadeQueue> queues, lightQueries;
+  ShadeQueue misses;
   /// The lights next-event estimation samples, in the scene's order.
   std::vector<int> lights;
   /// Random points drawn a batch at a time (every path's numbers are its
   /// own, whatever the batch): a bounce's scattering paths with the first
   /// of their points, and the paths whose roulette draws.
   PointDraws draws;
-  std::vector<std::pair<const ShadeRequest *, size_t>> scattering;
+  struct Scattering {
+    const ShadeQueue *queue;
+    size_t index, firstDraw;
+  };
+  std::vector<Scattering> scattering;
   std::vector<std::pair<int, float>> roulette;
   /// Rays traced together, a batch of `width` lanes at a time: each live
   /// path's next ray, then the bounce's shadow rays.
@@ -159,40 +164,51 @@ private:
   /// light query gets if the ray reaches the light.
   struct ShadowRay {
     int path, light;
-    Vec3 origin, dir, contrib;
+    Vec3 contrib;
   };
   std::vector<ShadowRay> shadowRays;
   /// Rows of the globals the renderer sets.
-  const int rowP = findGlobal("P")->row, rowI = findGlobal("I")->row,
-            rowN = findGlobal("N")->row, rowNg = findGlobal("Ng")->row,
-            rowDPdu = findGlobal("dPdu")->row, rowDPdv = findGlobal("dPdv")->row,
-            rowU = findGlobal("u")->row, rowV = findGlobal("v")->row,
-            rowBackfacing = findGlobal("backfacing")->row,
+  const int rowP = findGlobal("P")->row, rowI = findGlobal("I")->row, rowN = findGlobal("N")->row,
+            rowNg = findGlobal("Ng")->row, rowDPdu = findGlobal("dPdu")->row,
+            rowDPdv = findGlobal("dPdv")->row, rowU = findGlobal("u")->row,
+            rowV = findGlobal("v")->row, rowBackfacing = findGlobal("backfacing")->row,
             rowRayType = findGlobal("raytype")->row,
             rowSurfaceArea = findGlobal("surfacearea")->row;
 };
 
-void PathWave::shade(int shader, const std::vector<ShadeRequest> &requests,
-                     const std::function<void(const ShadeRequest &, int32_t)> &use) {
+template <typename Use> void PathWave::shade(int shader, const ShadeQueue &q, Use use) {
   const Renderer::Kernel &k = r.kernels[shader];
   ClosureArena &arena = threadClosureArena();
-  for (size_t start = 0; start < requests.size(); start += width) {
-    int n = int(std::min<size_t>(width, requests.size() - start));
-    std::fill(globals.begin(), globals.end(), 0.0f);
-    for (int lane = 0; lane < n; ++lane) {
-      const ShadeRequest &q = requests[start + lane];
-      setTriple(rowP, lane, q.p);
-      setTriple(rowI, lane, q.i);
-      setTriple(rowN, lane, q.n);
-      setTriple(rowNg, lane, q.ng);
-      setTriple(rowDPdu, lane, q.dPdu);
-      setTriple(rowDPdv, lane, q.dPdv);
-      setRow(rowU, lane, q.u);
-      setRow(rowV, lane, q.v);
-      setRow(rowBackfacing, lane, q.backfacing ? 1.0f : 0.0f);
-      setRow(rowRayType, lane, float(q.rayType));
-      setRow(rowSurfaceArea, lane, q.area);
+  const HitPoints &h = q.at;
+  for (size_t start = 0; start < q.size(); start += width) {
+    int n = int(std::min<size_t>(width, q.size() - start));
+    // Lanes past n, and a background's surface rows, read zeros.
+    if (n < width || q.background)
+      std::fill(globals.begin(), globals.end(), 0.0f);
+    // The globals' rows are the queue's own columns.
+    if (q.background) {
+      copyRow(rowP, h.dx, start, n), copyRow(rowP + 1, h.dy, start, n);
+      copyRow(rowP + 2, h.dz, start, n);
+    } else {
+      copyRow(rowP, h.px, start, n), copyRow(rowP + 1, h.py, start, n);
+      copyRow(rowP + 2, h.pz, start, n);
+      for (int row : {rowN, rowNg}) {
+        copyRow(row, h.nx, start, n), copyRow(row + 1, h.ny, start, n);
+        copyRow(row + 2, h.nz, start, n);
+      }
+      copyRow(rowDPdu, h.dPdux, start, n), copyRow(rowDPdu + 1, h.dPduy, start, n);
+      copyRow(rowDPdu + 2, h.dPduz, start, n);
+      copyRow(rowDPdv, h.dPdvx, start, n), copyRow(rowDPdv + 1, h.dPdvy, start, n);
+      copyRow(rowDPdv + 2, h.dPdvz, start, n);
+      copyRow(rowU, h.u, start, n), copyRow(rowV, h.v, start, n);
+      copyRow(rowBackfacing, h.backfacing, start, n);
+      copyRow(rowSurfaceArea, h.area, start, n);
     }
+    copyRow(rowI, h.dx, start, n), copyRow(rowI + 1, h.dy, start, n);
+    copyRow(rowI + 2, h.dz, start, n);
+    float *types = &globals[size_t(rowRayType) * width];
+    for (int lane = 0; lane < n; ++lane)
+      types[lane] = float(q.rayType >= 0 ? q.rayType : paths[q.path[start + lane]].rayType);
     std::fill(outputs.begin(), outputs.end(), 0.0f);
     arena.reset();
     if (r.options.timeShading) {
@@ -206,10 +222,9 @@ void PathWave::shade(int shader, const std::vector<ShadeRequest> &requests,
     ++batches;
     shaded += n;
     for (int lane = 0; lane < n; ++lane) {
-      int32_t handle = k.ciRow < 0 ? 0
-                                   : closureHandleFromOutput(
-                                         outputs[size_t(k.ciRow) * width + lane]);
-      use(requests[start + lane], handle);
+      int32_t handle =
+          k.ciRow < 0 ? 0 : closureHandleFromOutput(outputs[size_t(k.ciRow) * width + lane]);
+      use(start + lane, handle);
     }
   }
 }
@@ -217,39 +232,37 @@ void PathWave::shade(int shader, const std::vector<ShadeRequest> &requests,
 void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
   startPaths(pixels, s0, s1);
   results.resize(paths.size());
-  lightQueries.resize(scene.shaders.size());
   for (int bounce = 0; intersectPaths(); ++bounce) {
     shadeMisses();
-    for (size_t s = 0; s < queues.size(); ++s)
-      shade(int(s), queues[s], [&](const ShadeRequest &q, int32_t handle) {
-        ShadingResult &res = results[q.path];
+    for (size_t s = 0; s < queues.size(); ++s) {
+      const ShadeQueue &q = queues[s];
+      shade(int(s), q, [&](size_t i, int32_t handle) {
+        ShadingResult &res = results[q.path[i]];
         res.clear();
-        addClosure(threadClosureArena(), handle, {-q.i, q.n, q.backfacing}, res);
+        addClosure(threadClosureArena(), handle, pointOf(q, i), res);
       });
+    }
     scatterAll(bounce);
     traceShadowRays();
-    for (size_t s = 0; s < lightQueries.size(); ++s)
-      shade(int(s), lightQueries[s], [&](const ShadeRequest &q, int32_t handle) {
+    for (size_t s = 0; s < lightQueries.size(); ++s) {
+      const ShadeQueue &q = lightQueries[s];
+      shade(int(s), q, [&](size_t i, int32_t handle) {
         ShadingResult light;
-        addClosure(threadClosureArena(), handle, {-q.i, q.n, q.backfacing}, light);
-        paths[q.path].radiance += q.contrib * light.emission;
+        addClosure(threadClosureArena(), handle, pointOf(q, i), light);
+        paths[q.path[i]].radiance += q.contrib[i] * light.emission;
       });
+    }
   }
   accumulate(sum);
 }
 
-/// One path per pixel and sample, from testrender's camera: the image
-/// plane at distance 1 spans tan(fov/2) vertically (and by the aspect ratio
-/// horizontally).
+/// One path per pixel and sample, from testrender's camera, its first ray
+/// computed in lanes.
 void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   const RenderOptions &opt = r.options;
-  const Camera &cam = scene.camera;
-  Vec3 dir = normalize(cam.lookAt - cam.eye);
-  float k = std::tan(cam.fovDegrees * kPi / 360);
-  Vec3 cx = normalize(cross(dir, cam.up)) * (float(opt.xres) * k / float(opt.yres));
-  Vec3 cy = normalize(cross(cx, dir)) * k;
   paths.clear();
   draws.clear();
+  rayPaths.clear(); // each path's pixel, for the camera's lanes
   for (int pixel : pixels)
     for (int s = s0; s < s1; ++s) {
       Path p;
@@ -257,32 +270,29 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
       p.rng = Sampler(uint32_t(pixel), uint32_t(s), opt.seed);
       draws.push(p.rng.pathKey(), p.rng.sampleIndex(), p.rng.reserve(1));
       paths.push_back(p);
+      rayPaths.push_back(pixel);
     }
   laneKernels().drawPoints(draws, width);
-  for (size_t i = 0; i < paths.size(); ++i) {
-    Path &p = paths[i];
-    float jx = tent(draws.x[i]), jy = tent(draws.y[i]);
-    float px = (float(p.pixel % opt.xres) + 0.5f + jx) / float(opt.xres);
-    float py = (float(p.pixel / opt.xres) + 0.5f + jy) / float(opt.yres);
-    p.o = cam.eye;
-    p.d = normalize(cx * (px - 0.5f) + cy * (0.5f - py) + dir);
-  }
+  size_t n = paths.size();
+  RayBatch &pr = pathRays;
+  pr.ox.assign(n, camera.eye.x), pr.oy.assign(n, camera.eye.y), pr.oz.assign(n, camera.eye.z);
+  pr.dx.resize(n), pr.dy.resize(n), pr.dz.resize(n);
+  pr.self.assign(n, -1);
+  laneKernels().cameraRays(camera, rayPaths.data(), draws.x.data(), draws.y.data(), n, pr.dx.data(),
+                           pr.dy.data(), pr.dz.data(), width);
 }
 
 /// Intersects every live path: hits queue on their shader, escaped paths
 /// on the background. False when no path is alive.
 bool PathWave::intersectPaths() {
-  for (auto &q : queues)
+  for (ShadeQueue &q : queues)
     q.clear();
   misses.clear();
-  rays.clear();
   rayPaths.clear();
   for (int i = 0; i < int(paths.size()); ++i)
-    if (paths[i].alive) {
-      rays.push(paths[i].o, paths[i].d, paths[i].self);
+    if (paths[i].alive)
       rayPaths.push_back(i);
-    }
-  intersectBatch(scene, rays, width, hits);
+  intersectBatch(scene, pathRays, rayPaths, width, hits);
   for (size_t k = 0; k < rayPaths.size(); ++k) {
     int i = rayPaths[k];
     Path &p = paths[i];
@@ -290,12 +300,8 @@ bool PathWave::intersectPaths() {
     if (p.hit.prim < 0) {
       p.alive = false;
       if (scene.background >= 0) {
-        ShadeRequest q;
-        q.path = i;
-        q.i = p.d;
-        q.p = p.d;
-        q.rayType = p.rayType;
-        misses.push_back(q);
+        misses.at.push(-1, i, 0);
+        misses.path.push_back(i);
       }
       continue;
     }
@@ -304,23 +310,31 @@ bool PathWave::intersectPaths() {
       p.alive = false;
       continue;
     }
-    ShadeRequest q = hitRequest(scene.prims[p.hit.prim], p.o, p.d, p.hit.t);
-    q.path = i;
-    q.rayType = p.rayType;
-    queues[shader].push_back(q);
+    queues[shader].at.push(p.hit.prim, i, p.hit.t);
+    queues[shader].path.push_back(i);
   }
+  for (ShadeQueue &q : queues)
+    laneKernels().hitGeometry(prims, pathRays, q.at, width);
   return !rayPaths.empty();
 }
 
 /// Escaped paths see the background (not importance sampled, so the
-/// BSDF's sample takes it whole).
+/// BSDF's sample takes it whole): its P and I are the ray's direction.
 void PathWave::shadeMisses() {
   if (scene.background < 0)
     return;
-  shade(scene.background, misses, [&](const ShadeRequest &q, int32_t handle) {
+  HitPoints &h = misses.at;
+  for (std::vector<float> *v : {&h.dx, &h.dy, &h.dz})
+    v->resize(h.size());
+  for (size_t i = 0; i < h.size(); ++i) {
+    int ray = h.ray[i];
+    h.dx[i] = pathRays.dx[ray], h.dy[i] = pathRays.dy[ray], h.dz[i] = pathRays.dz[ray];
+  }
+  shade(scene.background, misses, [&](size_t i, int32_t handle) {
     ShadingResult bg;
-    addClosure(threadClosureArena(), handle, {-q.i, Vec3(), false}, bg);
-    paths[q.path].radiance += paths[q.path].throughput * bg.background;
+    addClosure(threadClosureArena(), handle, {-h.d(i), Vec3(), false}, bg);
+    Path &p = paths[misses.path[i]];
+    p.radiance += p.throughput * bg.background;
   });
 }
 
@@ -329,25 +343,26 @@ void PathWave::shadeMisses() {
 /// path. Each path draws its random numbers in this order, a batch of
 /// paths at a time.
 void PathWave::scatterAll(int bounce) {
-  for (auto &q : lightQueries)
+  for (ShadeQueue &q : lightQueries)
     q.clear();
   shadowRays.clear();
+  rays.clear();
   scattering.clear();
   draws.clear();
-  for (const std::vector<ShadeRequest> &queue : queues)
-    for (const ShadeRequest &q : queue)
-      if (startScatter(q)) {
+  for (const ShadeQueue &q : queues)
+    for (size_t i = 0; i < q.size(); ++i)
+      if (startScatter(q, i)) {
         // The BSDF's point, then one per light.
-        Path &p = paths[q.path];
+        Path &p = paths[q.path[i]];
         uint32_t n = 1 + lightsSampledFrom(p.hit.prim);
-        scattering.push_back({&q, draws.size()});
+        scattering.push_back({&q, i, draws.size()});
         for (uint32_t call = p.rng.reserve(n), k = 0; k < n; ++k)
           draws.push(p.rng.pathKey(), p.rng.sampleIndex(), call + k);
       }
   laneKernels().drawPoints(draws, width);
   roulette.clear();
-  for (auto [q, first] : scattering)
-    scatter(*q, bounce, first);
+  for (const Scattering &s : scattering)
+    scatter(*s.queue, s.index, bounce, s.firstDraw);
   // Russian roulette, past kRouletteBounce: the survivors are scaled up.
   PointDraws &survival = draws;
   survival.clear();
@@ -369,15 +384,17 @@ void PathWave::scatterAll(int bounce) {
 /// A hit's emission (weighted against the light sampling that could have
 /// found it) and its lobes' pick probabilities: false when nothing
 /// scatters, and the path ends.
-bool PathWave::startScatter(const ShadeRequest &q) {
-  Path &p = paths[q.path];
-  ShadingResult &res = results[q.path];
+bool PathWave::startScatter(const ShadeQueue &q, size_t i) {
+  int pathIndex = q.path[i];
+  Path &p = paths[pathIndex];
+  ShadingResult &res = results[pathIndex];
   const Primitive &prim = scene.prims[p.hit.prim];
   float k = 1;
-  if (prim.isLight && !std::isinf(p.bsdfPdf))
-    k = powerHeuristic(p.bsdfPdf, lightPdf(prim, p.o, q.p));
+  if (prim.isLight && !std::isinf(p.bsdfPdf)) {
+    k = powerHeuristic(p.bsdfPdf, lightPdf(prim, q.at.o(i), q.at.p(i)));
+  }
   p.radiance += p.throughput * res.emission * k;
-  if (!res.prepare(-q.i)) {
+  if (!res.prepare(-q.at.d(i))) {
     p.alive = false;
     return false;
   }
@@ -386,12 +403,13 @@ bool PathWave::startScatter(const ShadeRequest &q) {
 
 /// The lights' samples and the BSDF's, with the path's points from draw
 /// `first` on: the BSDF's, then one per light.
-void PathWave::scatter(const ShadeRequest &q, int bounce, size_t first) {
-  Path &p = paths[q.path];
-  ShadingResult &res = results[q.path];
-  Vec3 wo = -q.i;
+void PathWave::scatter(const ShadeQueue &q, size_t i, int bounce, size_t first) {
+  int pathIndex = q.path[i];
+  Path &p = paths[pathIndex];
+  ShadingResult &res = results[pathIndex];
+  Vec3 wo = -q.at.d(i), at = q.at.p(i), ng = q.at.n(i);
   Vec3 bsdfRandom(draws.x[first], draws.y[first], draws.z[first]);
-  sampleLights(q, wo, first + 1);
+  sampleLights(q, i, wo, first + 1);
   // The last bounce still samples the lights (as testrender's max_bounces
   // does) but traces no further.
   if (bounce >= r.options.maxBounces) {
@@ -401,12 +419,13 @@ void PathWave::scatter(const ShadeRequest &q, int bounce, size_t first) {
   BsdfSample smp = res.sample(wo, bsdfRandom.x, bsdfRandom.y, bsdfRandom.z);
   p.throughput *= smp.weight;
   p.bsdfPdf = smp.pdf;
-  p.o = q.p;
-  p.d = smp.wi;
-  p.self = p.hit.prim;
+  pathRays.ox[pathIndex] = at.x, pathRays.oy[pathIndex] = at.y, pathRays.oz[pathIndex] = at.z;
+  pathRays.dx[pathIndex] = smp.wi.x, pathRays.dy[pathIndex] = smp.wi.y;
+  pathRays.dz[pathIndex] = smp.wi.z;
+  pathRays.self[pathIndex] = p.hit.prim;
   // The next ray: diffuse or glossy (sharp lobes are glossy), reflected to
   // the side the light left by or refracted through.
-  bool reflected = dot(smp.wi, q.ng) * dot(wo, q.ng) > 0;
+  bool reflected = dot(smp.wi, ng) * dot(wo, ng) > 0;
   p.rayType = rayTypeBit(smp.diffuse ? "diffuse" : "glossy") |
               rayTypeBit(reflected ? "reflection" : "refraction");
   if (!(p.throughput.x > 0) && !(p.throughput.y > 0) && !(p.throughput.z > 0)) {
@@ -414,19 +433,22 @@ void PathWave::scatter(const ShadeRequest &q, int bounce, size_t first) {
     return;
   }
   if (bounce + 1 >= kRouletteBounce)
-    roulette.push_back({q.path, std::min(1.0f, p.throughput.max())});
+    roulette.push_back({pathIndex, std::min(1.0f, p.throughput.max())});
 }
 
 /// Next-event estimation: one sample of each light the hit point sees,
-/// weighted against the BSDF's pdf, queued for the light's shader.
-void PathWave::sampleLights(const ShadeRequest &q, Vec3 wo, size_t draw) {
-  Path &p = paths[q.path];
-  ShadingResult &res = results[q.path];
+/// weighted against the BSDF's pdf; its shadow ray is traced with the
+/// bounce's others.
+void PathWave::sampleLights(const ShadeQueue &q, size_t i, Vec3 wo, size_t draw) {
+  int pathIndex = q.path[i];
+  Path &p = paths[pathIndex];
+  ShadingResult &res = results[pathIndex];
+  Vec3 at = q.at.p(i);
   for (int l : lights) {
     if (l == p.hit.prim)
       continue;
     const Primitive &light = scene.prims[l];
-    LightSample ls = sampleLight(light, q.p, draws.x[draw], draws.y[draw]);
+    LightSample ls = sampleLight(light, at, draws.x[draw], draws.y[draw]);
     ++draw;
     if (!(ls.pdf > 0))
       continue;
@@ -434,7 +456,8 @@ void PathWave::sampleLights(const ShadeRequest &q, Vec3 wo, size_t draw) {
     Vec3 contrib = p.throughput * e.value * (powerHeuristic(ls.pdf, e.pdf) / ls.pdf);
     if (!(contrib.sum() > 0))
       continue;
-    shadowRays.push_back({q.path, l, q.p, ls.dir, contrib});
+    shadowRays.push_back({pathIndex, l, contrib});
+    rays.push(at, ls.dir, p.hit.prim);
   }
 }
 
@@ -442,21 +465,18 @@ void PathWave::sampleLights(const ShadeRequest &q, Vec3 wo, size_t draw) {
 /// queues a query for the light's shader, in the order they were sampled
 /// (a path adds its lights' radiance in that order).
 void PathWave::traceShadowRays() {
-  rays.clear();
-  for (const ShadowRay &s : shadowRays)
-    rays.push(s.origin, s.dir, paths[s.path].hit.prim);
   intersectBatch(scene, rays, width, hits);
   for (size_t k = 0; k < shadowRays.size(); ++k) {
     const ShadowRay &s = shadowRays[k];
     if (hits[k].prim != s.light)
       continue;
-    const Primitive &light = scene.prims[s.light];
-    ShadeRequest lq = hitRequest(light, s.origin, s.dir, hits[k].t);
-    lq.path = s.path;
-    lq.contrib = s.contrib;
-    lq.rayType = rayTypeBit("shadow"); // lights are seen along shadow rays
-    lightQueries[light.shader].push_back(lq);
+    ShadeQueue &q = lightQueries[scene.prims[s.light].shader];
+    q.at.push(s.light, int(k), hits[k].t);
+    q.path.push_back(s.path);
+    q.contrib.push_back(s.contrib);
   }
+  for (ShadeQueue &q : lightQueries)
+    laneKernels().hitGeometry(prims, rays, q.at, width);
 }
 
 /// Adds each path's radiance to its pixel.
@@ -491,8 +511,8 @@ bool Renderer::compileShaders(const std::vector<std::string> &searchPaths,
     for (const ShaderInstance &inst : group.layers) {
       std::string path = findShaderSource(inst.shader, searchPaths);
       if (path.empty()) {
-        errs << "error: shader '" << inst.shader << "' (scene line " << group.line
-             << "): no " << inst.shader << ".osl, nor a source declaring it, in";
+        errs << "error: shader '" << inst.shader << "' (scene line " << group.line << "): no "
+             << inst.shader << ".osl, nor a source declaring it, in";
         for (const std::string &dir : searchPaths)
           errs << " " << dir;
         errs << " (use --path DIR)\n";

@@ -17,6 +17,30 @@ void PointDraws::push(uint32_t k, uint32_t i, uint32_t c) {
   key.push_back(k), index.push_back(i), call.push_back(c);
 }
 
+PrimTable::PrimTable(const Scene &scene) {
+  for (const Primitive &p : scene.prims) {
+    kind.push_back(p.kind);
+    cx.push_back(p.center.x), cy.push_back(p.center.y), cz.push_back(p.center.z);
+    radius.push_back(p.radius);
+    qx.push_back(p.corner.x), qy.push_back(p.corner.y), qz.push_back(p.corner.z);
+    ex.push_back(p.edgeX.x), ey.push_back(p.edgeX.y), ez.push_back(p.edgeX.z);
+    fx.push_back(p.edgeY.x), fy.push_back(p.edgeY.y), fz.push_back(p.edgeY.z);
+    Vec3 n = p.kind == Primitive::Quad ? normalize(cross(p.edgeX, p.edgeY)) : Vec3();
+    nx.push_back(n.x), ny.push_back(n.y), nz.push_back(n.z);
+    // A sphere's never divide: 1 keeps its lanes' unused quad math finite.
+    ex2.push_back(p.kind == Primitive::Quad ? dot(p.edgeX, p.edgeX) : 1.0f);
+    fy2.push_back(p.kind == Primitive::Quad ? dot(p.edgeY, p.edgeY) : 1.0f);
+    area.push_back(surfaceArea(p));
+  }
+}
+
+void HitPoints::sizeOutputs() {
+  for (std::vector<float> *v :
+       {&ox, &oy,    &oz,    &dx,    &dy,    &dz,    &px,    &py, &pz, &nx,         &ny,
+        &nz, &dPdux, &dPduy, &dPduz, &dPdvx, &dPdvy, &dPdvz, &u,  &v,  &backfacing, &area})
+    v->resize(size());
+}
+
 namespace {
 
 bool runsAvx512() {

@@ -29,13 +29,62 @@ struct PointDraws {
   size_t size() const { return call.size(); }
 };
 
+/// The scene's primitives as structure of arrays, for lanes that each hit
+/// another primitive.
+struct PrimTable {
+  std::vector<int> kind;                     // Primitive::Kind
+  std::vector<float> cx, cy, cz, radius;     // spheres
+  std::vector<float> qx, qy, qz;             // quads: corner,
+  std::vector<float> ex, ey, ez, fx, fy, fz; // edges (x and y),
+  std::vector<float> nx, ny, nz, ex2, fy2;   // unit normal, edges' squared lengths
+  std::vector<float> area;                   // what surfacearea() answers
+  explicit PrimTable(const Scene &scene);
+};
+
+/// Where rays hit, as structure of arrays: each lane's primitive, ray (an
+/// index into a RayBatch) and distance in; the ray's origin and direction,
+/// and the globals a shader sees there, out. The normal faces the ray, as
+/// testrender's does, and backfacing says it was turned.
+struct HitPoints {
+  std::vector<int> prim, ray;
+  std::vector<float> t;
+  std::vector<float> ox, oy, oz, dx, dy, dz;
+  std::vector<float> px, py, pz, nx, ny, nz, dPdux, dPduy, dPduz, dPdvx, dPdvy, dPdvz;
+  std::vector<float> u, v, backfacing, area;
+  void clear() { prim.clear(), ray.clear(), t.clear(); }
+  void push(int k, int r, float distance) {
+    prim.push_back(k), ray.push_back(r), t.push_back(distance);
+  }
+  size_t size() const { return prim.size(); }
+  /// Sizes the outputs for every pushed lane.
+  void sizeOutputs();
+  Vec3 o(size_t i) const { return {ox[i], oy[i], oz[i]}; }
+  Vec3 d(size_t i) const { return {dx[i], dy[i], dz[i]}; }
+  Vec3 p(size_t i) const { return {px[i], py[i], pz[i]}; }
+  Vec3 n(size_t i) const { return {nx[i], ny[i], nz[i]}; }
+};
+
+/// testrender's camera, set up once: rays leave `eye` through the image
+/// plane at distance 1 along `dir`, spanned by `right` and `up`.
+struct CameraSetup {
+  Vec3 eye, dir, right, up;
+  int xres = 1, yres = 1;
+};
+
 struct LaneKernels {
   const char *isa;
-  /// intersect() of each ray of `rays` into `hits`, `width` at a time.
-  void (*intersect)(const Scene &scene, const RayBatch &rays, int width,
+  /// intersect() of rays `which[0..n)` of `rays` into hits[0..n), `width` at
+  /// a time (`which` null: every ray, in order).
+  void (*intersect)(const Scene &scene, const RayBatch &rays, const int *which, size_t n, int width,
                     std::vector<Hit> &hits);
   /// Fills x, y, z of every draw, `width` at a time.
   void (*drawPoints)(PointDraws &draws, int width);
+  /// First rays: lane i's pixel and two uniform numbers (a tent-filtered
+  /// offset in the pixel) in, its unit direction out.
+  void (*cameraRays)(const CameraSetup &camera, const int *pixel, const float *jx, const float *jy,
+                     size_t n, float *dx, float *dy, float *dz, int width);
+  /// The outputs of every lane of `hits` (sized by it), its rays in `rays`.
+  void (*hitGeometry)(const PrimTable &prims, const RayBatch &rays, HitPoints &hits, int width);
 };
 
 /// The kernels of the widest instruction set this CPU runs, or those the

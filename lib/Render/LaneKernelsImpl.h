@@ -12,6 +12,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "LaneKernels.h"
+#include "OslRender/RenderMath.h"
 #include "OslRender/Sampler.h"
 
 #include <algorithm>
@@ -26,10 +27,14 @@ namespace {
 /// or 16): each loop is instantiated once per width.
 template <typename Fn> void atWidth(int width, Fn fn) {
   switch (width) {
-  case 16: return fn(std::integral_constant<int, 16>());
-  case 8: return fn(std::integral_constant<int, 8>());
-  case 4: return fn(std::integral_constant<int, 4>());
-  default: return fn(std::integral_constant<int, 1>());
+  case 16:
+    return fn(std::integral_constant<int, 16>());
+  case 8:
+    return fn(std::integral_constant<int, 8>());
+  case 4:
+    return fn(std::integral_constant<int, 4>());
+  default:
+    return fn(std::integral_constant<int, 1>());
   }
 }
 
@@ -104,15 +109,16 @@ OSL_LANE_TARGET void intersectLanes(const Scene &scene, const RayLanes<W> &r,
 }
 
 template <int W>
-OSL_LANE_TARGET void intersectAt(const Scene &scene, const RayBatch &rays,
-                                 std::vector<Hit> &hits) {
+OSL_LANE_TARGET void intersectAt(const Scene &scene, const RayBatch &rays, const int *which,
+                                 size_t n, std::vector<Hit> &hits) {
   RayLanes<W> r;
   float t[W];
   int prim[W];
-  for (size_t start = 0; start < rays.size(); start += W) {
-    int count = int(std::min<size_t>(W, rays.size() - start));
+  for (size_t start = 0; start < n; start += W) {
+    int count = int(std::min<size_t>(W, n - start));
     for (int l = 0; l < W; ++l) {
-      size_t k = start + size_t(std::min(l, count - 1));
+      size_t at = start + size_t(std::min(l, count - 1));
+      size_t k = which ? size_t(which[at]) : at;
       r.ox[l] = rays.ox[k], r.oy[l] = rays.oy[k], r.oz[l] = rays.oz[k];
       r.dx[l] = rays.dx[k], r.dy[l] = rays.dy[k], r.dz[l] = rays.dz[k];
       r.self[l] = rays.self[k];
@@ -123,9 +129,118 @@ OSL_LANE_TARGET void intersectAt(const Scene &scene, const RayBatch &rays,
   }
 }
 
-void intersect(const Scene &scene, const RayBatch &rays, int width, std::vector<Hit> &hits) {
-  hits.resize(rays.size());
-  atWidth(width, [&](auto w) { intersectAt<decltype(w)::value>(scene, rays, hits); });
+void intersect(const Scene &scene, const RayBatch &rays, const int *which, size_t n, int width,
+               std::vector<Hit> &hits) {
+  hits.resize(n);
+  atWidth(width, [&](auto w) { intersectAt<decltype(w)::value>(scene, rays, which, n, hits); });
+}
+
+/// Runs body(i) for i in [0, n), W at a time: the full batches as W-lane
+/// loops the compiler vectorizes, the rest one by one (each lane's result
+/// is the same either way). Lanes touch only element i of each array, so
+/// the loop is declared free of dependences between them (the arrays are
+/// too many for the vectorizer's run-time overlap checks).
+template <int W, typename Body> OSL_LANE_TARGET void forLanes(size_t n, Body body) {
+  size_t full = W > 1 ? n / W * W : 0;
+  if constexpr (W > 1) {
+    for (size_t start = 0; start < full; start += W)
+#pragma clang loop vectorize(assume_safety) interleave(disable)
+      for (int l = 0; l < W; ++l)
+        body(start + size_t(l));
+  }
+  for (size_t i = full; i < n; ++i)
+    body(i);
+}
+
+/// testrender's pixel filter: a uniform number warped to a tent on [-1, 1).
+[[gnu::always_inline]] inline float tent(float u) {
+  u *= 2;
+  float below = std::sqrt(u) - 1, above = 1 - std::sqrt(std::fmax(0.0f, 2 - u));
+  return u < 1 ? below : above;
+}
+
+template <int W>
+OSL_LANE_TARGET void cameraRaysAt(const CameraSetup &c, const int *__restrict pixel,
+                                  const float *__restrict jx, const float *__restrict jy, size_t n,
+                                  float *__restrict dx, float *__restrict dy,
+                                  float *__restrict dz) {
+  const float xres = float(c.xres), yres = float(c.yres);
+  forLanes<W>(
+      n, [&](size_t i) __attribute__((always_inline)) {
+        // The pixel's row and column, exactly, in float (images are far below 2^24).
+        float p = float(pixel[i]);
+        float row = float(int(p / xres));
+        row = row * xres > p ? row - 1 : row;
+        float col = p - row * xres;
+        float sx = (col + 0.5f + tent(jx[i])) / xres - 0.5f;
+        float sy = 0.5f - (row + 0.5f + tent(jy[i])) / yres;
+        float x = c.right.x * sx + c.up.x * sy + c.dir.x;
+        float y = c.right.y * sx + c.up.y * sy + c.dir.y;
+        float z = c.right.z * sx + c.up.z * sy + c.dir.z;
+        float len = std::sqrt(x * x + y * y + z * z);
+        dx[i] = x / len, dy[i] = y / len, dz[i] = z / len;
+      });
+}
+
+void cameraRays(const CameraSetup &camera, const int *pixel, const float *jx, const float *jy,
+                size_t n, float *dx, float *dy, float *dz, int width) {
+  atWidth(width,
+          [&](auto w) { cameraRaysAt<decltype(w)::value>(camera, pixel, jx, jy, n, dx, dy, dz); });
+}
+
+/// Each lane's point, normal and parametric frame on its primitive: a
+/// sphere's and a quad's both computed, the lane's kind selected.
+template <int W>
+OSL_LANE_TARGET void hitGeometryAt(const PrimTable &T, const RayBatch &rays, HitPoints &h) {
+  constexpr float twoPi = 2 * kRenderPi;
+  forLanes<W>(
+      h.size(), [&](size_t i) __attribute__((always_inline)) {
+        int k = h.prim[i], ray = h.ray[i];
+        float ox = rays.ox[ray], oy = rays.oy[ray], oz = rays.oz[ray];
+        float dx = rays.dx[ray], dy = rays.dy[ray], dz = rays.dz[ray];
+        h.ox[i] = ox, h.oy[i] = oy, h.oz[i] = oz, h.dx[i] = dx, h.dy[i] = dy, h.dz[i] = dz;
+        float px = ox + dx * h.t[i];
+        float py = oy + dy * h.t[i];
+        float pz = oz + dz * h.t[i];
+        // Sphere: the outward normal; u around y from +x, v from +y down.
+        float r = T.radius[k];
+        float sx = px - T.cx[k], sy = py - T.cy[k], sz = pz - T.cz[k];
+        float sl = std::sqrt(sx * sx + sy * sy + sz * sz);
+        float inv = sl > 0 ? 1 / sl : 1.0f;
+        sx *= inv, sy *= inv, sz *= inv;
+        float phi = polyAtan2(sz, sx);
+        float su = phi / twoPi + (phi < 0 ? 1.0f : 0.0f);
+        float sv = polyAcos(sy) / kRenderPi;
+        float sux = -sz * (twoPi * r), suz = sx * (twoPi * r);
+        // dPdv: cross(dPdu, n) scaled to length pi r.
+        float vx = -suz * sy, vy = suz * sx - sux * sz, vz = sux * sy;
+        float vl = std::sqrt(vx * vx + vy * vy + vz * vz);
+        float vs = vl > 0 ? kRenderPi * r / vl : 0.0f;
+        // Quad: its plane's normal; u and v along its edges.
+        float hx = px - T.qx[k], hy = py - T.qy[k], hz = pz - T.qz[k];
+        float qu = (hx * T.ex[k] + hy * T.ey[k] + hz * T.ez[k]) / T.ex2[k];
+        float qv = (hx * T.fx[k] + hy * T.fy[k] + hz * T.fz[k]) / T.fy2[k];
+        bool sphere = T.kind[k] == Primitive::Sphere;
+        float nx = sphere ? sx : T.nx[k], ny = sphere ? sy : T.ny[k], nz = sphere ? sz : T.nz[k];
+        bool back = dx * nx + dy * ny + dz * nz > 0;
+        h.px[i] = px, h.py[i] = py, h.pz[i] = pz;
+        h.nx[i] = back ? -nx : nx, h.ny[i] = back ? -ny : ny, h.nz[i] = back ? -nz : nz;
+        h.dPdux[i] = sphere ? sux : T.ex[k];
+        h.dPduy[i] = sphere ? 0.0f : T.ey[k];
+        h.dPduz[i] = sphere ? suz : T.ez[k];
+        h.dPdvx[i] = sphere ? vx * vs : T.fx[k];
+        h.dPdvy[i] = sphere ? vy * vs : T.fy[k];
+        h.dPdvz[i] = sphere ? vz * vs : T.fz[k];
+        h.u[i] = sphere ? su : qu;
+        h.v[i] = sphere ? sv : qv;
+        h.backfacing[i] = back ? 1.0f : 0.0f;
+        h.area[i] = T.area[k];
+      });
+}
+
+void hitGeometry(const PrimTable &prims, const RayBatch &rays, HitPoints &hits, int width) {
+  hits.sizeOutputs();
+  atWidth(width, [&](auto w) { hitGeometryAt<decltype(w)::value>(prims, rays, hits); });
 }
 
 /// W sampler points, one per lane.
@@ -168,7 +283,8 @@ void drawPoints(PointDraws &draws, int width) {
 } // namespace
 
 const LaneKernels &OSL_LANE_KERNELS() {
-  static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect, drawPoints};
+  static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect, drawPoints, cameraRays,
+                                   hitGeometry};
   return kernels;
 }
 

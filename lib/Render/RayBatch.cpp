@@ -20,9 +20,13 @@ void RayBatch::clear() {
   self.clear();
 }
 
-void intersectBatch(const Scene &scene, const RayBatch &rays, int width,
-                    std::vector<Hit> &hits) {
-  laneKernels().intersect(scene, rays, width, hits);
+void intersectBatch(const Scene &scene, const RayBatch &rays, int width, std::vector<Hit> &hits) {
+  laneKernels().intersect(scene, rays, nullptr, rays.size(), width, hits);
+}
+
+void intersectBatch(const Scene &scene, const RayBatch &rays, const std::vector<int> &which,
+                    int width, std::vector<Hit> &hits) {
+  laneKernels().intersect(scene, rays, which.data(), which.size(), width, hits);
 }
 
 Hit intersect(const Scene &scene, Vec3 o, Vec3 d, int self) {
