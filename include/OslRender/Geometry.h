@@ -4,6 +4,7 @@
 
 #include "OslRender/Scene.h"
 
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -40,15 +41,20 @@ void intersectBatch(const Scene &scene, const RayBatch &rays, const std::vector<
 /// testrender answers: a quad's area, a sphere's silhouette (pi r^2).
 float surfaceArea(const Primitive &prim);
 
-/// A direction from `x` toward light `prim` and its solid-angle pdf (0 if
-/// it cannot be sampled from there).
-struct LightSample {
-  Vec3 dir;
-  float pdf = 0;
-};
-LightSample sampleLight(const Primitive &prim, Vec3 x, float rx, float ry);
-/// The pdf sampleLight would give the direction from `x` that hits the
-/// light at `p`.
+/// The solid-angle pdf of sampling a sphere light's cone from a point at
+/// squared distance `d2` from its center (0 inside it).
+inline float sphereLightPdf(float d2, float r2) {
+  float cosMax = std::sqrt(std::fmax(0.0f, 1 - r2 / d2));
+  return d2 <= r2 ? 0.0f : 1 / (2 * 3.14159265358979f * (1 - cosMax));
+}
+/// The solid-angle pdf of sampling a quad light uniformly by area, seen
+/// along unit `dir` at squared distance `d2` (0 edge on).
+inline float quadLightPdf(Vec3 unitNormal, float area, Vec3 dir, float d2) {
+  float cosL = std::fabs(dot(unitNormal, dir));
+  return cosL > 1e-6f ? d2 / (area * cosL) : 0.0f;
+}
+/// The pdf the renderer's light sampling (LaneKernels' sampleLights) gives
+/// the direction from `x` that hits light `prim` at `p`.
 float lightPdf(const Primitive &prim, Vec3 x, Vec3 p);
 
 } // namespace osl::render

@@ -7,6 +7,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslRender/Bsdf.h"
+#include "OslRender/RenderMath.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,8 +20,9 @@ constexpr float kInvPi = 1.0f / kPi;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 Vec3 cosineHemisphere(float rx, float ry) {
-  float r = std::sqrt(rx), phi = 2 * kPi * ry;
-  return {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1 - rx))};
+  float r = std::sqrt(rx), s, c;
+  polySinCos(2 * kPi * ry, s, c);
+  return {r * c, r * s, std::sqrt(std::max(0.0f, 1 - rx))};
 }
 
 Vec3 reflect(Vec3 wo, Vec3 n) { return n * (2 * dot(wo, n)) - wo; }
@@ -114,7 +116,9 @@ Vec3 sampleMicrofacetNormal(const Lobe &l, float rx, float ry) {
   float phi = 2 * kPi * ry;
   float r = l.dist == 0 ? std::sqrt(rx / std::max(1e-7f, 1 - rx))
                         : std::sqrt(-std::log(std::max(1e-7f, 1 - rx)));
-  float sx = r * std::cos(phi) * l.a, sy = r * std::sin(phi) * l.b;
+  float s, c;
+  polySinCos(phi, s, c);
+  float sx = r * c * l.a, sy = r * s * l.b;
   return normalize(Vec3(-sx, -sy, 1));
 }
 
@@ -193,8 +197,9 @@ BsdfEval evalWard(const Lobe &l, Vec3 wo, Vec3 wi) {
 }
 
 BsdfSample sampleWard(const Lobe &l, Vec3 wo, float rx, float ry, const Frame &frame) {
-  float phi = std::atan2(l.b * std::sin(2 * kPi * ry), l.a * std::cos(2 * kPi * ry));
-  float c = std::cos(phi), sn = std::sin(phi);
+  float s0, c0, c, sn;
+  polySinCos(2 * kPi * ry, s0, c0);
+  polySinCos(polyAtan2(l.b * s0, l.a * c0), sn, c);
   float tan2 = -std::log(std::max(1e-7f, 1 - rx)) / (sqr(c / l.a) + sqr(sn / l.b));
   float cosh = 1 / std::sqrt(1 + tan2), sinh = std::sqrt(tan2) * cosh;
   Vec3 h(sinh * c, sinh * sn, cosh);
@@ -293,8 +298,10 @@ BsdfEval evalLobe(const Lobe &l, Vec3 woWorld, Vec3 wiWorld) {
   Frame frame(l.n, l.t);
   Vec3 wo = frame.toLocal(woWorld), wi = frame.toLocal(wiWorld);
   switch (l.model) {
-  case Lobe::Microfacet: return evalMicrofacet(l, wo, wi);
-  case Lobe::Ward: return evalWard(l, wo, wi);
+  case Lobe::Microfacet:
+    return evalMicrofacet(l, wo, wi);
+  case Lobe::Ward:
+    return evalWard(l, wo, wi);
   case Lobe::Phong: {
     if (wo.z <= 0 || wi.z <= 0)
       return r;
@@ -353,20 +360,26 @@ BsdfSample sampleLobe(const Lobe &l, Vec3 woWorld, float rx, float ry, float rz)
     s.pdf = kInf;
     s.delta = true;
     return s;
-  case Lobe::Microfacet: return sampleMicrofacet(l, wo, rx, ry, rz, frame);
-  case Lobe::Ward: return sampleWard(l, wo, rx, ry, frame);
+  case Lobe::Microfacet:
+    return sampleMicrofacet(l, wo, rx, ry, rz, frame);
+  case Lobe::Ward:
+    return sampleWard(l, wo, rx, ry, frame);
   case Lobe::Phong: {
     if (wo.z <= 0)
       return s;
     float cosa = std::pow(rx, 1 / (l.a + 1)), sina = std::sqrt(std::max(0.0f, 1 - cosa * cosa));
     float phi = 2 * kPi * ry;
     Frame lobe(reflect(woWorld, l.n));
-    s.wi = lobe.toWorld(Vec3(sina * std::cos(phi), sina * std::sin(phi), cosa));
+    float sinPhi, cosPhi;
+    polySinCos(phi, sinPhi, cosPhi);
+    s.wi = lobe.toWorld(Vec3(sina * cosPhi, sina * sinPhi, cosa));
     break;
   }
   case Lobe::Sheen: {
     float z = rx, r = std::sqrt(std::max(0.0f, 1 - z * z)), phi = 2 * kPi * ry;
-    s.wi = frame.toWorld(Vec3(r * std::cos(phi), r * std::sin(phi), z));
+    float sinPhi, cosPhi;
+    polySinCos(phi, sinPhi, cosPhi);
+    s.wi = frame.toWorld(Vec3(r * cosPhi, r * sinPhi, z));
     break;
   }
   default: {
@@ -435,8 +448,8 @@ BsdfSample ShadingResult::sample(Vec3 wo, float rx, float ry, float s) const {
   float rz = std::clamp(s / chosen->pick, 0.0f, 0.99999994f);
   BsdfSample smp = sampleLobe(*chosen, wo, rx, ry, rz);
   smp.diffuse = chosen->model == Lobe::Diffuse || chosen->model == Lobe::OrenNayar ||
-                chosen->model == Lobe::OrenNayarEnergy ||
-                chosen->model == Lobe::Translucent || chosen->model == Lobe::Burley;
+                chosen->model == Lobe::OrenNayarEnergy || chosen->model == Lobe::Translucent ||
+                chosen->model == Lobe::Burley;
   if (smp.delta) {
     smp.weight = smp.weight * chosen->weight / chosen->pick;
     return smp;

@@ -112,8 +112,8 @@ private:
   void shadeMisses();
   void scatterAll(int bounce);
   bool startScatter(const ShadeQueue &q, size_t i);
-  void scatter(const ShadeQueue &q, size_t i, int bounce, size_t first);
-  void sampleLights(const ShadeQueue &q, size_t i, Vec3 wo, size_t draw);
+  void scatter(const ShadeQueue &q, size_t i, int bounce, size_t firstDraw, size_t firstLight);
+  void sampleLights(const ShadeQueue &q, size_t i, Vec3 wo, size_t firstLight);
   /// The lights a path at primitive `prim` samples (every light but itself).
   int lightsSampledFrom(int prim) const {
     return int(lights.size()) - int(llvm::is_contained(lights, prim));
@@ -151,8 +151,10 @@ private:
   PointDraws draws;
   struct Scattering {
     const ShadeQueue *queue;
-    size_t index, firstDraw;
+    size_t index, firstDraw, firstLight;
   };
+  /// Each scattering path's light samples, in its lights' order.
+  LightDraws lightDraws;
   std::vector<Scattering> scattering;
   std::vector<std::pair<int, float>> roulette;
   /// Rays traced together, a batch of `width` lanes at a time: each live
@@ -355,14 +357,29 @@ void PathWave::scatterAll(int bounce) {
         // The BSDF's point, then one per light.
         Path &p = paths[q.path[i]];
         uint32_t n = 1 + lightsSampledFrom(p.hit.prim);
-        scattering.push_back({&q, i, draws.size()});
+        scattering.push_back({&q, i, draws.size(), 0});
         for (uint32_t call = p.rng.reserve(n), k = 0; k < n; ++k)
           draws.push(p.rng.pathKey(), p.rng.sampleIndex(), call + k);
       }
   laneKernels().drawPoints(draws, width);
+  // The lights' samples, every path's together: each light with a point of
+  // its own (after the BSDF's).
+  lightDraws.clear();
+  for (Scattering &s : scattering) {
+    s.firstLight = lightDraws.size();
+    Vec3 at = s.queue->at.p(s.index);
+    int self = paths[s.queue->path[s.index]].hit.prim;
+    size_t draw = s.firstDraw + 1;
+    for (int l : lights)
+      if (l != self) {
+        lightDraws.push(l, at, draws.x[draw], draws.y[draw]);
+        ++draw;
+      }
+  }
+  laneKernels().sampleLights(prims, lightDraws, width);
   roulette.clear();
   for (const Scattering &s : scattering)
-    scatter(*s.queue, s.index, bounce, s.firstDraw);
+    scatter(*s.queue, s.index, bounce, s.firstDraw, s.firstLight);
   // Russian roulette, past kRouletteBounce: the survivors are scaled up.
   PointDraws &survival = draws;
   survival.clear();
@@ -401,15 +418,16 @@ bool PathWave::startScatter(const ShadeQueue &q, size_t i) {
   return true;
 }
 
-/// The lights' samples and the BSDF's, with the path's points from draw
-/// `first` on: the BSDF's, then one per light.
-void PathWave::scatter(const ShadeQueue &q, size_t i, int bounce, size_t first) {
+/// The lights' samples (from `firstLight` in lightDraws) and the BSDF's
+/// (with the path's point `firstDraw`).
+void PathWave::scatter(const ShadeQueue &q, size_t i, int bounce, size_t firstDraw,
+                       size_t firstLight) {
   int pathIndex = q.path[i];
   Path &p = paths[pathIndex];
   ShadingResult &res = results[pathIndex];
   Vec3 wo = -q.at.d(i), at = q.at.p(i), ng = q.at.n(i);
-  Vec3 bsdfRandom(draws.x[first], draws.y[first], draws.z[first]);
-  sampleLights(q, i, wo, first + 1);
+  Vec3 bsdfRandom(draws.x[firstDraw], draws.y[firstDraw], draws.z[firstDraw]);
+  sampleLights(q, i, wo, firstLight);
   // The last bounce still samples the lights (as testrender's max_bounces
   // does) but traces no further.
   if (bounce >= r.options.maxBounces) {
@@ -439,25 +457,23 @@ void PathWave::scatter(const ShadeQueue &q, size_t i, int bounce, size_t first) 
 /// Next-event estimation: one sample of each light the hit point sees,
 /// weighted against the BSDF's pdf; its shadow ray is traced with the
 /// bounce's others.
-void PathWave::sampleLights(const ShadeQueue &q, size_t i, Vec3 wo, size_t draw) {
+void PathWave::sampleLights(const ShadeQueue &q, size_t i, Vec3 wo, size_t firstLight) {
   int pathIndex = q.path[i];
   Path &p = paths[pathIndex];
   ShadingResult &res = results[pathIndex];
   Vec3 at = q.at.p(i);
-  for (int l : lights) {
-    if (l == p.hit.prim)
+  size_t end = firstLight + size_t(lightsSampledFrom(p.hit.prim));
+  for (size_t k = firstLight; k < end; ++k) {
+    float pdf = lightDraws.pdf[k];
+    if (!(pdf > 0))
       continue;
-    const Primitive &light = scene.prims[l];
-    LightSample ls = sampleLight(light, at, draws.x[draw], draws.y[draw]);
-    ++draw;
-    if (!(ls.pdf > 0))
-      continue;
-    BsdfEval e = res.eval(wo, ls.dir);
-    Vec3 contrib = p.throughput * e.value * (powerHeuristic(ls.pdf, e.pdf) / ls.pdf);
+    Vec3 dir = lightDraws.dir(k);
+    BsdfEval e = res.eval(wo, dir);
+    Vec3 contrib = p.throughput * e.value * (powerHeuristic(pdf, e.pdf) / pdf);
     if (!(contrib.sum() > 0))
       continue;
-    shadowRays.push_back({pathIndex, l, contrib});
-    rays.push(at, ls.dir, p.hit.prim);
+    shadowRays.push_back({pathIndex, lightDraws.light[k], contrib});
+    rays.push(at, dir, p.hit.prim);
   }
 }
 

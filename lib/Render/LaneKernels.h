@@ -64,6 +64,27 @@ struct HitPoints {
   Vec3 n(size_t i) const { return {nx[i], ny[i], nz[i]}; }
 };
 
+/// Light samples, as structure of arrays: each lane's light, the point it
+/// is seen from and two uniform numbers in; the unit direction toward the
+/// sampled point of the light and its solid-angle pdf (0: none) out.
+struct LightDraws {
+  std::vector<int> light;
+  std::vector<float> x, y, z, rx, ry;
+  std::vector<float> dx, dy, dz, pdf;
+  void clear() {
+    light.clear();
+    for (std::vector<float> *v : {&x, &y, &z, &rx, &ry})
+      v->clear();
+  }
+  void push(int l, Vec3 from, float r0, float r1) {
+    light.push_back(l);
+    x.push_back(from.x), y.push_back(from.y), z.push_back(from.z);
+    rx.push_back(r0), ry.push_back(r1);
+  }
+  size_t size() const { return light.size(); }
+  Vec3 dir(size_t i) const { return {dx[i], dy[i], dz[i]}; }
+};
+
 /// testrender's camera, set up once: rays leave `eye` through the image
 /// plane at distance 1 along `dir`, spanned by `right` and `up`.
 struct CameraSetup {
@@ -85,6 +106,9 @@ struct LaneKernels {
                      size_t n, float *dx, float *dy, float *dz, int width);
   /// The outputs of every lane of `hits` (sized by it), its rays in `rays`.
   void (*hitGeometry)(const PrimTable &prims, const RayBatch &rays, HitPoints &hits, int width);
+  /// The outputs of every lane of `draws` (sized by it): a sphere light's
+  /// cone is sampled uniformly in solid angle, a quad uniformly by area.
+  void (*sampleLights)(const PrimTable &prims, LightDraws &draws, int width);
 };
 
 /// The kernels of the widest instruction set this CPU runs, or those the

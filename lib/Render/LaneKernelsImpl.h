@@ -243,6 +243,43 @@ void hitGeometry(const PrimTable &prims, const RayBatch &rays, HitPoints &hits, 
   atWidth(width, [&](auto w) { hitGeometryAt<decltype(w)::value>(prims, rays, hits); });
 }
 
+template <int W> OSL_LANE_TARGET void sampleLightsAt(const PrimTable &T, LightDraws &s) {
+  forLanes<W>(
+      s.size(), [&](size_t i) __attribute__((always_inline)) {
+        int k = s.light[i];
+        Vec3 x(s.x[i], s.y[i], s.z[i]);
+        float rx = s.rx[i], ry = s.ry[i];
+        // Sphere: a direction in the cone the light subtends, about its center.
+        Vec3 toC = Vec3(T.cx[k], T.cy[k], T.cz[k]) - x;
+        float d2 = dot(toC, toC), r2 = T.radius[k] * T.radius[k];
+        float cosMax = std::sqrt(std::fmax(0.0f, 1 - r2 / d2));
+        float cosT = 1 - rx * (1 - cosMax), sinT = std::sqrt(std::fmax(0.0f, 1 - cosT * cosT));
+        float sinPhi, cosPhi;
+        polySinCos(2 * kRenderPi * ry, sinPhi, cosPhi);
+        Frame f(toC / std::sqrt(d2));
+        Vec3 cone = f.toWorld(Vec3(sinT * cosPhi, sinT * sinPhi, cosT));
+        float conePdf = sphereLightPdf(d2, r2);
+        // Quad: a point on it, uniformly.
+        Vec3 p = Vec3(T.qx[k], T.qy[k], T.qz[k]) + Vec3(T.ex[k], T.ey[k], T.ez[k]) * rx +
+                 Vec3(T.fx[k], T.fy[k], T.fz[k]) * ry;
+        Vec3 d = p - x;
+        float q2 = dot(d, d);
+        Vec3 toP = d / std::sqrt(q2);
+        float areaPdf = quadLightPdf(Vec3(T.nx[k], T.ny[k], T.nz[k]), T.area[k], toP, q2);
+        bool sphere = T.kind[k] == Primitive::Sphere;
+        s.dx[i] = sphere ? cone.x : toP.x;
+        s.dy[i] = sphere ? cone.y : toP.y;
+        s.dz[i] = sphere ? cone.z : toP.z;
+        s.pdf[i] = sphere ? conePdf : q2 > 0 ? areaPdf : 0.0f;
+      });
+}
+
+void sampleLights(const PrimTable &prims, LightDraws &draws, int width) {
+  for (std::vector<float> *v : {&draws.dx, &draws.dy, &draws.dz, &draws.pdf})
+    v->resize(draws.size());
+  atWidth(width, [&](auto w) { sampleLightsAt<decltype(w)::value>(prims, draws); });
+}
+
 /// W sampler points, one per lane.
 template <int W>
 OSL_LANE_TARGET void drawLanes(const uint32_t *__restrict key, const uint32_t *__restrict index,
@@ -283,8 +320,8 @@ void drawPoints(PointDraws &draws, int width) {
 } // namespace
 
 const LaneKernels &OSL_LANE_KERNELS() {
-  static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect, drawPoints, cameraRays,
-                                   hitGeometry};
+  static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect,   drawPoints,
+                                   cameraRays,        hitGeometry, sampleLights};
   return kernels;
 }
 
