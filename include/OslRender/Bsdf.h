@@ -58,6 +58,7 @@ struct BsdfEval {
 
 struct BsdfSample {
   Vec3 wi;
+  Vec3 value;     // the lobe's own f * cos toward wi (not for a delta lobe)
   Vec3 weight;    // f * cos / pdf, times the lobe's weight over its pick probability
   float pdf = 0;  // infinity for a specular (delta) lobe
   bool delta = false;
@@ -80,6 +81,8 @@ struct ShadingResult {
   /// albedo toward wo); false when nothing scatters.
   bool prepare(Vec3 wo);
   BsdfEval eval(Vec3 wo, Vec3 wi) const;
+  /// How many lobes eval() sums (non-delta, with a chance of being picked).
+  int evaluatedLobes() const;
   /// Picks a lobe with `s`, then samples it with (`rx`, `ry`).
   BsdfSample sample(Vec3 wo, float rx, float ry, float s) const;
 };

@@ -48,6 +48,7 @@ BsdfSample sampled(Vec3 wiWorld, const BsdfEval &e) {
   if (!(e.pdf > 0))
     return s;
   s.wi = wiWorld;
+  s.value = e.value;
   s.pdf = e.pdf;
   s.weight = e.value / e.pdf;
   return s;
@@ -420,6 +421,13 @@ bool ShadingResult::prepare(Vec3 wo) {
   return true;
 }
 
+int ShadingResult::evaluatedLobes() const {
+  int n = 0;
+  for (const Lobe &l : lobes)
+    n += !l.isDelta() && l.pick > 0;
+  return n;
+}
+
 BsdfEval ShadingResult::eval(Vec3 wo, Vec3 wi) const {
   BsdfEval sum;
   for (const Lobe &l : lobes) {
@@ -456,7 +464,15 @@ BsdfSample ShadingResult::sample(Vec3 wo, float rx, float ry, float s) const {
   }
   if (!(smp.pdf > 0))
     return BsdfSample();
-  BsdfEval all = eval(wo, smp.wi);
+  // The mixture's f*cos and pdf toward wi: the sampled lobe's own when no
+  // other lobe is evaluated (the common single-lobe material).
+  BsdfEval all;
+  if (evaluatedLobes() == 1) {
+    all.value += chosen->weight * smp.value;
+    all.pdf += chosen->pick * smp.pdf;
+  } else {
+    all = eval(wo, smp.wi);
+  }
   if (!(all.pdf > 0))
     return BsdfSample();
   smp.weight = all.value / all.pdf;
