@@ -124,7 +124,11 @@ private:
   /// use(index in q, closure handle) for each.
   template <typename Use> void shade(int shader, const ShadeQueue &q, Use use);
   void copyRow(int row, const std::vector<float> &from, size_t start, int n) {
-    std::copy_n(from.begin() + start, n, globals.begin() + size_t(row) * width);
+    float *to = &globals[size_t(row) * width];
+    if (n == 1) // width 1: a store, not a call of memmove per row and point
+      *to = from[start];
+    else
+      std::copy_n(from.begin() + start, n, to);
   }
   /// The shading normal and side a closure is interpreted with.
   static ShadingPoint pointOf(const ShadeQueue &q, size_t i) {
