@@ -23,7 +23,7 @@ GROUP = os.path.join(ROOT, "bench", "shaders", "group", "group20.grp")
 LEVELS = ["-O0", "-O1", "-O2"]
 # Stages of osl-run --stats that make up the JIT time (source to callable).
 COMPILE_STAGES = ["front end", "mlir passes", "llvm translate", "jit setup", "llvm opt",
-                  "jit add", "jit codegen"]
+                  "jit add", "jit codegen", "jit link", "library store"]
 
 
 def run(level, grid, width):

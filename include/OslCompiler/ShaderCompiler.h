@@ -11,10 +11,10 @@
 #ifndef OSLCOMPILER_SHADERCOMPILER_H
 #define OSLCOMPILER_SHADERCOMPILER_H
 
+#include "OslAbi/GlobalsLayout.h"
 #include "OslCompiler/LibraryObjects.h"
 #include "OslCompiler/ShaderGroup.h"
 #include "OslFrontend/Frontend.h"
-#include "OslAbi/GlobalsLayout.h"
 #include "OslRuntime/Grid.h"
 #include "OslRuntime/Jit.h"
 #include "OslRuntime/Stats.h"
@@ -36,7 +36,6 @@ class Module;
 namespace osl {
 
 struct CachedKernel;
-
 
 struct CompileOptions {
   /// Lanes per batch: 1, 4, 8 or 16; 0 picks the widest the host supports.
@@ -154,8 +153,7 @@ private:
 class ShaderCompiler {
 public:
   /// Diagnostics (file:line:col: error: ...) go to `errs`.
-  ShaderCompiler(const CompileOptions &options, llvm::raw_ostream &errs,
-                 Stats *stats = nullptr);
+  ShaderCompiler(const CompileOptions &options, llvm::raw_ostream &errs, Stats *stats = nullptr);
   ~ShaderCompiler();
 
   /// Front end; false after printing diagnostics.
@@ -169,8 +167,7 @@ public:
 
   /// All four stages, or, with options.cacheDir, the kernel a previous
   /// compile of the same source and options stored there.
-  std::unique_ptr<CompiledShader> compile(llvm::StringRef source,
-                                          llvm::StringRef filename);
+  std::unique_ptr<CompiledShader> compile(llvm::StringRef source, llvm::StringRef filename);
 
   /// A shader group: every layer through the front end, then linked into
   /// one function (osl-link-group) as `group.optimization` says. Shader
@@ -201,8 +198,7 @@ public:
   const std::vector<OutputSpec> &outputs() const { return outputSpecs; }
 
 private:
-  std::unique_ptr<CompiledShader> compileStages(llvm::StringRef source,
-                                                llvm::StringRef filename);
+  std::unique_ptr<CompiledShader> compileStages(llvm::StringRef source, llvm::StringRef filename);
   /// The cache around `stages` (compileStages or a group's).
   std::unique_ptr<CompiledShader>
   compileCached(const std::string &key,
@@ -214,13 +210,19 @@ private:
   bool specialiseGroup();
   /// The front end on one source: its diagnostics go to `errs`, and its
   /// warnings are also kept in `warnings` for the kernel cache to replay.
-  mlir::OwningOpRef<mlir::ModuleOp> parseSource(llvm::StringRef source,
-                                                llvm::StringRef filename,
+  mlir::OwningOpRef<mlir::ModuleOp> parseSource(llvm::StringRef source, llvm::StringRef filename,
                                                 llvm::ArrayRef<ParamOverride> params,
-                                                llvm::StringRef layerName = "",
-                                                int layerIndex = 0,
+                                                llvm::StringRef layerName = "", int layerIndex = 0,
                                                 const LayerConnections &connections = {});
   std::unique_ptr<CompiledShader> loadObject(const CachedKernel &entry);
+  /// What load() and loadObject() share: the runtime's symbols, the
+  /// library objects and the kernel's object go into `target`, which the
+  /// shader then owns.
+  std::unique_ptr<CompiledShader> link(std::unique_ptr<Jit> target,
+                                       llvm::ArrayRef<llvm::StringRef> libraries,
+                                       llvm::StringRef object, const std::string &name,
+                                       const std::vector<OutputSpec> &outputs,
+                                       bool reportLookupError);
   bool defineRuntimeSymbols(Jit &target);
   LibraryKeyOptions libraryKeyOptions() const;
   /// The kernel's and the library jobs' code, generated side by side on

@@ -275,6 +275,8 @@ bool ShaderCompiler::generateCode() {
         compileLibraryJob(libraryJobs[size_t(task) - 1], keyOptions);
     });
   }
+  timer.stop();
+  ScopedTimer store(stats, "library store");
   std::string error;
   bool kept = keepLibraryObjects(libraryJobs, library, keyOptions, error);
   libraryJobs.clear();
@@ -311,28 +313,39 @@ static bool addLibraryObjects(Jit &target, llvm::ArrayRef<llvm::StringRef> objec
 }
 
 std::unique_ptr<CompiledShader> ShaderCompiler::load() {
-  if (!defineRuntimeSymbols(*jit) || !generateCode())
+  if (!generateCode())
     return nullptr;
-  std::vector<llvm::StringRef> objects;
+  std::vector<llvm::StringRef> libraries;
   for (const auto &object : library.objects)
-    objects.push_back(*object);
-  if (!addLibraryObjects(*jit, objects, errs))
+    libraries.push_back(*object);
+  return link(std::move(jit), libraries, kernelObject, shaderName, outputSpecs,
+              /*reportLookupError=*/true);
+}
+
+std::unique_ptr<CompiledShader>
+ShaderCompiler::link(std::unique_ptr<Jit> target, llvm::ArrayRef<llvm::StringRef> libraries,
+                     llvm::StringRef object, const std::string &name,
+                     const std::vector<OutputSpec> &outputs, bool reportLookupError) {
+  if (!defineRuntimeSymbols(*target) || !addLibraryObjects(*target, libraries, errs))
     return nullptr;
-  if (llvm::Error e = jit->addObject(llvm::MemoryBuffer::getMemBufferCopy(kernelObject))) {
+  if (llvm::Error e = target->addObject(llvm::MemoryBuffer::getMemBufferCopy(object))) {
     errs << "error: " << llvm::toString(std::move(e)) << "\n";
     return nullptr;
   }
-  auto symbol = jit->lookup("osl_batch");
+  auto symbol = target->lookup("osl_batch");
   if (!symbol) {
-    errs << "error: " << llvm::toString(symbol.takeError()) << "\n";
+    if (reportLookupError)
+      errs << "error: " << llvm::toString(symbol.takeError()) << "\n";
+    else
+      llvm::consumeError(symbol.takeError());
     return nullptr;
   }
   auto shader = std::make_unique<CompiledShader>();
   shader->kernel = reinterpret_cast<BatchKernel>(*symbol);
   shader->width = options.width;
-  shader->name = shaderName;
-  shader->outputs = outputSpecs;
-  shader->jit = std::move(jit);
+  shader->name = name;
+  shader->outputs = outputs;
+  shader->jit = std::move(target);
   return shader;
 }
 
@@ -349,29 +362,10 @@ std::unique_ptr<CompiledShader> ShaderCompiler::loadObject(const CachedKernel &e
     errs << "error: " << llvm::toString(created.takeError()) << "\n";
     return nullptr;
   }
-  std::unique_ptr<Jit> cachedJit = std::move(*created);
-  if (!defineRuntimeSymbols(*cachedJit))
-    return nullptr;
   std::vector<llvm::StringRef> libraries(entry.libraries.begin(), entry.libraries.end());
-  if (!addLibraryObjects(*cachedJit, libraries, errs))
-    return nullptr;
-  if (llvm::Error e =
-          cachedJit->addObject(llvm::MemoryBuffer::getMemBufferCopy(entry.object))) {
-    errs << "error: " << llvm::toString(std::move(e)) << "\n";
-    return nullptr;
-  }
-  auto symbol = cachedJit->lookup("osl_batch");
-  if (!symbol) {
-    llvm::consumeError(symbol.takeError());
-    return nullptr;
-  }
-  auto shader = std::make_unique<CompiledShader>();
-  shader->kernel = reinterpret_cast<BatchKernel>(*symbol);
-  shader->width = options.width;
-  shader->name = entry.shaderName;
-  shader->outputs = entry.outputs;
-  shader->jit = std::move(cachedJit);
-  return shader;
+  // A cached object that no longer links is compiled again, silently.
+  return link(std::move(*created), libraries, entry.object, entry.shaderName, entry.outputs,
+              /*reportLookupError=*/false);
 }
 
 std::string ShaderCompiler::cacheKey(llvm::StringRef source, llvm::StringRef filename) const {

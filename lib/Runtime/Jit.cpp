@@ -272,8 +272,8 @@ Jit::defineSymbols(llvm::ArrayRef<std::pair<llvm::StringRef, void *>> symbols) {
 }
 
 llvm::Expected<void *> Jit::lookup(llvm::StringRef name) {
-  // Codegen and linking happen here, on first lookup.
-  ScopedTimer timer(stats, "jit codegen");
+  // Linking (and codegen of any IR module added) happens here, on first lookup.
+  ScopedTimer timer(stats, "jit link");
   auto address = lljit->lookup(name);
   if (!address)
     return address.takeError();
