@@ -2,7 +2,7 @@
 //
 // Maps each closure of OSL's standard library to a lobe model with its
 // parameters, as testrender interprets them. Approximations, documented in
-// docs/RENDER.md: subsurface closures scatter as Lambert times their
+// README.md ("Closures and the render mode"): subsurface closures scatter as Lambert times their
 // albedo; volumes (anisotropic_vdf, medium_vdf) are ignored, as are
 // holdout and debug; layer() weighs its base by one minus its top's
 // reflectance toward the viewer.
