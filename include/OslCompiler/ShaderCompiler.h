@@ -218,7 +218,7 @@ private:
   /// What load() and loadObject() share: the runtime's symbols, the
   /// library objects and the kernel's object go into `target`, which the
   /// shader then owns.
-  std::unique_ptr<CompiledShader> link(std::unique_ptr<Jit> target,
+  std::unique_ptr<CompiledShader> linkKernel(std::unique_ptr<Jit> target,
                                        llvm::ArrayRef<llvm::StringRef> libraries,
                                        llvm::StringRef object, const std::string &name,
                                        const std::vector<OutputSpec> &outputs,

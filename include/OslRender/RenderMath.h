@@ -18,17 +18,22 @@ namespace osl::render {
 
 inline constexpr float kRenderPi = 3.14159265358979f;
 
-/// sin and cos of `x`, for |x| up to a few thousand (the renderer's angles
-/// are in [-2 pi, 2 pi]): x is reduced by the nearest multiple of pi/2 in
-/// two parts (Cody and Waite), then Taylor polynomials on [-pi/4, pi/4]
-/// (truncation error below 2e-10 there).
+/// sin and cos of `x`: x is reduced by the nearest multiple k of pi/2 in
+/// three parts (Cody and Waite; the first two have few enough bits that
+/// k times them is exact for |k| < 2^15), then Taylor polynomials on
+/// [-pi/4, pi/4] (truncation below 2e-9). Accurate as measured for |x| up
+/// to 8 pi (the renderer's angles are in [-2 pi, 2 pi]); arguments beyond
+/// 1e7 are reduced as 1e7 (their result is meaningless either way, but
+/// the conversion to int stays defined).
 [[gnu::always_inline]] inline void polySinCos(float x, float &s, float &c) {
   // k = x / (pi/2) rounded half away from zero (a conversion, which every
   // instruction set vectorizes; nearbyint is a call without SSE4.1).
-  int qk = int(x * 0.636619772f + (x >= 0 ? 0.5f : -0.5f));
+  float kx = std::fmin(1e7f, std::fmax(-1e7f, x * 0.636619772f));
+  int qk = int(kx + (kx >= 0 ? 0.5f : -0.5f));
   float k = float(qk);
-  float r = x - k * 1.57079637f; // pi/2 rounded up to float ...
-  r = r + k * 4.37113883e-8f;    // ... and what that rounding added
+  float r = x - k * 1.5703125f;
+  r = r - k * 4.837512969970703125e-4f;
+  r = r - k * 7.54978995489188216e-8f;
   float r2 = r * r;
   float sr = r + r * r2 *
                      (-1.66666667e-1f +
@@ -61,7 +66,8 @@ inline constexpr float kRenderPi = 3.14159265358979f;
   return upper ? 0.785398163f + p : p;
 }
 
-/// atan2(y, x) in [-pi, pi]; 0 for (0, 0).
+/// atan2(y, x) in [-pi, pi]; 0 for (0, 0). Unlike libm's, a NaN argument
+/// gives a number (fmax and fmin drop it) and -0 is not kept.
 [[gnu::always_inline]] inline float polyAtan2(float y, float x) {
   float ax = std::fabs(x), ay = std::fabs(y);
   float big = std::fmax(ax, ay), small = std::fmin(ax, ay);
@@ -72,7 +78,8 @@ inline constexpr float kRenderPi = 3.14159265358979f;
   return y < 0 ? -r : r;
 }
 
-/// acos of `x` in [-1, 1] (clamped), as atan2(sqrt(1 - x^2), x).
+/// acos of `x` in [-1, 1] (clamped; NaN gives a number, as polyAtan2),
+/// as atan2(sqrt(1 - x^2), x).
 [[gnu::always_inline]] inline float polyAcos(float x) {
   x = std::fmin(1.0f, std::fmax(-1.0f, x));
   return polyAtan2(std::sqrt((1 - x) * (1 + x)), x);

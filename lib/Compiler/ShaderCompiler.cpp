@@ -276,9 +276,10 @@ bool ShaderCompiler::generateCode() {
     });
   }
   timer.stop();
-  ScopedTimer store(stats, "library store");
   std::string error;
+  ScopedTimer store(stats, "library store");
   bool kept = keepLibraryObjects(libraryJobs, library, keyOptions, error);
+  store.stop();
   libraryJobs.clear();
   llvmIR.reset(); // codegen rewrote it; the object is what is left
   llvmContext.reset();
@@ -318,12 +319,12 @@ std::unique_ptr<CompiledShader> ShaderCompiler::load() {
   std::vector<llvm::StringRef> libraries;
   for (const auto &object : library.objects)
     libraries.push_back(*object);
-  return link(std::move(jit), libraries, kernelObject, shaderName, outputSpecs,
+  return linkKernel(std::move(jit), libraries, kernelObject, shaderName, outputSpecs,
               /*reportLookupError=*/true);
 }
 
 std::unique_ptr<CompiledShader>
-ShaderCompiler::link(std::unique_ptr<Jit> target, llvm::ArrayRef<llvm::StringRef> libraries,
+ShaderCompiler::linkKernel(std::unique_ptr<Jit> target, llvm::ArrayRef<llvm::StringRef> libraries,
                      llvm::StringRef object, const std::string &name,
                      const std::vector<OutputSpec> &outputs, bool reportLookupError) {
   if (!defineRuntimeSymbols(*target) || !addLibraryObjects(*target, libraries, errs))
@@ -363,8 +364,9 @@ std::unique_ptr<CompiledShader> ShaderCompiler::loadObject(const CachedKernel &e
     return nullptr;
   }
   std::vector<llvm::StringRef> libraries(entry.libraries.begin(), entry.libraries.end());
-  // A cached object that no longer links is compiled again, silently.
-  return link(std::move(*created), libraries, entry.object, entry.shaderName, entry.outputs,
+  // A cached object whose entry point is missing is compiled again
+  // (silently; other failures print their error first).
+  return linkKernel(std::move(*created), libraries, entry.object, entry.shaderName, entry.outputs,
               /*reportLookupError=*/false);
 }
 

@@ -1,7 +1,6 @@
 //===- Geometry.cpp - Spheres and quads -----------------------------------===//
 #include "OslRender/Geometry.h"
 
-#include <algorithm>
 #include <cmath>
 
 namespace osl::render {

@@ -4,7 +4,6 @@
 #include "OslFrontend/Frontend.h"
 #include "OslRender/Bsdf.h"
 #include "OslRender/Geometry.h"
-#include "OslRender/RenderMath.h"
 #include "OslRender/Renderer.h"
 #include "OslRender/Sampler.h"
 #include "OslRuntime/Closure.h"
@@ -51,8 +50,9 @@ struct Path {
 };
 
 /// Points to shade with one shader: where each is (its geometry computed
-/// in lanes), the path it belongs to, and for light queries what the
-/// light's emission is multiplied by.
+/// in lanes; `at.ray` indexes the wave's pathRays for hits and misses, its
+/// shadow rays for light queries), the path it belongs to, and for light
+/// queries what the light's emission is multiplied by.
 struct ShadeQueue {
   HitPoints at;
   std::vector<int> path;
@@ -130,6 +130,10 @@ private:
     else
       std::copy_n(from.begin() + start, n, to);
   }
+  void copyTriple(int row, const std::vector<float> &x, const std::vector<float> &y,
+                  const std::vector<float> &z, size_t start, int n) {
+    copyRow(row, x, start, n), copyRow(row + 1, y, start, n), copyRow(row + 2, z, start, n);
+  }
   /// The shading normal and side a closure is interpreted with.
   static ShadingPoint pointOf(const ShadeQueue &q, size_t i) {
     return {-q.at.d(i), q.at.n(i), q.at.backfacing[i] != 0};
@@ -146,6 +150,8 @@ private:
   RayBatch pathRays;
   std::vector<ShadingResult> results;
   std::vector<ShadeQueue> queues, lightQueries;
+  /// Escaped paths: primitive -1, never given to hitGeometry (shadeMisses
+  /// copies their directions).
   ShadeQueue misses;
   /// The lights next-event estimation samples, in the scene's order.
   std::vector<int> lights;
@@ -161,11 +167,13 @@ private:
   LightDraws lightDraws;
   std::vector<Scattering> scattering;
   std::vector<std::pair<int, float>> roulette;
-  /// Rays traced together, a batch of `width` lanes at a time: each live
-  /// path's next ray, then the bounce's shadow rays.
+  /// The bounce's shadow rays, traced together a batch of `width` lanes at
+  /// a time.
   RayBatch rays;
   std::vector<Hit> hits;
   std::vector<int> rayPaths;
+  /// Each path's pixel, for the camera's lanes.
+  std::vector<int> pathPixels;
   /// A light sample whose shadow ray is traced with the others: what its
   /// light query gets if the ray reaches the light.
   struct ShadowRay {
@@ -193,25 +201,18 @@ template <typename Use> void PathWave::shade(int shader, const ShadeQueue &q, Us
       std::fill(globals.begin(), globals.end(), 0.0f);
     // The globals' rows are the queue's own columns.
     if (q.background) {
-      copyRow(rowP, h.dx, start, n), copyRow(rowP + 1, h.dy, start, n);
-      copyRow(rowP + 2, h.dz, start, n);
+      copyTriple(rowP, h.dx, h.dy, h.dz, start, n);
     } else {
-      copyRow(rowP, h.px, start, n), copyRow(rowP + 1, h.py, start, n);
-      copyRow(rowP + 2, h.pz, start, n);
-      for (int row : {rowN, rowNg}) {
-        copyRow(row, h.nx, start, n), copyRow(row + 1, h.ny, start, n);
-        copyRow(row + 2, h.nz, start, n);
-      }
-      copyRow(rowDPdu, h.dPdux, start, n), copyRow(rowDPdu + 1, h.dPduy, start, n);
-      copyRow(rowDPdu + 2, h.dPduz, start, n);
-      copyRow(rowDPdv, h.dPdvx, start, n), copyRow(rowDPdv + 1, h.dPdvy, start, n);
-      copyRow(rowDPdv + 2, h.dPdvz, start, n);
+      copyTriple(rowP, h.px, h.py, h.pz, start, n);
+      copyTriple(rowN, h.nx, h.ny, h.nz, start, n);
+      copyTriple(rowNg, h.nx, h.ny, h.nz, start, n);
+      copyTriple(rowDPdu, h.dPdux, h.dPduy, h.dPduz, start, n);
+      copyTriple(rowDPdv, h.dPdvx, h.dPdvy, h.dPdvz, start, n);
       copyRow(rowU, h.u, start, n), copyRow(rowV, h.v, start, n);
       copyRow(rowBackfacing, h.backfacing, start, n);
       copyRow(rowSurfaceArea, h.area, start, n);
     }
-    copyRow(rowI, h.dx, start, n), copyRow(rowI + 1, h.dy, start, n);
-    copyRow(rowI + 2, h.dz, start, n);
+    copyTriple(rowI, h.dx, h.dy, h.dz, start, n);
     float *types = &globals[size_t(rowRayType) * width];
     for (int lane = 0; lane < n; ++lane)
       types[lane] = float(q.rayType >= 0 ? q.rayType : paths[q.path[start + lane]].rayType);
@@ -268,7 +269,7 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   const RenderOptions &opt = r.options;
   paths.clear();
   draws.clear();
-  rayPaths.clear(); // each path's pixel, for the camera's lanes
+  pathPixels.clear();
   for (int pixel : pixels)
     for (int s = s0; s < s1; ++s) {
       Path p;
@@ -276,7 +277,7 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
       p.rng = Sampler(uint32_t(pixel), uint32_t(s), opt.seed);
       draws.push(p.rng.pathKey(), p.rng.sampleIndex(), p.rng.reserve(1));
       paths.push_back(p);
-      rayPaths.push_back(pixel);
+      pathPixels.push_back(pixel);
     }
   laneKernels().drawPoints(draws, width);
   size_t n = paths.size();
@@ -284,8 +285,8 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   pr.ox.assign(n, camera.eye.x), pr.oy.assign(n, camera.eye.y), pr.oz.assign(n, camera.eye.z);
   pr.dx.resize(n), pr.dy.resize(n), pr.dz.resize(n);
   pr.self.assign(n, -1);
-  laneKernels().cameraRays(camera, rayPaths.data(), draws.x.data(), draws.y.data(), n, pr.dx.data(),
-                           pr.dy.data(), pr.dz.data(), width);
+  laneKernels().cameraRays(camera, pathPixels.data(), draws.x.data(), draws.y.data(), n,
+                           pr.dx.data(), pr.dy.data(), pr.dz.data(), width);
 }
 
 /// Intersects every live path: hits queue on their shader, escaped paths

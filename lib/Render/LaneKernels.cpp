@@ -28,8 +28,8 @@ PrimTable::PrimTable(const Scene &scene) {
     Vec3 n = p.kind == Primitive::Quad ? normalize(cross(p.edgeX, p.edgeY)) : Vec3();
     nx.push_back(n.x), ny.push_back(n.y), nz.push_back(n.z);
     // A sphere's never divide: 1 keeps its lanes' unused quad math finite.
-    ex2.push_back(p.kind == Primitive::Quad ? dot(p.edgeX, p.edgeX) : 1.0f);
-    fy2.push_back(p.kind == Primitive::Quad ? dot(p.edgeY, p.edgeY) : 1.0f);
+    edgeX2.push_back(p.kind == Primitive::Quad ? dot(p.edgeX, p.edgeX) : 1.0f);
+    edgeY2.push_back(p.kind == Primitive::Quad ? dot(p.edgeY, p.edgeY) : 1.0f);
     area.push_back(surfaceArea(p));
   }
 }

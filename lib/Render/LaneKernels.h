@@ -32,12 +32,12 @@ struct PointDraws {
 /// The scene's primitives as structure of arrays, for lanes that each hit
 /// another primitive.
 struct PrimTable {
-  std::vector<int> kind;                     // Primitive::Kind
-  std::vector<float> cx, cy, cz, radius;     // spheres
-  std::vector<float> qx, qy, qz;             // quads: corner,
-  std::vector<float> ex, ey, ez, fx, fy, fz; // edges (x and y),
-  std::vector<float> nx, ny, nz, ex2, fy2;   // unit normal, edges' squared lengths
-  std::vector<float> area;                   // what surfacearea() answers
+  std::vector<int> kind;                         // Primitive::Kind
+  std::vector<float> cx, cy, cz, radius;         // spheres
+  std::vector<float> qx, qy, qz;                 // quads: corner,
+  std::vector<float> ex, ey, ez, fx, fy, fz;     // edges (x and y),
+  std::vector<float> nx, ny, nz, edgeX2, edgeY2; // unit normal, edges' squared lengths
+  std::vector<float> area;                       // what surfacearea() answers
   explicit PrimTable(const Scene &scene);
 };
 
@@ -51,6 +51,7 @@ struct HitPoints {
   std::vector<float> ox, oy, oz, dx, dy, dz;
   std::vector<float> px, py, pz, nx, ny, nz, dPdux, dPduy, dPduz, dPdvx, dPdvy, dPdvz;
   std::vector<float> u, v, backfacing, area;
+  /// Forgets the lanes (the outputs stay stale until hitGeometry runs).
   void clear() { prim.clear(), ray.clear(), t.clear(); }
   void push(int k, int r, float distance) {
     prim.push_back(k), ray.push_back(r), t.push_back(distance);
@@ -69,16 +70,16 @@ struct HitPoints {
 /// sampled point of the light and its solid-angle pdf (0: none) out.
 struct LightDraws {
   std::vector<int> light;
-  std::vector<float> x, y, z, rx, ry;
+  std::vector<float> ox, oy, oz, rx, ry;
   std::vector<float> dx, dy, dz, pdf;
   void clear() {
     light.clear();
-    for (std::vector<float> *v : {&x, &y, &z, &rx, &ry})
+    for (std::vector<float> *v : {&ox, &oy, &oz, &rx, &ry})
       v->clear();
   }
   void push(int l, Vec3 from, float r0, float r1) {
     light.push_back(l);
-    x.push_back(from.x), y.push_back(from.y), z.push_back(from.z);
+    ox.push_back(from.x), oy.push_back(from.y), oz.push_back(from.z);
     rx.push_back(r0), ry.push_back(r1);
   }
   size_t size() const { return light.size(); }

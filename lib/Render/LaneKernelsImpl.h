@@ -167,13 +167,14 @@ OSL_LANE_TARGET void cameraRaysAt(const CameraSetup &c, const int *__restrict pi
   const float xres = float(c.xres), yres = float(c.yres);
   forLanes<W>(
       n, [&](size_t i) __attribute__((always_inline)) {
-        // The pixel's row and column, exactly, in float (images are far below 2^24).
-        float p = float(pixel[i]);
-        float row = float(int(p / xres));
-        row = row * xres > p ? row - 1 : row;
-        float col = p - row * xres;
-        float sx = (col + 0.5f + tent(jx[i])) / xres - 0.5f;
-        float sy = 0.5f - (row + 0.5f + tent(jy[i])) / yres;
+        // The pixel's row and column, exactly for any int index (a quotient
+        // in double, corrected by one where it rounded up).
+        int p = pixel[i];
+        int row = int(double(p) / double(c.xres));
+        row = row * c.xres > p ? row - 1 : row;
+        int col = p - row * c.xres;
+        float sx = (float(col) + 0.5f + tent(jx[i])) / xres - 0.5f;
+        float sy = 0.5f - (float(row) + 0.5f + tent(jy[i])) / yres;
         float x = c.right.x * sx + c.up.x * sy + c.dir.x;
         float y = c.right.y * sx + c.up.y * sy + c.dir.y;
         float z = c.right.z * sx + c.up.z * sy + c.dir.z;
@@ -206,8 +207,8 @@ OSL_LANE_TARGET void hitGeometryAt(const PrimTable &T, const RayBatch &rays, Hit
         float r = T.radius[k];
         float sx = px - T.cx[k], sy = py - T.cy[k], sz = pz - T.cz[k];
         float sl = std::sqrt(sx * sx + sy * sy + sz * sz);
-        float inv = sl > 0 ? 1 / sl : 1.0f;
-        sx *= inv, sy *= inv, sz *= inv;
+        float div = sl > 0 ? sl : 1.0f; // as normalize() divides
+        sx /= div, sy /= div, sz /= div;
         float phi = polyAtan2(sz, sx);
         float su = phi / twoPi + (phi < 0 ? 1.0f : 0.0f);
         float sv = polyAcos(sy) / kRenderPi;
@@ -218,8 +219,8 @@ OSL_LANE_TARGET void hitGeometryAt(const PrimTable &T, const RayBatch &rays, Hit
         float vs = vl > 0 ? kRenderPi * r / vl : 0.0f;
         // Quad: its plane's normal; u and v along its edges.
         float hx = px - T.qx[k], hy = py - T.qy[k], hz = pz - T.qz[k];
-        float qu = (hx * T.ex[k] + hy * T.ey[k] + hz * T.ez[k]) / T.ex2[k];
-        float qv = (hx * T.fx[k] + hy * T.fy[k] + hz * T.fz[k]) / T.fy2[k];
+        float qu = (hx * T.ex[k] + hy * T.ey[k] + hz * T.ez[k]) / T.edgeX2[k];
+        float qv = (hx * T.fx[k] + hy * T.fy[k] + hz * T.fz[k]) / T.edgeY2[k];
         bool sphere = T.kind[k] == Primitive::Sphere;
         float nx = sphere ? sx : T.nx[k], ny = sphere ? sy : T.ny[k], nz = sphere ? sz : T.nz[k];
         bool back = dx * nx + dy * ny + dz * nz > 0;
@@ -247,7 +248,7 @@ template <int W> OSL_LANE_TARGET void sampleLightsAt(const PrimTable &T, LightDr
   forLanes<W>(
       s.size(), [&](size_t i) __attribute__((always_inline)) {
         int k = s.light[i];
-        Vec3 x(s.x[i], s.y[i], s.z[i]);
+        Vec3 x(s.ox[i], s.oy[i], s.oz[i]);
         float rx = s.rx[i], ry = s.ry[i];
         // Sphere: a direction in the cone the light subtends, about its center.
         Vec3 toC = Vec3(T.cx[k], T.cy[k], T.cz[k]) - x;

@@ -272,7 +272,8 @@ Jit::defineSymbols(llvm::ArrayRef<std::pair<llvm::StringRef, void *>> symbols) {
 }
 
 llvm::Expected<void *> Jit::lookup(llvm::StringRef name) {
-  // Linking (and codegen of any IR module added) happens here, on first lookup.
+  // Linking happens here, on first lookup, and codegen of the IR modules
+  // added with addModule (the kernels' objects are generated beforehand).
   ScopedTimer timer(stats, "jit link");
   auto address = lljit->lookup(name);
   if (!address)

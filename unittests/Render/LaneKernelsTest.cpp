@@ -87,12 +87,15 @@ TEST(LaneKernels, HitGeometryMatchesAtEveryWidth) {
       reference.push(found[i].prim, i, found[i].t);
   ASSERT_GT(reference.size(), 100u);
   genericLaneKernels().hitGeometry(prims, rays, reference, 1);
-  // Spheres' normals are unit and face the ray; u and v lie in [0, 1].
+  // Normals are unit and face the ray; u and v lie in [0, 1] (on the
+  // spheres and inside the quads alike).
   for (size_t i = 0; i < reference.size(); ++i) {
     EXPECT_NEAR(length(reference.n(i)), 1.0f, 1e-5f);
     EXPECT_LE(dot(reference.n(i), reference.d(i)), 0.0f);
-    EXPECT_GE(reference.u[i], -1e-5f);
-    EXPECT_LE(reference.u[i], 1 + 1e-5f);
+    for (float uv : {reference.u[i], reference.v[i]}) {
+      EXPECT_GE(uv, -1e-5f);
+      EXPECT_LE(uv, 1 + 1e-5f);
+    }
   }
   for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
     for (int width : {1, 4, 8, 16}) {
@@ -107,7 +110,8 @@ TEST(LaneKernels, HitGeometryMatchesAtEveryWidth) {
             &HitPoints::ny,    &HitPoints::nz,    &HitPoints::dPdux,      &HitPoints::dPduy,
             &HitPoints::dPduz, &HitPoints::dPdvx, &HitPoints::dPdvy,      &HitPoints::dPdvz,
             &HitPoints::u,     &HitPoints::v,     &HitPoints::backfacing, &HitPoints::area,
-            &HitPoints::dx};
+            &HitPoints::ox,    &HitPoints::oy,    &HitPoints::oz,         &HitPoints::dx,
+            &HitPoints::dy,    &HitPoints::dz};
         for (auto column : outputs)
           EXPECT_TRUE(sameBits((h.*column)[i], (reference.*column)[i])) << "hit " << i;
       }
@@ -150,5 +154,76 @@ TEST(LaneKernels, CameraRaysMatchAtEveryWidth) {
       for (size_t i = 0; i < n; ++i)
         EXPECT_TRUE(sameBits(x[i], rx[i]) && sameBits(y[i], ry[i]) && sameBits(z[i], rz[i]))
             << "ray " << i;
+    }
+}
+
+TEST(LaneKernels, CameraRaysFindTheirPixelPastTwoToThe24) {
+  // A 4097-wide image's pixels past 2^24: each pixel of a row looks
+  // further right than the one before it (a float index would merge them).
+  CameraSetup camera;
+  camera.dir = Vec3(0, 0, -1);
+  camera.right = Vec3(1, 0, 0);
+  camera.up = Vec3(0, 1, 0);
+  camera.xres = 4097, camera.yres = 4500;
+  std::vector<int> pixels;
+  for (int k = 0; k < 40; ++k)
+    pixels.push_back((1 << 24) + k);
+  std::vector<float> centre(pixels.size(), 0.5f), x(pixels.size()), y(x), z(x);
+  for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
+    for (int width : {1, 16}) {
+      SCOPED_TRACE(std::string(kernels->isa) + " width " + std::to_string(width));
+      kernels->cameraRays(camera, pixels.data(), centre.data(), centre.data(), pixels.size(),
+                          x.data(), y.data(), z.data(), width);
+      for (size_t i = 1; i < pixels.size(); ++i)
+        if (pixels[i] % camera.xres != 0) // the same row as the one before
+          EXPECT_GT(x[i] / -z[i], x[i - 1] / -z[i - 1]) << "pixel " << pixels[i];
+    }
+}
+
+TEST(LaneKernels, LightSamplesMatchAtEveryWidth) {
+  // Sphere and quad lights seen from 203 points (no width divides it),
+  // some inside the first sphere, where it cannot be sampled.
+  Scene scene = boxWithSpheres();
+  PrimTable prims(scene);
+  LightDraws reference;
+  Sampler rng(9, 4, 1);
+  for (int i = 0; i < 203; ++i) {
+    Vec3 a = rng.get(), r = rng.get();
+    Vec3 from = i % 7 == 0 ? Vec3(0.3f * a.x, 0.3f * a.y, -5) // inside sphere 0
+                           : Vec3(4 * a.x - 2, 2 * a.y - 0.5f, -6 * a.z);
+    reference.push(i % 4, from, r.x, r.y);
+  }
+  genericLaneKernels().sampleLights(prims, reference, 1);
+  int inside = 0;
+  for (size_t i = 0; i < reference.size(); ++i) {
+    if (!(reference.pdf[i] > 0)) {
+      inside += reference.light[i] == 0;
+      continue;
+    }
+    EXPECT_NEAR(length(reference.dir(i)), 1.0f, 1e-5f) << "sample " << i;
+    // The direction reaches the light it sampled (nothing is in the way
+    // of a light as its own only primitive).
+    Scene alone;
+    alone.prims.push_back(scene.prims[reference.light[i]]);
+    Vec3 from(reference.ox[i], reference.oy[i], reference.oz[i]);
+    EXPECT_EQ(intersect(alone, from, reference.dir(i), -1).prim, 0) << "sample " << i;
+  }
+  EXPECT_GT(inside, 3);
+  for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
+    for (int width : {1, 4, 8, 16}) {
+      SCOPED_TRACE(std::string(kernels->isa) + " width " + std::to_string(width));
+      LightDraws draws;
+      for (size_t i = 0; i < reference.size(); ++i)
+        draws.push(reference.light[i], Vec3(reference.ox[i], reference.oy[i], reference.oz[i]),
+                   reference.rx[i], reference.ry[i]);
+      kernels->sampleLights(prims, draws, width);
+      for (size_t i = 0; i < draws.size(); ++i) {
+        EXPECT_TRUE(sameBits(draws.pdf[i], reference.pdf[i])) << "sample " << i;
+        if (reference.pdf[i] > 0)
+          EXPECT_TRUE(sameBits(draws.dx[i], reference.dx[i]) &&
+                      sameBits(draws.dy[i], reference.dy[i]) &&
+                      sameBits(draws.dz[i], reference.dz[i]))
+              << "sample " << i;
+      }
     }
 }

@@ -177,7 +177,7 @@ TEST(Jit, RunsAnOptimizedKernelOverTheGrid) {
   }
   EXPECT_GT(stats.get("jit setup"), 0.0);
   EXPECT_GT(stats.get("llvm opt"), 0.0);
-  EXPECT_GT(stats.get("jit codegen"), 0.0);
+  EXPECT_GT(stats.get("jit link"), 0.0); // codegen of added IR happens at lookup
   std::string printed;
   llvm::raw_string_ostream os(printed);
   stats.print(os);
