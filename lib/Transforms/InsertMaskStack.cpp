@@ -263,11 +263,6 @@ private:
     countActiveLanes(after, loc, afterMask);
 
     auto cond = cast<ConditionOp>(before.getTerminator());
-    // Lanes that left are frozen by re-yielding what the condition forwarded,
-    // which is only their carried value if it is forwarded unchanged.
-    if (!llvm::equal(cond.getArgs(), before.getArguments().drop_back()))
-      return op.emitOpError("a loop with a varying condition must forward its "
-                            "carried values unchanged");
     if (failed(checkSlots(op, cond.getArgs().getTypes(), op.getResultTypes())) ||
         failed(checkSlots(op, op.getInits().getTypes(),
                           TypeRange(before.getArgumentTypes()).drop_back())))
@@ -275,7 +270,17 @@ private:
     OpBuilder cb(cond);
     Value stillActive = cb.create<AndOp>(cond.getLoc(), beforeMask, cond.getCondition());
     Value anyActive = cb.create<AnyOp>(cond.getLoc(), cb.getI1Type(), stillActive);
-    SmallVector<Value> forwarded(cond.getArgs());
+    // A condition with side effects (`while (++i < n)`, a call with an
+    // output argument) forwards new values: lanes that evaluated it take
+    // them (even those it now sends out), lanes that left before keep
+    // their carried values.
+    SmallVector<Value> forwarded;
+    for (auto [value, carried] :
+         llvm::zip(cond.getArgs(), before.getArguments().drop_back()))
+      forwarded.push_back(value == carried
+                              ? value
+                              : cb.create<SelectOp>(cond.getLoc(), beforeMask, value, carried)
+                                    .getResult());
     forwarded.push_back(stillActive);
     cb.create<scf::ConditionOp>(cond.getLoc(), anyActive, forwarded);
     cond.erase();

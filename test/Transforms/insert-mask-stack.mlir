@@ -70,6 +70,33 @@ func.func @varying_loop_carries_mask(%n: !osl.varying<f32>, %x: !osl.varying<f32
 
 // -----
 
+// A condition that changes what it forwards (`while (x++ < n)`): lanes
+// that evaluated it take the new value, lanes that left before keep theirs.
+// CHECK-LABEL: func.func @varying_condition_with_side_effect
+func.func @varying_condition_with_side_effect(%n: !osl.varying<f32>, %x: !osl.varying<f32>) {
+  // CHECK: scf.while (%[[X:.+]] = %{{.+}}, %[[M:.+]] = %{{.+}})
+  // CHECK:   %[[INC:.+]] = osl.add %[[X]]
+  // CHECK:   %[[C:.+]] = osl.cmp lt, %[[X]]
+  // CHECK:   %[[STILL:.+]] = osl.and %[[M]], %[[C]]
+  // CHECK:   %[[ANY:.+]] = osl.any %[[STILL]]
+  // CHECK:   %[[FWD:.+]] = osl.select %[[M]], %[[INC]], %[[X]]
+  // CHECK:   scf.condition(%[[ANY]]) %[[FWD]], %[[STILL]]
+  %r = osl.while (%x : !osl.varying<f32>) -> !osl.varying<f32> cond {
+  ^bb0(%v: !osl.varying<f32>):
+    %one = arith.constant 1.0 : f32
+    %v2 = osl.add %v, %one : !osl.varying<f32>, f32 -> !osl.varying<f32>
+    %c = osl.cmp lt, %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+    osl.condition %c : !osl.varying<i1>, %v2 : !osl.varying<f32>
+  } do {
+  ^bb0(%v: !osl.varying<f32>):
+    osl.yield %v : !osl.varying<f32>
+  }
+  osl.output "x" = %r : !osl.varying<f32>
+  return
+}
+
+// -----
+
 // A loop inside a varying if starts with the arm's mask (the batch's live
 // lanes AND the condition), so lanes that took the other arm, or are past
 // the end of a partial batch, never keep it iterating.
