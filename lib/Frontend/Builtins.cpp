@@ -479,6 +479,9 @@ std::optional<RValue> emitTableCall(IRGen &g, const Builtin &fn, const Expr &cal
   auto args = emitArgs(g, call);
   if (!args)
     return std::nullopt;
+  if (llvm::StringRef(fn.name) == "mix" && args->size() == 3 &&
+      (*args)[0].type.base == BaseType::Closure)
+    return emitClosureMix(g, (*args)[0], (*args)[1], (*args)[2], call.loc);
   const Sig *best = nullptr;
   int bestCost = 0;
   BaseType bestKind = BaseType::Void;

@@ -231,4 +231,23 @@ std::optional<RValue> emitClosureArith(IRGen &g, llvm::StringRef op, RValue l, R
   return invalid();
 }
 
+std::optional<RValue> emitClosureMix(IRGen &g, RValue x, RValue y, RValue a, SrcLoc sl) {
+  if (y.type.base != BaseType::Closure || x.type.isArray() || y.type.isArray() ||
+      !a.type.isScalar()) {
+    g.error(sl, "wrong arguments to 'mix(" + x.type.str() + ", " + y.type.str() + ", " +
+                    a.type.str() + ")'; candidates: closure color mix(closure color, "
+                    "closure color, float)");
+    return std::nullopt;
+  }
+  auto weight = g.coerce(a, OslType(BaseType::Float), sl, "as mix's weight");
+  if (!weight)
+    return std::nullopt;
+  Value rest = g.builder().create<SubOp>(g.loc(sl), g.constFloat(1, sl), weight->value);
+  auto left = emitClosureArith(g, "*", x, RValue::num(OslType(BaseType::Float), rest), sl);
+  auto right = left ? emitClosureArith(g, "*", y, *weight, sl) : std::nullopt;
+  if (!right)
+    return std::nullopt;
+  return emitClosureArith(g, "+", *left, *right, sl);
+}
+
 } // namespace osl::frontend

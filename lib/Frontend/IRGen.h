@@ -630,6 +630,8 @@ std::optional<RValue> emitTypeConstructor(IRGen &gen, OslType type,
 /// is false when `call` is none of them.
 std::optional<RValue> emitClosureBuiltin(IRGen &gen, const Expr &call, bool &known);
 /// closure + closure, closure * color or float, color or float * closure.
+/// stdosl.h's mix(closure color x, closure color y, float a): x*(1-a) + y*a.
+std::optional<RValue> emitClosureMix(IRGen &gen, RValue x, RValue y, RValue a, SrcLoc loc);
 std::optional<RValue> emitClosureArith(IRGen &gen, llvm::StringRef op, RValue lhs,
                                        RValue rhs, SrcLoc l);
 /// The empty closure (0 assigned to a closure).

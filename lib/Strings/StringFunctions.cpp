@@ -243,7 +243,9 @@ int32_t splitLimit(int32_t maxsplit, int32_t resultLength) {
 /// regex_search / regex_match's results entry `k`: entries 2i and 2i+1 are
 /// where group i begins and ends (an unmatched group at the subject's end,
 /// as std::regex leaves it, which OSL uses too); entries past the groups,
-/// and every entry when nothing matches, keep `old`.
+/// and every entry when nothing matches, are the pattern's length, as both
+/// of OSL's backends write them (opstring.cpp, wide_opstring.cpp). A bad
+/// pattern keeps `old`.
 int32_t regexResult(std::string_view subject, std::string_view pattern, bool full, int32_t k,
                     int32_t old, std::string &error) {
   // The entries of one point are asked for one after another: the match is
@@ -266,8 +268,10 @@ int32_t regexResult(std::string_view subject, std::string_view pattern, bool ful
       for (const char *at : {m[g].first, m[g].second})
         last.positions.push_back(int32_t((m[g].matched ? at : end) - begin));
   }
-  if (!last.found || k < 0 || size_t(k) >= last.positions.size())
+  if (k < 0)
     return old;
+  if (!last.found || size_t(k) >= last.positions.size())
+    return int32_t(pattern.size());
   return last.positions[size_t(k)];
 }
 
