@@ -475,8 +475,22 @@ std::string sigText(const char *name, const Sig &s) {
 
 
 
-std::optional<RValue> emitTableCall(IRGen &g, const Builtin &fn, const Expr &call) {
-  auto args = emitArgs(g, call);
+std::optional<RValue> emitTableCall(IRGen &g, const Builtin &fn, const Expr &call,
+                                    const OslType *callExpected) {
+  // As oslc: where the context expects a triple and a signature returns
+  // one, that signature's triple arguments expect the same type (`vector c
+  // = normalize(snoise(p))` calls the vector snoise); elsewhere a
+  // polymorphic argument is a float, promoted (`length(noise(p))`).
+  std::vector<const OslType *> expected(call.args.size(), nullptr);
+  if (callExpected && callExpected->isTriple() && !callExpected->isArray())
+    for (const Sig &s : fn.sigs)
+      if (std::strlen(s.args) == call.args.size() && s.ret[0] == 'T') {
+        for (size_t k = 0; k < call.args.size(); ++k)
+          if (s.args[k] == 'T')
+            expected[k] = callExpected;
+        break;
+      }
+  auto args = emitArgs(g, call, expected);
   if (!args)
     return std::nullopt;
   if (llvm::StringRef(fn.name) == "mix" && args->size() == 3 &&
@@ -495,8 +509,10 @@ std::optional<RValue> emitTableCall(IRGen &g, const Builtin &fn, const Expr &cal
         tKind = (*args)[k].type.base;
         break;
       }
+    // No triple argument: a float promotes to a vector, as oslc's chosen
+    // candidate (`length(noise(p))`, `dot(noise(p), v)`).
     if (tKind == BaseType::Void && std::strchr(s.args, 'T'))
-      continue;
+      tKind = BaseType::Vector;
     int cost = 0;
     bool ok = true;
     for (size_t k = 0; k < n && ok; ++k) {
@@ -606,9 +622,14 @@ std::optional<RValue> emitFresnel(IRGen &g, const Expr &call) {
 namespace osl::frontend {
 
 std::optional<std::vector<RValue>> emitArgs(IRGen &g, const Expr &call) {
+  return emitArgs(g, call, {});
+}
+
+std::optional<std::vector<RValue>> emitArgs(IRGen &g, const Expr &call,
+                                            llvm::ArrayRef<const OslType *> expected) {
   std::vector<RValue> args;
-  for (const ExprPtr &a : call.args) {
-    auto v = g.emitExpr(*a);
+  for (size_t k = 0; k < call.args.size(); ++k) {
+    auto v = g.emitExpr(*call.args[k], k < expected.size() ? expected[k] : nullptr);
     if (!v)
       return std::nullopt;
     args.push_back(*v);
@@ -770,7 +791,7 @@ std::optional<RValue> emitBuiltinCall(IRGen &g, const Expr &call,
   }
   for (const Builtin &b : builtinTable())
     if (name == b.name)
-      return emitTableCall(g, b, call);
+      return emitTableCall(g, b, call, expected);
   for (const char *u : kUnsupported)
     if (name == u) {
       g.error(call.loc, "function '" + name + "' is not supported yet");

@@ -706,6 +706,10 @@ bool namesArg(IRGen &gen, const RValue &v, const Expr &e, llvm::StringRef fn,
 /// Evaluates every argument of a call, in order, with no expected types
 /// (Builtins.cpp); nullopt after an error.
 std::optional<std::vector<RValue>> emitArgs(IRGen &gen, const Expr &call);
+/// The same, each argument with the type its position expects (null: none),
+/// so a type-polymorphic call there (noise) returns what the callee takes.
+std::optional<std::vector<RValue>> emitArgs(IRGen &gen, const Expr &call,
+                                            llvm::ArrayRef<const OslType *> expected);
 
 /// testshade's user data for a lockgeom=0 parameter `name` of type `type`:
 /// (where it exists per point, its value), or nullopt when testshade has

@@ -76,7 +76,13 @@ std::optional<RValue> emitTransformc(IRGen &g, const Expr &call) {
 }
 
 std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
-  auto args = emitArgs(g, call);
+  // The last argument is a point, vector or normal: a noise() there is the
+  // vector noise, as oslc resolves it.
+  static const OslType vectorType(BaseType::Vector);
+  std::vector<const OslType *> expected(call.args.size(), nullptr);
+  if (!expected.empty())
+    expected.back() = &vectorType;
+  auto args = emitArgs(g, call, expected);
   if (!args)
     return std::nullopt;
   size_t n = args->size();
