@@ -157,6 +157,10 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
   Type t = withUniformity(irType(g.builder(), resultType), varying);
   return g.forEachStringChoice(kindName, call.loc, [&](const std::string &k) {
     std::optional<NoiseKind> kind = noiseKindFromName(k);
+    // Simplex noise has no periodic form: OSL reports it as an unknown
+    // periodic noise type where the point runs.
+    if (kind && periodic && (*kind == NoiseKind::simplex || *kind == NoiseKind::usimplex))
+      kind.reset();
     if (!kind) {
       // OSL's renderer reports an unknown name where the point runs, and
       // the noise is 0.
