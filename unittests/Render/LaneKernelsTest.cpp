@@ -75,8 +75,7 @@ TEST(LaneKernels, HitGeometryMatchesAtEveryWidth) {
   RayBatch rays;
   Sampler rng(5, 1, 3);
   for (int i = 0; i < 203; ++i) {
-    Vec3 a = rng.get(), b = rng.get();
-    Vec3 o(4 * a.x - 2, 2 * a.y - 0.5f, -6 * a.z);
+    Vec3 o = pointInBox(rng.get()), b = rng.get();
     rays.push(o, normalize(Vec3(2 * b.x - 1, 2 * b.y - 1, 2 * b.z - 1)), -1);
   }
   std::vector<Hit> found;
@@ -190,7 +189,7 @@ TEST(LaneKernels, LightSamplesMatchAtEveryWidth) {
   for (int i = 0; i < 203; ++i) {
     Vec3 a = rng.get(), r = rng.get();
     Vec3 from = i % 7 == 0 ? Vec3(0.3f * a.x, 0.3f * a.y, -5) // inside sphere 0
-                           : Vec3(4 * a.x - 2, 2 * a.y - 0.5f, -6 * a.z);
+                           : pointInBox(a);
     reference.push(i % 4, from, r.x, r.y);
   }
   genericLaneKernels().sampleLights(prims, reference, 1);

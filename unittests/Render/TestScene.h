@@ -33,6 +33,9 @@ inline Scene boxWithSpheres() {
   return scene;
 }
 
+/// A point in the box around the spheres from three uniform numbers.
+inline Vec3 pointInBox(Vec3 r) { return Vec3(4 * r.x - 2, 2 * r.y - 0.5f, -6 * r.z); }
+
 inline bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 } // namespace osl::render::testing
