@@ -54,10 +54,6 @@ float surfaceArea(const Primitive &prim);
   float cosL = std::fabs(dot(unitNormal, dir));
   return cosL > 1e-6f ? d2 / (area * cosL) : 0.0f;
 }
-/// The pdf the renderer's light sampling (LaneKernels' sampleLights) gives
-/// the direction from `x` that hits light `prim` at `p`.
-float lightPdf(const Primitive &prim, Vec3 x, Vec3 p);
-
 } // namespace osl::render
 
 #endif // OSLRENDER_GEOMETRY_H

@@ -19,15 +19,4 @@ float surfaceArea(const Primitive &prim) {
   return length(cross(prim.edgeX, prim.edgeY));
 }
 
-float lightPdf(const Primitive &prim, Vec3 x, Vec3 p) {
-  if (prim.kind == Primitive::Sphere) {
-    Vec3 toC = prim.center - x;
-    return sphereLightPdf(dot(toC, toC), prim.radius * prim.radius);
-  }
-  Vec3 d = p - x;
-  float d2 = dot(d, d);
-  return quadLightPdf(normalize(cross(prim.edgeX, prim.edgeY)), surfaceArea(prim),
-                      d / std::sqrt(d2), d2);
-}
-
 } // namespace osl::render

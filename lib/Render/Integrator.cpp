@@ -39,7 +39,6 @@ float powerHeuristic(float a, float b) {
 }
 
 struct Path {
-  int pixel = 0;
   Vec3 throughput{1, 1, 1}, radiance;
   float bsdfPdf = kInf; // of the last bounce; infinite for the camera and specular lobes
   /// What raytype() answers for the points the ray reaches (kRayTypes bits).
@@ -172,7 +171,7 @@ private:
   RayBatch rays;
   std::vector<Hit> hits;
   std::vector<int> rayPaths;
-  /// Each path's pixel, for the camera's lanes.
+  /// Each path's pixel (for the camera's lanes and the image).
   std::vector<int> pathPixels;
   /// A light sample whose shadow ray is traced with the others: what its
   /// light query gets if the ray reaches the light.
@@ -273,7 +272,6 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   for (int pixel : pixels)
     for (int s = s0; s < s1; ++s) {
       Path p;
-      p.pixel = pixel;
       p.rng = Sampler(uint32_t(pixel), uint32_t(s), opt.seed);
       draws.push(p.rng.pathKey(), p.rng.sampleIndex(), p.rng.reserve(1));
       paths.push_back(p);
@@ -410,11 +408,9 @@ bool PathWave::startScatter(const ShadeQueue &q, size_t i) {
   int pathIndex = q.path[i];
   Path &p = paths[pathIndex];
   ShadingResult &res = results[pathIndex];
-  const Primitive &prim = scene.prims[p.hit.prim];
   float k = 1;
-  if (prim.isLight && !std::isinf(p.bsdfPdf)) {
-    k = powerHeuristic(p.bsdfPdf, lightPdf(prim, q.at.o(i), q.at.p(i)));
-  }
+  if (scene.prims[p.hit.prim].isLight && !std::isinf(p.bsdfPdf))
+    k = powerHeuristic(p.bsdfPdf, lightPdf(prims, p.hit.prim, q.at.o(i), q.at.p(i)));
   p.radiance += p.throughput * res.emission * k;
   if (!res.prepare(-q.at.d(i))) {
     p.alive = false;
@@ -503,11 +499,11 @@ void PathWave::traceShadowRays() {
 /// Adds each path's radiance to its pixel.
 void PathWave::accumulate(float *sum) {
   const RenderOptions &opt = r.options;
-  for (const Path &p : paths) {
-    Vec3 c = p.radiance;
+  for (size_t i = 0; i < paths.size(); ++i) {
+    Vec3 c = paths[i].radiance;
     if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)))
       continue; // one bad sample must not turn a pixel into NaN
-    size_t at = 3 * opt.windowIndex(p.pixel);
+    size_t at = 3 * opt.windowIndex(pathPixels[i]);
     sum[at] += c.x;
     sum[at + 1] += c.y;
     sum[at + 2] += c.z;

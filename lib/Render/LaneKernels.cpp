@@ -34,6 +34,16 @@ PrimTable::PrimTable(const Scene &scene) {
   }
 }
 
+float lightPdf(const PrimTable &T, int k, Vec3 x, Vec3 p) {
+  if (T.kind[k] == Primitive::Sphere) {
+    Vec3 toC = Vec3(T.cx[k], T.cy[k], T.cz[k]) - x;
+    return sphereLightPdf(dot(toC, toC), T.radius[k] * T.radius[k]);
+  }
+  Vec3 d = p - x;
+  float d2 = dot(d, d);
+  return quadLightPdf(Vec3(T.nx[k], T.ny[k], T.nz[k]), T.area[k], d / std::sqrt(d2), d2);
+}
+
 void HitPoints::sizeOutputs() {
   for (std::vector<float> *v :
        {&ox, &oy,    &oz,    &dx,    &dy,    &dz,    &px,    &py, &pz, &nx,         &ny,

@@ -41,6 +41,10 @@ struct PrimTable {
   explicit PrimTable(const Scene &scene);
 };
 
+/// The pdf the renderer's light sampling (sampleLights) gives the direction
+/// from `x` that hits light `k` at `p` (for the MIS weight of a hit).
+float lightPdf(const PrimTable &prims, int k, Vec3 x, Vec3 p);
+
 /// Where rays hit, as structure of arrays: each lane's primitive, ray (an
 /// index into a RayBatch) and distance in; the ray's origin and direction,
 /// and the globals a shader sees there, out. The normal faces the ray, as
