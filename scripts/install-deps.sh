@@ -6,7 +6,7 @@ if [ "$(id -u)" != 0 ]; then SUDO=sudo; fi
 PKGS=(cmake ninja-build ccache pkg-config python3
       clang-19 lld-19 llvm-19-dev llvm-19-tools libmlir-19-dev mlir-19-tools
       libclang-rt-19-dev
-      libopenimageio-dev openimageio-tools libtiff-dev libopenexr-dev libgtest-dev libopenvdb-dev libboost-dev
+      libopenimageio-dev openimageio-tools libtiff-dev libopenexr-dev libpng-dev libgtest-dev libopenvdb-dev libboost-dev
       python3-matplotlib python3-distributed)
 missing=()
 for p in "${PKGS[@]}"; do

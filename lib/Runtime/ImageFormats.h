@@ -45,6 +45,8 @@ std::unique_ptr<Writer> openTiff(const std::string &path, const WriteSpec &spec,
                                  std::string &error);
 std::unique_ptr<Writer> openExr(const std::string &path, const WriteSpec &spec,
                                 std::string &error);
+std::unique_ptr<Writer> openPng(const std::string &path, const WriteSpec &spec,
+                                std::string &error);
 /// Any format OpenImageIO writes, through the module; `formatFrom` names
 /// the format by its extension when `path` is a temporary name.
 std::unique_ptr<Writer> openWithOiio(const std::string &path, const std::string &formatFrom,
@@ -61,7 +63,7 @@ ReadResult readExr(const std::string &path, ImageData &image, std::string &error
 bool readWithOiio(const std::string &path, ImageData &image, std::string &error);
 
 /// The format a path's extension names among the native ones.
-enum class NativeFormat { None, Tiff, Exr };
+enum class NativeFormat { None, Tiff, Exr, Png };
 NativeFormat nativeFormat(const std::string &path);
 
 } // namespace osl::image

@@ -1,7 +1,8 @@
 //===- ImageOutput.cpp - Write/read shaded images -------------------------===//
 //
-// TIFF and EXR go through the native code (ImageFormats.h), everything else
-// through OpenImageIO in its module (OiioModule.h).
+// TIFF and EXR, and PNG when written, go through the native code
+// (ImageFormats.h), everything else through OpenImageIO in its module
+// (OiioModule.h).
 //
 //===----------------------------------------------------------------------===//
 #include "OslRuntime/ImageOutput.h"
@@ -38,6 +39,8 @@ NativeFormat nativeFormat(const std::string &path) {
     return NativeFormat::Tiff;
   if (extension == "exr")
     return NativeFormat::Exr;
+  if (extension == "png")
+    return NativeFormat::Png;
   return NativeFormat::None;
 }
 
@@ -56,6 +59,7 @@ std::unique_ptr<image::Writer> openWriter(const std::string &path, const std::st
   switch (image::nativeFormat(formatFrom)) {
   case image::NativeFormat::Tiff: writer = image::openTiff(path, spec, error); break;
   case image::NativeFormat::Exr: writer = image::openExr(path, spec, error); break;
+  case image::NativeFormat::Png: writer = image::openPng(path, spec, error); break;
   case image::NativeFormat::None: break;
   }
   if (writer || !error.empty())
@@ -161,6 +165,7 @@ image::ReadResult readNative(const std::string &path, ImageData &image, std::str
   switch (image::nativeFormat(path)) {
   case image::NativeFormat::Tiff: return image::readTiff(path, image, error);
   case image::NativeFormat::Exr: return image::readExr(path, image, error);
+  case image::NativeFormat::Png: // read by OpenImageIO
   case image::NativeFormat::None: break;
   }
   return image::ReadResult::Unsupported;

@@ -11,6 +11,8 @@
 
 #include "gtest/gtest.h"
 
+#include <png.h>
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -53,6 +55,62 @@ bool write(std::unique_ptr<image::Writer> writer, const image::WriteSpec &spec,
   return writer && writer->writeRows(0, spec.yres, data.data(), error) && writer->close(error);
 }
 
+/// An image of `shape` (width, height, channels) stored as `type`.
+image::WriteSpec specOf(const int shape[3], const std::string &type, bool integerPixels) {
+  image::WriteSpec spec;
+  spec.xres = shape[0];
+  spec.yres = shape[1];
+  spec.channels = shape[2];
+  spec.dataType = type;
+  spec.integerPixels = integerPixels;
+  return spec;
+}
+
+std::string describe(const image::WriteSpec &spec) {
+  return " type '" + spec.dataType + "'" + (spec.integerPixels ? " ints " : " ") +
+         std::to_string(spec.xres) + "x" + std::to_string(spec.yres) + "x" +
+         std::to_string(spec.channels);
+}
+
+/// A PNG's header fields and samples as stored (16-bit ones in host
+/// order), with no alpha conversion: false when libpng cannot read it.
+struct StoredPng {
+  png_uint_32 width = 0, height = 0;
+  int bitDepth = 0, colorType = 0;
+  std::vector<unsigned char> samples;
+};
+
+bool readStoredPng(const std::string &path, StoredPng &stored) {
+  std::FILE *file = std::fopen(path.c_str(), "rb");
+  if (!file)
+    return false;
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  std::vector<png_bytep> rows;
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    std::fclose(file);
+    return false;
+  }
+  png_init_io(png, file);
+  png_read_info(png, info);
+  stored.width = png_get_image_width(png, info);
+  stored.height = png_get_image_height(png, info);
+  stored.bitDepth = png_get_bit_depth(png, info);
+  stored.colorType = png_get_color_type(png, info);
+  if (stored.bitDepth == 16)
+    png_set_swap(png);
+  size_t rowBytes = png_get_rowbytes(png, info);
+  stored.samples.assign(rowBytes * stored.height, 0);
+  rows.resize(stored.height);
+  for (png_uint_32 y = 0; y < stored.height; ++y)
+    rows[y] = stored.samples.data() + y * rowBytes;
+  png_read_image(png, rows.data());
+  png_destroy_read_struct(&png, &info, nullptr);
+  std::fclose(file);
+  return true;
+}
+
 } // namespace
 
 TEST(NativeImageFiles, StoreWhatOpenImageIOStores) {
@@ -63,17 +121,9 @@ TEST(NativeImageFiles, StoreWhatOpenImageIOStores) {
     for (const std::string &type : types) {
       for (bool ints : {false, true}) {
         for (const auto &shape : shapes) {
-          image::WriteSpec spec;
-          spec.xres = shape[0];
-          spec.yres = shape[1];
-          spec.channels = shape[2];
-          spec.dataType = type;
-          spec.integerPixels = ints;
-          SCOPED_TRACE(std::string(extension) + " type '" + type + "'" + (ints ? " ints" : "") +
-                       " " + std::to_string(shape[0]) + "x" + std::to_string(shape[1]) + "x" +
-                       std::to_string(shape[2]));
-          std::vector<float> data =
-              trickyValues(size_t(shape[0]) * shape[1] * shape[2], ints);
+          image::WriteSpec spec = specOf(shape, type, ints);
+          SCOPED_TRACE(extension + describe(spec));
+          std::vector<float> data = trickyValues(size_t(shape[0]) * shape[1] * shape[2], ints);
           std::string nativePath = tempPath("native") + extension;
           std::string oiioPath = tempPath("oiio") + extension;
           std::string error;
@@ -106,6 +156,60 @@ TEST(NativeImageFiles, StoreWhatOpenImageIOStores) {
   EXPECT_EQ(compared, 60 + 36);
 }
 
+TEST(NativeImageFiles, PngStoresWhatOpenImageIOStores) {
+  // Compared as stored: OpenImageIO's reader would multiply by alpha again,
+  // hiding what a zero alpha leaves in the colors.
+  const std::string types[] = {"", "uint8", "uint16", "half", "float"};
+  const int shapes[][3] = {{1, 1, 1}, {3, 1, 2}, {3, 2, 3}, {5, 3, 4}, {40, 7, 4}, {2, 2, 2}};
+  int compared = 0;
+  for (const std::string &type : types) {
+    for (bool ints : {false, true}) {
+      for (const auto &shape : shapes) {
+        // OpenImageIO stores whole numbers as ints only where -od names a type.
+        image::WriteSpec spec = specOf(shape, type, ints && !type.empty());
+        SCOPED_TRACE(describe(spec));
+        std::vector<float> data = trickyValues(size_t(shape[0]) * shape[1] * shape[2], ints);
+        std::string nativePath = tempPath("native.png"), oiioPath = tempPath("oiio.png");
+        std::string error;
+        ASSERT_TRUE(write(image::openPng(nativePath, spec, error), spec, data, error)) << error;
+        ASSERT_TRUE(write(image::openWithOiio(oiioPath, oiioPath, spec, error), spec, data,
+                          error))
+            << error;
+        StoredPng ours, theirs;
+        ASSERT_TRUE(readStoredPng(nativePath, ours));
+        ASSERT_TRUE(readStoredPng(oiioPath, theirs));
+        EXPECT_EQ(ours.width, theirs.width);
+        EXPECT_EQ(ours.height, theirs.height);
+        EXPECT_EQ(ours.bitDepth, theirs.bitDepth);
+        EXPECT_EQ(ours.colorType, theirs.colorType);
+        EXPECT_EQ(ours.samples, theirs.samples);
+        ++compared;
+        std::remove(nativePath.c_str());
+        std::remove(oiioPath.c_str());
+      }
+    }
+  }
+  EXPECT_EQ(compared, 5 * 2 * 6);
+}
+
+TEST(NativeImageFiles, PngLeavesWideOutputsToOpenImageIO) {
+  image::WriteSpec spec;
+  spec.xres = spec.yres = 2;
+  spec.channels = 5;
+  std::string error;
+  EXPECT_EQ(image::openPng(tempPath("wide.png"), spec, error), nullptr);
+  EXPECT_TRUE(error.empty()) << error;
+}
+
+TEST(NativeImageFiles, PngWriteFailureIsAnError) {
+  image::WriteSpec spec;
+  spec.xres = spec.yres = 2;
+  spec.channels = 3;
+  std::string error;
+  EXPECT_EQ(image::openPng("/nonexistent-dir/x.png", spec, error), nullptr);
+  EXPECT_NE(error.find("cannot write /nonexistent-dir/x.png"), std::string::npos) << error;
+}
+
 TEST(NativeImageFiles, ReadBackWhatOpenImageIOReads) {
   image::WriteSpec spec;
   spec.xres = 9;
@@ -125,7 +229,8 @@ TEST(NativeImageFiles, ReadBackWhatOpenImageIOReads) {
 }
 
 TEST(NativeImageFiles, OtherLayoutsAreLeftToOpenImageIO) {
-  // A PNG is no native format: readImageNatively declines without an error.
+  // A PNG is written natively but read by OpenImageIO: readImageNatively
+  // declines without an error.
   std::vector<float> pixel = {0.5f, 0.25f, 1.0f};
   std::string path = tempPath("x.png"), error;
   ASSERT_TRUE(writeImage(path, 1, 1, 3, pixel.data(), error)) << error;
