@@ -206,8 +206,14 @@ RValue IRGen::packStructArray(const OslType &arrayType, const std::vector<RValue
     }
     RValue f;
     f.type = ft;
-    for (const RValue &c : column)
-      f.elems.push_back(c.value);
+    // A string array's elements are string values (constants, choices or
+    // handles), kept whole as fields.
+    for (const RValue &c : column) {
+      if (ft.base == BaseType::String)
+        f.fields.push_back(c);
+      else
+        f.elems.push_back(c.value);
+    }
     r.fields.push_back(f);
   }
   return r;
@@ -218,13 +224,6 @@ bool IRGen::checkStructType(const OslType &t, SrcLoc l) {
     return true;
   for (size_t j = 0; j < t.structDecl->fields.size(); ++j) {
     const StructField &f = t.structDecl->fields[j];
-    // String fields: single ones, in structs that are not in arrays.
-    bool unsupportedString =
-        f.type.base == BaseType::String && (t.isArray() || f.type.isArray());
-    if (unsupportedString)
-      return error(l, "field '" + f.name + "' of struct '" + t.structDecl->name +
-                          "': string fields of arrays of structs, and arrays of strings "
-                          "as fields, are not supported yet");
     if ((f.type.base == BaseType::Closure && (t.isArray() || f.type.isArray())) ||
         (f.type.base == BaseType::Matrix && (t.isArray() || f.type.isArray())))
       return error(l, "field '" + f.name + "' of struct '" + t.structDecl->name +

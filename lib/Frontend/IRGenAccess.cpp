@@ -277,8 +277,17 @@ RValue IRGen::updatePath(const RValue &cur, const std::vector<Access> &path, siz
   const Access &a = path[k];
   if (cur.type.isArray() && cur.type.base == BaseType::String) {
     RValue res = cur;
-    if (a.constIndex >= 0)
-      res.fields[a.constIndex] = newValue; // a varying index is rejected in storeLValue
+    if (a.constIndex >= 0) {
+      res.fields[a.constIndex] = newValue;
+      return res;
+    }
+    // An element chosen per point (a string field of an array of structs):
+    // every element becomes a handle, and each takes the new one where the
+    // index picks it.
+    Value handle = stringHandle(newValue, l);
+    for (int j = 0; j < a.length; ++j)
+      res.fields[j] = RValue::runtimeString(select(selectsElement(a.index, j, a.length, l),
+                                                   handle, stringHandle(cur.fields[j], l), l));
     return res;
   }
   if (a.field >= 0) {

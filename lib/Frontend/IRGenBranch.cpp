@@ -135,13 +135,16 @@ namespace {
 bool sameString(const RValue &a, const RValue &b) {
   return a.str == b.str && a.value == b.value && a.choices == b.choices;
 }
-/// The string fields of a struct value, nested ones included, in order.
+/// The string fields of a struct value, nested ones and the elements of
+/// string arrays (fields of arrays of structs) included, in order.
 void collectStringFields(const RValue &r, std::vector<RValue> &out) {
   if (r.type.isStructLike()) {
     for (const RValue &f : r.fields)
       collectStringFields(f, out);
   } else if (r.type.isString()) {
     out.push_back(r);
+  } else if (r.type.isArray() && r.type.base == BaseType::String) {
+    out.insert(out.end(), r.fields.begin(), r.fields.end());
   }
 }
 } // namespace
