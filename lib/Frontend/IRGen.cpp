@@ -173,9 +173,11 @@ Value IRGen::convert(Value v, Type toBase, SrcLoc l) {
       if (toBase.isInteger(1))
         return constBool(d != 0, l);
       if (toBase.isInteger(32)) {
+        // NaN and values past int's range: INT_MIN, as the run-time
+        // conversion (lane::convert) and x86 give.
         double t = std::trunc(d);
         if (!(t >= -2147483648.0 && t <= 2147483647.0))
-          t = 0; // out of range: avoid UB; OSL leaves this undefined
+          t = -2147483648.0;
         return constInt(int32_t(t), l);
       }
       if (isTriple(toBase))

@@ -333,8 +333,20 @@ bool IRGen::emitStructParam(const Param &p, Scope *scope) {
     return false;
   bool ok = true;
   forEachStructLeaf(p.name, t, *c, [&](const std::string &name, RValue &leaf) {
-    if (!ok || leaf.type.isString())
+    if (!ok)
       return;
+    if (leaf.type.isString()) {
+      // A compile-time string, as a string parameter: the instance value,
+      // or the handle an upstream layer computes.
+      if (const ParamOverride *fieldValue = overrideOf(name))
+        leaf = RValue::string(fieldValue->value);
+      if (llvm::is_contained(options.connectedInputs, name)) {
+        Value handle = stringHandle(leaf, p.loc);
+        leaf = RValue::runtimeString(
+            b.create<ParamOp>(loc(p.loc), handle.getType(), name, handle).getResult());
+      }
+      return;
+    }
     if (const ParamOverride *fieldValue = overrideOf(name)) {
       Param field;
       field.type = leaf.type;

@@ -96,14 +96,15 @@ public:
             break;
           }
         if (!match) {
+          tok.kind = TokKind::Invalid;
           if (static_cast<unsigned char>(c) >= 0x80 || !llvm::isPrint(c))
-            diags.error(tok.loc, "invalid character in source (byte 0x" +
-                                     llvm::utohexstr(static_cast<unsigned char>(c)) +
-                                     ")");
+            tok.text = "invalid character in source (byte 0x" +
+                       llvm::utohexstr(static_cast<unsigned char>(c)) + ")";
           else
-            diags.error(tok.loc, llvm::Twine("invalid character '") + llvm::Twine(c) +
-                                     "' in source");
-          return false;
+            tok.text = std::string("invalid character '") + c + "' in source";
+          advance();
+          out.push_back(std::move(tok));
+          continue;
         }
         tok.kind = TokKind::Punct;
         tok.text = match;
@@ -188,8 +189,9 @@ private:
     std::string value;
     while (true) {
       if (pos >= src.size() || src[pos] == '\n') {
-        diags.error(tok.loc, "unterminated string literal");
-        return false;
+        tok.kind = TokKind::Invalid;
+        tok.text = "unterminated string literal";
+        return true;
       }
       char c = src[pos];
       if (c == '"') {

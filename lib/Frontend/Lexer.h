@@ -11,7 +11,10 @@
 
 namespace osl::frontend {
 
-enum class TokKind { Eof, Ident, Int, Float, String, Punct };
+/// Invalid: a character or string literal that is no token; its text is
+/// the error, reported only if the token is compiled (an `#if 0` block may
+/// hold any text, as in C).
+enum class TokKind { Eof, Ident, Int, Float, String, Punct, Invalid };
 
 struct Token {
   TokKind kind = TokKind::Eof;

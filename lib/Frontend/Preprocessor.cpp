@@ -14,6 +14,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 
 using namespace osl::frontend;
 
@@ -85,9 +86,12 @@ public:
     std::swap(outerConds, conds); // conditionals do not cross files
     unsigned outerDepth = includeDepth;
     includeDepth = depth;
+    LineRemap outerRemap = lineRemap; // nor do #line directives
+    lineRemap = {};
     bool ok = runFile(raw, out);
     std::swap(outerConds, conds);
     includeDepth = outerDepth;
+    lineRemap = outerRemap;
     return ok;
   }
 
@@ -115,8 +119,10 @@ private:
           return false;
         continue;
       }
-      if (active())
+      if (active()) {
         text.push_back(tok);
+        lineRemap.apply(text.back().loc);
+      }
       ++i;
     }
     if (!conds.empty()) {
@@ -229,6 +235,8 @@ private:
     }
     if (d == "pragma")
       return pragma(line);
+    if (d == "line")
+      return lineDirective(name, line);
     if (d == "error") {
       std::string msg;
       for (size_t k = 1; k < line.size(); ++k)
@@ -753,9 +761,40 @@ private:
     return run(raw, out, includeDepth + 1);
   }
 
+  /// `#line N ["file"]`: the next line is line N (of that file).
+  bool lineDirective(const Token &name, const std::vector<Token> &line) {
+    if (line.size() < 2 || !line[1].is(TokKind::Int) ||
+        (line.size() > 2 && !line[2].is(TokKind::String)) || line.size() > 3) {
+      diags.error(name.loc, "#line needs a line number and, optionally, a file name");
+      return false;
+    }
+    long long number = std::strtoll(line[1].text.c_str(), nullptr, 0);
+    if (number < 1 || number > 2147483647) {
+      diags.error(line[1].loc, "#line number " + line[1].text + " is out of range");
+      return false;
+    }
+    // Lines are counted in the file as written; the offset holds across
+    // the remap's own file changes.
+    lineRemap.offset = number - (long long)(name.loc.line + 1);
+    if (line.size() > 2)
+      lineRemap.file = diags.addFile(line[2].text);
+    return true;
+  }
+
+  struct LineRemap {
+    long long offset = 0;
+    std::optional<unsigned> file;
+    void apply(SrcLoc &loc) const {
+      loc.line = unsigned((long long)loc.line + offset);
+      if (file)
+        loc.file = *file;
+    }
+  };
+
   Diagnostics &diags;
   llvm::ArrayRef<std::string> includePaths;
   unsigned includeDepth = 0;
+  LineRemap lineRemap;
   llvm::StringMap<Macro> macros;
   std::vector<Cond> conds;
   size_t produced = 0; // tokens made by macro expansion, against runaway macros
@@ -776,6 +815,10 @@ bool osl::frontend::preprocess(const std::vector<Token> &raw, Diagnostics &diags
     return false;
   if (!pp.run(raw, out, 0))
     return false;
+  // What the lexer could not make a token of is an error once compiled.
+  for (const Token &t : out)
+    if (t.is(TokKind::Invalid))
+      return diags.error(t.loc, t.text), false;
   // Adjacent string literals are one string, as in C.
   size_t kept = 0;
   for (size_t i = 0; i < out.size(); ++i) {

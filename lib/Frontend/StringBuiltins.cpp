@@ -69,6 +69,9 @@ private:
   /// an array's elements or a matrix's 16 values each, with the count in
   /// `valueCounts` so that their conversion is repeated.
   bool addFormatted(size_t k);
+  /// The format string operand at `formatIndex`, its conversions repeated
+  /// for arrays and matrices, checked against the values' kinds.
+  bool checkFormat(size_t formatIndex);
   bool wrong() {
     return g.error(call.loc, "wrong arguments to '" + call.name + "'; candidates: " +
                                  usage(call.name));
@@ -203,13 +206,9 @@ bool checkKnownRegex(IRGen &g, const RValue &regex, SrcLoc l) {
   return why.empty() || g.error(l, why);
 }
 
-/// Format strings and regular expressions known now are checked now.
+/// Regular expressions known now are checked now (format strings are, by
+/// checkFormat).
 bool StringCall::checkConstantOperands() {
-  if (call.name == "format" && args[0].isKnownString()) {
-    std::string why = ::osl::formatError(args[0].str, llvm::StringRef(kinds).drop_front());
-    if (!why.empty())
-      return g.error(call.args[0]->begin, why);
-  }
   if (call.name == "regex_search" || call.name == "regex_match")
     return checkKnownRegex(g, args[1], call.args[1]->begin);
   return true;
@@ -223,6 +222,21 @@ bool StringCall::emitArgs() {
     args.push_back(*v);
   }
   return true;
+}
+
+bool StringCall::checkFormat(size_t formatIndex) {
+  RValue &format = operands[formatIndex];
+  bool repeats = llvm::any_of(valueCounts, [](int n) { return n != 1; });
+  SrcLoc l = call.args[formatIndex]->begin;
+  if (format.isKnownString()) {
+    if (repeats)
+      format = RValue::string(::osl::repeatConversions(format.str, valueCounts));
+    std::string why =
+        ::osl::formatError(format.str, llvm::StringRef(kinds).drop_front(formatIndex + 1));
+    return why.empty() || g.error(l, why);
+  }
+  return !repeats || g.error(l, "an array or matrix can be formatted only with a format "
+                                "string known when the shader is compiled");
 }
 
 bool StringCall::addFormatted(size_t k) {
@@ -265,21 +279,8 @@ std::optional<RValue> StringCall::emitPrint() {
   for (size_t k = leading; k < args.size(); ++k)
     if (!addFormatted(k))
       return std::nullopt;
-  RValue &format = operands[leading - 1];
-  bool repeats = llvm::any_of(valueCounts, [](int n) { return n != 1; });
-  if (format.isKnownString()) {
-    if (repeats)
-      format = RValue::string(::osl::repeatConversions(format.str, valueCounts));
-    std::string why =
-        ::osl::formatError(format.str, llvm::StringRef(kinds).drop_front(leading));
-    if (!why.empty())
-      return g.error(call.args[leading - 1]->begin, why), std::nullopt;
-  } else if (repeats) {
-    return g.error(call.args[leading - 1]->begin,
-                   "an array or matrix can be printed only with a format string known "
-                   "when the shader is compiled"),
-           std::nullopt;
-  }
+  if (!checkFormat(leading - 1))
+    return std::nullopt;
   if (namesShader) {
     operands.insert(operands.begin(), RValue::string(g.shaderName().str()));
     operandLocs.insert(operandLocs.begin(), call.loc);
@@ -336,7 +337,8 @@ std::optional<RValue> StringCall::emit() {
     else
       ok = addOperand(0, 's');
     for (size_t k = 1; ok && k < args.size(); ++k)
-      ok = addFormatValue(k);
+      ok = addFormatted(k);
+    ok = ok && checkFormat(0);
   } else if (name == "concat") {
     for (size_t k = 0; ok && k < args.size(); ++k)
       ok = addOperand(k, 's');

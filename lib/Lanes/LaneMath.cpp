@@ -402,10 +402,12 @@ Value lane::logb(OpBuilder &b, Location loc, ValueRange x) {
   return b.create<arith::SIToFPOp>(loc, mag.getType(), exponent);
 }
 /// clamp((x - e0) / (e1 - e0), 0, 1), with a step when e0 == e1.
+/// As stdosl.h: x clamped between the edges (which, reversed, gives
+/// edge0 and so -0), then scaled.
 Value lane::linearstep(OpBuilder &b, Location loc, ValueRange x) {
-  Value t = div(b, loc, {b.create<arith::SubFOp>(loc, x[2], x[0]),
-                         b.create<arith::SubFOp>(loc, x[1], x[0])});
-  Value ramp = clamp(b, loc, {t, cst(b, loc, t, 0), cst(b, loc, t, 1)});
+  Value clamped = clamp(b, loc, {x[2], x[0], x[1]});
+  Value ramp = b.create<arith::DivFOp>(loc, b.create<arith::SubFOp>(loc, clamped, x[0]),
+                                       b.create<arith::SubFOp>(loc, x[1], x[0]));
   Value degenerate = fcmp(b, loc, arith::CmpFPredicate::OEQ, x[0], x[1]);
   return sel(b, loc, degenerate, step(b, loc, {x[0], x[2]}), ramp);
 }
@@ -624,6 +626,12 @@ Value lane::convert(OpBuilder &b, Location loc, Value x, Type to) {
                       : b.create<arith::ExtUIOp>(loc, toLane, x).getResult();
   if (to.isF32())
     return b.create<arith::SIToFPOp>(loc, toLane, x);
-  // int(x) truncates toward zero.
-  return b.create<arith::FPToSIOp>(loc, toLane, x);
+  // int(x) truncates toward zero. NaN and values past int's range give
+  // INT_MIN, as x86's conversion (and so OSL) does: fptosi alone would be
+  // poison there, which LLVM folds to anything for a constant.
+  Value truncated = b.create<arith::FPToSIOp>(loc, toLane, x);
+  Value inRange = b.create<arith::AndIOp>(
+      loc, fcmp(b, loc, arith::CmpFPredicate::OGE, x, cst(b, loc, x, -2147483648.0)),
+      fcmp(b, loc, arith::CmpFPredicate::OLT, x, cst(b, loc, x, 2147483648.0)));
+  return sel(b, loc, inRange, truncated, cst(b, loc, truncated, -2147483648.0));
 }

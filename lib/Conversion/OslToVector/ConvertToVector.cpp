@@ -52,6 +52,8 @@ struct ConvertToVectorPass
       outputRow[out] = row;
       row += isTriple(getUniformType(out.getValue().getType())) ? 3 : 1;
     });
+    if (failed(checkSplineKnotCounts(shaders[0])))
+      return signalPassFailure();
     makeKernelSignature(shaders[0]);
 
     MLIRContext *ctx = &getContext();

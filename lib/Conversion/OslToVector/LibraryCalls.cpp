@@ -19,6 +19,8 @@
 #include "mlir/Dialect/Math/IR/Math.h"
 #include "mlir/IR/Matchers.h"
 
+#include <limits>
+
 using namespace mlir;
 using namespace mlir::osl;
 using namespace mlir::osl::lowering;
@@ -37,6 +39,32 @@ struct GeometryLowering : public OslPattern<OpTy> {
     return b.create<math::FmaOp>(loc, a[2], c[2], s);
   }
 
+  /// Imath's length, which OSL's length() calls: sqrt of the dot product,
+  /// but for a vector whose squared length is below 2 * FLT_MIN (it would
+  /// lose its bits to denormals) the components are first divided by the
+  /// largest of them. (OSL's distance() and normalize() take the plain
+  /// square root: testshade gives normalize(vector(3e-23, 4e-23, 0)) =
+  /// (0.566684, 0.755579, 0).)
+  static Value length(OpBuilder &b, Location loc, ArrayRef<Value> a) {
+    Value length2 = dot(b, loc, a, a);
+    auto cst = [&](double v) { return lane::constantLike(b, loc, length2, v); };
+    SmallVector<Value> magnitude;
+    for (Value c : a)
+      magnitude.push_back(b.create<math::AbsFOp>(loc, c));
+    Value largest = lane::max(b, loc, {lane::max(b, loc, {magnitude[0], magnitude[1]}),
+                                       magnitude[2]});
+    SmallVector<Value> scaled;
+    for (Value m : magnitude)
+      scaled.push_back(b.create<arith::DivFOp>(loc, m, largest));
+    Value tinyLength = b.create<arith::MulFOp>(
+        loc, largest, lane::sqrt(b, loc, {dot(b, loc, scaled, scaled)}));
+    Value zero = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OEQ, largest, cst(0));
+    tinyLength = b.create<arith::SelectOp>(loc, zero, cst(0), tinyLength);
+    Value tiny = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OLT, length2,
+                                         cst(2 * double(std::numeric_limits<float>::min())));
+    return b.create<arith::SelectOp>(loc, tiny, tinyLength, lane::sqrt(b, loc, {length2}));
+  }
+
   LogicalResult matchAndRewrite(OpTy op, typename OpTy::Adaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
     Location loc = op.getLoc();
@@ -50,7 +78,7 @@ struct GeometryLowering : public OslPattern<OpTy> {
     if constexpr (std::is_same_v<OpTy, DotOp>) {
       out = {dot(b, loc, v[0], v[1])};
     } else if constexpr (std::is_same_v<OpTy, LengthOp>) {
-      out = {lane::sqrt(b, loc, {dot(b, loc, v[0], v[0])})};
+      out = {length(b, loc, v[0])};
     } else if constexpr (std::is_same_v<OpTy, DistanceOp>) {
       SmallVector<Value> d;
       for (int i = 0; i < 3; ++i)
@@ -275,15 +303,10 @@ struct SplineFamilyLowering : public OslPattern<Op> {
     Components lanes{rewriter, loc, this->width};
     Value x = lanes.unpack(adaptor.getOperands()[0], op->getOperand(0).getType(), varying)[0];
     Value count;
-    if (op.getCount()) {
-      APInt known;
-      int64_t len = op.getKnots().size();
-      if (matchPattern(op.getCount(), m_ConstantInt(&known)) &&
-          (known.getSExtValue() < 4 || known.getSExtValue() > len))
-        return op.emitError("knot count ")
-               << known.getSExtValue() << " is out of range (4 to " << len << ")";
+    // (A constant count out of range was reported before the conversion:
+    // checkSplineKnotCounts.)
+    if (op.getCount())
       count = lanes.unpack(adaptor.getCount(), op.getCount().getType(), varying)[0];
-    }
     SmallVector<SmallVector<Value>> knots =
         lanes.unpackAll(adaptor.getKnots(), op.getKnots(), false);
     if (knots.size() < 4)
@@ -312,6 +335,28 @@ struct SplineFamilyLowering : public OslPattern<Op> {
 };
 
 } // namespace
+
+/// A knot count known to be out of range is the shader's error (OSL reads
+/// past the knots); one message, before the conversion would fail too.
+LogicalResult mlir::osl::lowering::checkSplineKnotCounts(Operation *root) {
+  bool ok = true;
+  root->walk([&](Operation *op) {
+    if (!isa<SplineOp, SplineInverseOp>(op))
+      return;
+    Value count = isa<SplineOp>(op) ? cast<SplineOp>(op).getCount()
+                                    : cast<SplineInverseOp>(op).getCount();
+    int64_t len = isa<SplineOp>(op) ? cast<SplineOp>(op).getKnots().size()
+                                    : cast<SplineInverseOp>(op).getKnots().size();
+    APInt known;
+    if (count && matchPattern(count, m_ConstantInt(&known)) &&
+        (known.getSExtValue() < 4 || known.getSExtValue() > len)) {
+      op->emitError("knot count ") << known.getSExtValue() << " is out of range (4 to "
+                                   << len << ")";
+      ok = false;
+    }
+  });
+  return success(ok);
+}
 
 void mlir::osl::lowering::populateLibraryCallPatterns(const VaryingTypeConverter &converter,
                                                       RewritePatternSet &patterns) {

@@ -188,6 +188,10 @@ void populateLaneOpPatterns(const VaryingTypeConverter &converter, RewritePatter
 
 /// Geometry, noise, hashes, transforms, colors and splines through their
 /// lane builders (LibraryCalls.cpp).
+/// Reports spline/splineinverse calls whose knot count is a constant out of
+/// range; failure when there are any.
+LogicalResult checkSplineKnotCounts(Operation *root);
+
 void populateLibraryCallPatterns(const VaryingTypeConverter &converter,
                                  RewritePatternSet &patterns);
 
