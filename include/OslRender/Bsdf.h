@@ -83,8 +83,21 @@ struct ShadingResult {
   BsdfEval eval(Vec3 wo, Vec3 wi) const;
   /// How many lobes eval() sums (non-delta, with a chance of being picked).
   int evaluatedLobes() const;
-  /// Picks a lobe with `s`, then samples it with (`rx`, `ry`).
+  /// Picks a lobe with `s`, then samples it with (`rx`, `ry`): pick(),
+  /// sampleLobe() and finish() in turn.
   BsdfSample sample(Vec3 wo, float rx, float ry, float s) const;
+
+  /// A lobe chosen by its pick probability, and what is left of the
+  /// uniform number that chose it, rescaled (a fresh number for the lobe's
+  /// own choice). No lobe when none can be picked.
+  struct Pick {
+    const Lobe *lobe = nullptr;
+    float rz = 0;
+  };
+  Pick pick(float s) const;
+  /// The mixture's sample from `picked`'s own sample toward wi: its weight
+  /// is the mixture's f*cos over the mixture's pdf (one-sample MIS).
+  BsdfSample finish(Vec3 wo, const Pick &picked, BsdfSample lobeSample) const;
 };
 
 /// Where a closure is interpreted: toward the viewer (wo), the shading
@@ -104,6 +117,9 @@ void addClosure(const ClosureArena &arena, int32_t handle, const ShadingPoint &a
 /// One lobe on its own, for tests: value and pdf, and sampling.
 BsdfEval evalLobe(const Lobe &lobe, Vec3 wo, Vec3 wi);
 BsdfSample sampleLobe(const Lobe &lobe, Vec3 wo, float rx, float ry, float rz = 0.5f);
+/// A lobe's sample toward `wi` (world) with its evaluation there: weight
+/// f*cos/pdf, or no sample where the pdf vanishes.
+BsdfSample sampledDirection(Vec3 wi, const BsdfEval &e);
 /// Dielectric Fresnel reflectance for cos(theta) `cosi` and relative index
 /// `eta` (0: 1, no Fresnel term).
 float fresnelDielectric(float cosi, float eta);

@@ -33,9 +33,16 @@ inline Vec3 cross(Vec3 a, Vec3 b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 inline float length(Vec3 v) { return std::sqrt(dot(v, v)); }
+/// v / |v|, or v where its length is 0 (or NaN): divided by 1 there, the
+/// same bits, with no select of whole vectors (which lane loops cannot
+/// vectorize).
 inline Vec3 normalize(Vec3 v) {
   float l = length(v);
-  return l > 0 ? v / l : v;
+  return v / (l > 0 ? l : 1.0f);
+}
+/// c ? a : b, component by component (vectorizable, as normalize).
+inline Vec3 select(bool c, Vec3 a, Vec3 b) {
+  return {c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z};
 }
 /// Luminance of a linear Rec.709 color.
 inline float luminance(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }

@@ -7,6 +7,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslRender/Bsdf.h"
+#include "CosineLobes.h"
 #include "OslRender/RenderMath.h"
 
 #include <algorithm>
@@ -18,12 +19,6 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 constexpr float kInvPi = 1.0f / kPi;
 constexpr float kInf = std::numeric_limits<float>::infinity();
-
-Vec3 cosineHemisphere(float rx, float ry) {
-  float r = std::sqrt(rx), s, c;
-  polySinCos(2 * kPi * ry, s, c);
-  return {r * c, r * s, std::sqrt(std::max(0.0f, 1 - rx))};
-}
 
 Vec3 reflect(Vec3 wo, Vec3 n) { return n * (2 * dot(wo, n)) - wo; }
 
@@ -40,19 +35,6 @@ bool refract(Vec3 wo, Vec3 n, float eta, Vec3 &wi) {
 }
 
 float sqr(float x) { return x * x; }
-
-/// A sampled direction with its evaluation: weight f*cos/pdf, or no
-/// sample where the pdf vanishes.
-BsdfSample sampled(Vec3 wiWorld, const BsdfEval &e) {
-  BsdfSample s;
-  if (!(e.pdf > 0))
-    return s;
-  s.wi = wiWorld;
-  s.value = e.value;
-  s.pdf = e.pdf;
-  s.weight = e.value / e.pdf;
-  return s;
-}
 
 float conductorChannel(float c, float n, float k) {
   float c2 = c * c, s2 = 1 - c2;
@@ -177,7 +159,7 @@ BsdfSample sampleMicrofacet(const Lobe &l, Vec3 wo, float rx, float ry, float rz
   } else if (!refract(wo, m, l.eta, wi) || wi.z >= 0) {
     return s;
   }
-  return sampled(frame.toWorld(wi), evalMicrofacet(l, wo, wi));
+  return sampledDirection(frame.toWorld(wi), evalMicrofacet(l, wo, wi));
 }
 
 //===----------------------------------------------------------------------===//
@@ -205,77 +187,36 @@ BsdfSample sampleWard(const Lobe &l, Vec3 wo, float rx, float ry, const Frame &f
   float cosh = 1 / std::sqrt(1 + tan2), sinh = std::sqrt(tan2) * cosh;
   Vec3 h(sinh * c, sinh * sn, cosh);
   Vec3 wi = reflect(wo, h);
-  return sampled(frame.toWorld(wi), evalWard(l, wo, wi));
+  return sampledDirection(frame.toWorld(wi), evalWard(l, wo, wi));
 }
 
 //===----------------------------------------------------------------------===//
 // Diffuse-like lobes: cosine sampled on their side
 //===----------------------------------------------------------------------===//
 
-/// f (not times cos) of a cosine-sampled lobe, local directions on the
-/// same side (wi flipped for translucent).
-float diffuseLikeF(const Lobe &l, Vec3 wo, Vec3 wi) {
-  switch (l.model) {
-  case Lobe::OrenNayar: {
-    float s2 = l.a * l.a;
-    float A = 1 - 0.5f * s2 / (s2 + 0.33f), B = 0.45f * s2 / (s2 + 0.09f);
-    float s = dot(wo, wi) - wo.z * wi.z;
-    float stinv = s > 0 ? s / std::max(wo.z, wi.z) : 0.0f;
-    return (A + B * stinv) * kInvPi;
-  }
-  case Lobe::Burley: {
-    Vec3 h = normalize(wo + wi);
-    float fd90 = 0.5f + 2 * l.a * sqr(dot(wi, h));
-    auto schlick = [&](float c) { return 1 + (fd90 - 1) * std::pow(1 - c, 5.0f); };
-    return schlick(wi.z) * schlick(wo.z) * kInvPi;
-  }
-  case Lobe::OrenNayarEnergy: // the albedo's color is applied in evalLobe
-    return kInvPi;
-  case Lobe::Sheen: {
-    // Charlie sheen distribution with Neubelt and Pettineo's visibility.
-    Vec3 h = normalize(wo + wi);
-    float r = std::max(l.a, 1e-3f), inv = 1 / r;
-    float sin2 = std::max(0.0f, 1 - h.z * h.z);
-    float d = (2 + inv) * std::pow(sin2, 0.5f * inv) / (2 * kPi);
-    float v = 1 / (4 * (wi.z + wo.z - wi.z * wo.z));
-    return d * v;
-  }
-  default:
-    return kInvPi;
-  }
-}
-
-/// Energy-preserving Oren-Nayar (Portsmouth, Kutz and Hill, as OpenPBR and
-/// testrender use it) times pi: Fujii's single-scattering lobe with
-/// A = 1 / (1 + (1/2 - 2/(3 pi)) sigma), B = sigma A, plus a multiple-
-/// scattering lobe that returns what the single one loses at albedo 1.
-/// Local directions, both above the surface.
-Vec3 energyOrenNayar(const Lobe &l, Vec3 wo, Vec3 wi) {
-  const float c1 = float(0.5 - 2.0 / (3.0 * M_PI));
-  const float c2 = float(2.0 / 3.0 - 28.0 / (15.0 * M_PI));
-  float sigma = l.a;
-  float a = 1 / (1 + c1 * sigma), b = sigma * a;
-  // The single lobe's albedo toward a direction at cos(theta) mu.
-  auto albedo = [&](float mu) {
-    float sinT = std::sqrt(std::max(0.0f, 1 - mu * mu));
-    float g = sinT * (std::acos(std::clamp(mu, -1.0f, 1.0f)) - sinT * mu) +
-              2 * ((sinT / mu) * (1 - sinT * sinT * sinT) - sinT) / 3;
-    return a + b * kInvPi * g;
-  };
-  float s = dot(wo, wi) - wo.z * wi.z;
-  float stinv = s > 0 ? s / std::max(wo.z, wi.z) : s;
-  float single = a * (1 + sigma * stinv);
-  float mean = a * (1 + c2 * sigma); // the single lobe's mean albedo
-  auto lost = [](float e) { return std::max(1e-7f, 1 - e); };
-  float multiple = lost(albedo(wo.z)) * lost(albedo(wi.z)) / lost(mean);
-  // The multiple lobe's albedo: its light bounces again off rho.
-  float kept = std::max(0.0f, 1 - mean);
-  auto bounced = [&](float rho) { return rho * rho * mean / (1 - rho * kept); };
-  Vec3 rho = l.tintR;
-  return rho * single + Vec3(bounced(rho.x), bounced(rho.y), bounced(rho.z)) * multiple;
+/// The Charlie sheen distribution's f with Neubelt and Pettineo's
+/// visibility, local directions on the same side.
+float sheenF(const Lobe &l, Vec3 wo, Vec3 wi) {
+  Vec3 h = normalize(wo + wi);
+  float r = std::max(l.a, 1e-3f), inv = 1 / r;
+  float sin2 = std::max(0.0f, 1 - h.z * h.z);
+  float d = (2 + inv) * std::pow(sin2, 0.5f * inv) / (2 * kPi);
+  float v = 1 / (4 * (wi.z + wo.z - wi.z * wo.z));
+  return d * v;
 }
 
 } // namespace
+
+BsdfSample sampledDirection(Vec3 wiWorld, const BsdfEval &e) {
+  BsdfSample s;
+  if (!(e.pdf > 0))
+    return s;
+  s.wi = wiWorld;
+  s.value = e.value;
+  s.pdf = e.pdf;
+  s.weight = e.value / e.pdf;
+  return s;
+}
 
 float fresnelDielectric(float cosi, float eta) {
   if (eta == 0)
@@ -296,6 +237,14 @@ BsdfEval evalLobe(const Lobe &l, Vec3 woWorld, Vec3 wiWorld) {
   BsdfEval r;
   if (l.isDelta())
     return r;
+  if (std::optional<CosineModel> m = cosineModelOf(l)) {
+    CosineEval e = atCosineModel(*m, [&](auto model) {
+      return evalCosineLobe<decltype(model)::value>(cosineLobeOf(l), woWorld, wiWorld);
+    });
+    r.value = e.value;
+    r.pdf = e.pdf;
+    return r;
+  }
   Frame frame(l.n, l.t);
   Vec3 wo = frame.toLocal(woWorld), wi = frame.toLocal(wiWorld);
   switch (l.model) {
@@ -314,28 +263,26 @@ BsdfEval evalLobe(const Lobe &l, Vec3 woWorld, Vec3 wiWorld) {
     r.pdf = (l.a + 1) * common;
     return r;
   }
-  case Lobe::OrenNayarEnergy: {
+  case Lobe::Sheen: {
     if (wo.z <= 0 || wi.z <= 0)
       return r;
-    r.value = energyOrenNayar(l, wo, wi) * (wi.z * kInvPi);
-    r.pdf = wi.z * kInvPi;
+    r.value = Vec3(1, 1, 1) * (sheenF(l, wo, wi) * wi.z);
+    r.pdf = 0.5f * kInvPi;
     return r;
   }
-  case Lobe::Translucent:
-    wi.z = -wi.z;
-    [[fallthrough]];
-  default: {
-    if (wo.z <= 0 || wi.z <= 0)
-      return r;
-    r.value = Vec3(1, 1, 1) * (diffuseLikeF(l, wo, wi) * wi.z);
-    r.pdf = l.model == Lobe::Sheen ? 0.5f * kInvPi : wi.z * kInvPi;
+  default: // cosine lobes, above
     return r;
-  }
   }
 }
 
 BsdfSample sampleLobe(const Lobe &l, Vec3 woWorld, float rx, float ry, float rz) {
   BsdfSample s;
+  if (std::optional<CosineModel> m = cosineModelOf(l)) {
+    CosineSample c = atCosineModel(*m, [&](auto model) {
+      return sampleCosineLobe<decltype(model)::value>(cosineLobeOf(l), woWorld, rx, ry);
+    });
+    return sampledDirection(c.wi, {c.eval.value, c.eval.pdf});
+  }
   Frame frame(l.n, l.t);
   Vec3 wo = frame.toLocal(woWorld);
   switch (l.model) {
@@ -383,15 +330,10 @@ BsdfSample sampleLobe(const Lobe &l, Vec3 woWorld, float rx, float ry, float rz)
     s.wi = frame.toWorld(Vec3(r * cosPhi, r * sinPhi, z));
     break;
   }
-  default: {
-    Vec3 local = cosineHemisphere(rx, ry);
-    if (l.model == Lobe::Translucent)
-      local.z = -local.z;
-    s.wi = frame.toWorld(local);
-    break;
+  default: // cosine lobes, above
+    return s;
   }
-  }
-  return sampled(s.wi, evalLobe(l, woWorld, s.wi));
+  return sampledDirection(s.wi, evalLobe(l, woWorld, s.wi));
 }
 
 //===----------------------------------------------------------------------===//
@@ -440,21 +382,25 @@ BsdfEval ShadingResult::eval(Vec3 wo, Vec3 wi) const {
   return sum;
 }
 
-BsdfSample ShadingResult::sample(Vec3 wo, float rx, float ry, float s) const {
-  const Lobe *chosen = nullptr;
+ShadingResult::Pick ShadingResult::pick(float s) const {
+  Pick picked;
   for (const Lobe &l : lobes) {
     if (l.pick <= 0)
       continue;
-    chosen = &l;
+    picked.lobe = &l;
     if (s < l.pick)
       break;
     s -= l.pick;
   }
+  if (picked.lobe)
+    picked.rz = std::clamp(s / picked.lobe->pick, 0.0f, 0.99999994f);
+  return picked;
+}
+
+BsdfSample ShadingResult::finish(Vec3 wo, const Pick &picked, BsdfSample smp) const {
+  const Lobe *chosen = picked.lobe;
   if (!chosen)
     return BsdfSample();
-  // What is left of s, rescaled, is a fresh number for the lobe's own choice.
-  float rz = std::clamp(s / chosen->pick, 0.0f, 0.99999994f);
-  BsdfSample smp = sampleLobe(*chosen, wo, rx, ry, rz);
   smp.diffuse = chosen->model == Lobe::Diffuse || chosen->model == Lobe::OrenNayar ||
                 chosen->model == Lobe::OrenNayarEnergy || chosen->model == Lobe::Translucent ||
                 chosen->model == Lobe::Burley;
@@ -478,6 +424,13 @@ BsdfSample ShadingResult::sample(Vec3 wo, float rx, float ry, float s) const {
   smp.weight = all.value / all.pdf;
   smp.pdf = all.pdf;
   return smp;
+}
+
+BsdfSample ShadingResult::sample(Vec3 wo, float rx, float ry, float s) const {
+  Pick picked = pick(s);
+  if (!picked.lobe)
+    return BsdfSample();
+  return finish(wo, picked, sampleLobe(*picked.lobe, wo, rx, ry, picked.rz));
 }
 
 } // namespace osl::render

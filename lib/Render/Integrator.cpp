@@ -16,6 +16,7 @@
 #include "llvm/Support/Path.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -27,7 +28,7 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kPi = 3.14159265358979f;
 /// Paths per wave: enough to fill batches per shader, small enough to stay in cache.
-constexpr int kWavePaths = 4096;
+constexpr int kWavePaths = 1024;
 constexpr int kTileSize = 8;
 constexpr int kRouletteBounce = 5;
 
@@ -112,6 +113,7 @@ private:
   void scatterAll(int bounce);
   bool startScatter(const ShadeQueue &q, size_t i);
   void scatter(const ShadeQueue &q, size_t i, int bounce, size_t firstDraw, size_t firstLight);
+  void continueScatter(const ShadeQueue &q, size_t i, int bounce, const BsdfSample &smp);
   void sampleLights(const ShadeQueue &q, size_t i, Vec3 wo, size_t firstLight);
   /// The lights a path at primitive `prim` samples (every light but itself).
   int lightsSampledFrom(int prim) const {
@@ -165,6 +167,17 @@ private:
   /// Each scattering path's light samples, in its lights' order.
   LightDraws lightDraws;
   std::vector<Scattering> scattering;
+  /// The bounce's BSDF samples of cosine lobes, per model: the lanes' input
+  /// and output, and which path's point and lobe each is.
+  static constexpr size_t kCosineModels = size_t(CosineModel::EnergyOrenNayar) + 1;
+  struct CosinePick {
+    const ShadeQueue *queue;
+    size_t index;
+    ShadingResult::Pick picked;
+    bool alone; // the only lobe the mixture evaluates: the lanes finish it
+  };
+  std::array<CosineDraws, kCosineModels> cosineDraws;
+  std::array<std::vector<CosinePick>, kCosineModels> cosinePicks;
   std::vector<std::pair<int, float>> roulette;
   /// The bounce's shadow rays, traced together a batch of `width` lanes at
   /// a time.
@@ -381,8 +394,31 @@ void PathWave::scatterAll(int bounce) {
   }
   laneKernels().sampleLights(prims, lightDraws, width);
   roulette.clear();
+  for (CosineDraws &d : cosineDraws)
+    d.clear();
+  for (auto &picks : cosinePicks)
+    picks.clear();
   for (const Scattering &s : scattering)
     scatter(*s.queue, s.index, bounce, s.firstDraw, s.firstLight);
+  // The cosine lobes' samples, a model at a time.
+  for (size_t m = 0; m < kCosineModels; ++m) {
+    if (cosinePicks[m].empty())
+      continue;
+    laneKernels().sampleCosineLobes(CosineModel(m), cosineDraws[m], width);
+    for (size_t k = 0; k < cosinePicks[m].size(); ++k) {
+      const CosinePick &c = cosinePicks[m][k];
+      if (c.alone) {
+        continueScatter(*c.queue, c.index, bounce, cosineDraws[m].alone(k));
+        continue;
+      }
+      // Other lobes are evaluated toward the sample too.
+      CosineSample lanes = cosineDraws[m].sample(k);
+      BsdfSample smp = sampledDirection(lanes.wi, {lanes.eval.value, lanes.eval.pdf});
+      const ShadingResult &res = results[c.queue->path[c.index]];
+      continueScatter(*c.queue, c.index, bounce,
+                      res.finish(-c.queue->at.d(c.index), c.picked, smp));
+    }
+  }
   // Russian roulette, past kRouletteBounce: the survivors are scaled up.
   PointDraws &survival = draws;
   survival.clear();
@@ -426,7 +462,7 @@ void PathWave::scatter(const ShadeQueue &q, size_t i, int bounce, size_t firstDr
   int pathIndex = q.path[i];
   Path &p = paths[pathIndex];
   ShadingResult &res = results[pathIndex];
-  Vec3 wo = -q.at.d(i), at = q.at.p(i), ng = q.at.n(i);
+  Vec3 wo = -q.at.d(i);
   Vec3 bsdfRandom(draws.x[firstDraw], draws.y[firstDraw], draws.z[firstDraw]);
   sampleLights(q, i, wo, firstLight);
   // The last bounce still samples the lights (as testrender's max_bounces
@@ -435,7 +471,29 @@ void PathWave::scatter(const ShadeQueue &q, size_t i, int bounce, size_t firstDr
     p.alive = false;
     return;
   }
-  BsdfSample smp = res.sample(wo, bsdfRandom.x, bsdfRandom.y, bsdfRandom.z);
+  // A cosine lobe is sampled with the bounce's others of its model, in
+  // lanes (continueScatter follows); any other now.
+  ShadingResult::Pick picked = res.pick(bsdfRandom.z);
+  if (picked.lobe)
+    if (std::optional<CosineModel> m = cosineModelOf(*picked.lobe)) {
+      cosineDraws[size_t(*m)].push(cosineLobeOf(*picked.lobe), picked.lobe->weight,
+                                   picked.lobe->pick, wo, bsdfRandom.x, bsdfRandom.y);
+      cosinePicks[size_t(*m)].push_back({&q, i, picked, res.evaluatedLobes() == 1});
+      return;
+    }
+  BsdfSample smp = picked.lobe ? res.finish(wo, picked,
+                                            sampleLobe(*picked.lobe, wo, bsdfRandom.x,
+                                                       bsdfRandom.y, picked.rz))
+                               : BsdfSample();
+  continueScatter(q, i, bounce, smp);
+}
+
+/// A scattering path's BSDF sample `smp`: its throughput, next ray and ray
+/// type; the path ends where nothing goes on.
+void PathWave::continueScatter(const ShadeQueue &q, size_t i, int bounce, const BsdfSample &smp) {
+  int pathIndex = q.path[i];
+  Path &p = paths[pathIndex];
+  Vec3 wo = -q.at.d(i), at = q.at.p(i), ng = q.at.n(i);
   p.throughput *= smp.weight;
   p.bsdfPdf = smp.pdf;
   pathRays.ox[pathIndex] = at.x, pathRays.oy[pathIndex] = at.y, pathRays.oz[pathIndex] = at.z;

@@ -17,6 +17,35 @@ void PointDraws::push(uint32_t k, uint32_t i, uint32_t c) {
   key.push_back(k), index.push_back(i), call.push_back(c);
 }
 
+void CosineDraws::clear() {
+  for (std::vector<float> *v : {&nx, &ny, &nz, &a, &rhoX, &rhoY, &rhoZ, &through, &weightX,
+                                &weightY, &weightZ, &pick, &wox, &woy, &woz, &rx, &ry})
+    v->clear();
+}
+
+void CosineDraws::push(const CosineLobe &l, Vec3 weight, float pickProbability, Vec3 wo,
+                       float r0, float r1) {
+  nx.push_back(l.n.x), ny.push_back(l.n.y), nz.push_back(l.n.z), a.push_back(l.a);
+  rhoX.push_back(l.rho.x), rhoY.push_back(l.rho.y), rhoZ.push_back(l.rho.z);
+  through.push_back(l.through ? 1.0f : 0.0f);
+  weightX.push_back(weight.x), weightY.push_back(weight.y), weightZ.push_back(weight.z);
+  pick.push_back(pickProbability);
+  wox.push_back(wo.x), woy.push_back(wo.y), woz.push_back(wo.z);
+  rx.push_back(r0), ry.push_back(r1);
+}
+
+BsdfSample CosineDraws::alone(size_t i) const {
+  BsdfSample s;
+  if (!(alonePdf[i] > 0))
+    return s;
+  s.wi = Vec3(wix[i], wiy[i], wiz[i]);
+  s.value = Vec3(valueX[i], valueY[i], valueZ[i]);
+  s.weight = Vec3(aloneX[i], aloneY[i], aloneZ[i]);
+  s.pdf = alonePdf[i];
+  s.diffuse = true; // every cosine lobe is
+  return s;
+}
+
 PrimTable::PrimTable(const Scene &scene) {
   for (const Primitive &p : scene.prims) {
     kind.push_back(p.kind);

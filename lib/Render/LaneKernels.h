@@ -11,6 +11,7 @@
 #ifndef OSLRENDER_LANEKERNELS_H
 #define OSLRENDER_LANEKERNELS_H
 
+#include "CosineLobes.h"
 #include "OslRender/Geometry.h"
 
 #include <cstddef>
@@ -97,6 +98,28 @@ struct CameraSetup {
   int xres = 1, yres = 1;
 };
 
+/// Sampled lobes of one cosine model (CosineLobes.h), as structure of
+/// arrays: each lane's lobe with its closure weight and pick probability,
+/// the direction toward the viewer and two uniform numbers in; the sampled
+/// direction, the lobe's f*cos and pdf, and what a mixture of this lobe
+/// alone makes of them (ShadingResult::finish) out.
+struct CosineDraws {
+  std::vector<float> nx, ny, nz, a, rhoX, rhoY, rhoZ, through, weightX, weightY, weightZ, pick;
+  std::vector<float> wox, woy, woz, rx, ry;
+  std::vector<float> wix, wiy, wiz, valueX, valueY, valueZ, pdf;
+  /// The one-lobe mixture's sample weight and pdf (0: no sample).
+  std::vector<float> aloneX, aloneY, aloneZ, alonePdf;
+  void clear();
+  void push(const CosineLobe &l, Vec3 weight, float pickProbability, Vec3 wo, float r0,
+            float r1);
+  size_t size() const { return nx.size(); }
+  CosineSample sample(size_t i) const {
+    return {{wix[i], wiy[i], wiz[i]}, {{valueX[i], valueY[i], valueZ[i]}, pdf[i]}};
+  }
+  /// The sample of a mixture whose only evaluated lobe this is.
+  BsdfSample alone(size_t i) const;
+};
+
 struct LaneKernels {
   const char *isa;
   /// intersect() of rays `which[0..n)` of `rays` into hits[0..n), `width` at
@@ -114,6 +137,8 @@ struct LaneKernels {
   /// The outputs of every lane of `draws` (sized by it): a sphere light's
   /// cone is sampled uniformly in solid angle, a quad uniformly by area.
   void (*sampleLights)(const PrimTable &prims, LightDraws &draws, int width);
+  /// The outputs of every lane of `draws` (sized by it), all of `model`.
+  void (*sampleCosineLobes)(CosineModel model, CosineDraws &draws, int width);
 };
 
 /// The kernels of the widest instruction set this CPU runs, or those the

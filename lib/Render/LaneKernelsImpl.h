@@ -281,6 +281,43 @@ void sampleLights(const PrimTable &prims, LightDraws &draws, int width) {
   atWidth(width, [&](auto w) { sampleLightsAt<decltype(w)::value>(prims, draws); });
 }
 
+template <int W, CosineModel M> OSL_LANE_TARGET void sampleCosineAt(CosineDraws &d) {
+  forLanes<W>(
+      d.size(), [&](size_t i) __attribute__((always_inline)) {
+        CosineLobe l;
+        l.n = Vec3(d.nx[i], d.ny[i], d.nz[i]);
+        l.a = d.a[i];
+        l.rho = Vec3(d.rhoX[i], d.rhoY[i], d.rhoZ[i]);
+        l.through = d.through[i] != 0;
+        CosineSample s =
+            sampleCosineLobe<M>(l, Vec3(d.wox[i], d.woy[i], d.woz[i]), d.rx[i], d.ry[i]);
+        d.wix[i] = s.wi.x, d.wiy[i] = s.wi.y, d.wiz[i] = s.wi.z;
+        d.valueX[i] = s.eval.value.x, d.valueY[i] = s.eval.value.y;
+        d.valueZ[i] = s.eval.value.z, d.pdf[i] = s.eval.pdf;
+        // ShadingResult::finish for a mixture of this lobe alone: its
+        // weighted f*cos over its pick-weighted pdf (sums from 0, as there).
+        float mixturePdf = 0.0f + d.pick[i] * s.eval.pdf;
+        bool sampled = s.eval.pdf > 0 && mixturePdf > 0;
+        float divisor = sampled ? mixturePdf : 1.0f;
+        d.aloneX[i] = (0.0f + d.weightX[i] * s.eval.value.x) / divisor;
+        d.aloneY[i] = (0.0f + d.weightY[i] * s.eval.value.y) / divisor;
+        d.aloneZ[i] = (0.0f + d.weightZ[i] * s.eval.value.z) / divisor;
+        d.alonePdf[i] = sampled ? mixturePdf : 0.0f;
+      });
+}
+
+void sampleCosineLobes(CosineModel model, CosineDraws &draws, int width) {
+  for (std::vector<float> *v : {&draws.wix, &draws.wiy, &draws.wiz, &draws.valueX, &draws.valueY,
+                                &draws.valueZ, &draws.pdf, &draws.aloneX, &draws.aloneY,
+                                &draws.aloneZ, &draws.alonePdf})
+    v->resize(draws.size());
+  atCosineModel(model, [&](auto m) {
+    atWidth(width, [&](auto w) {
+      sampleCosineAt<decltype(w)::value, decltype(m)::value>(draws);
+    });
+  });
+}
+
 /// W sampler points, one per lane.
 template <int W>
 OSL_LANE_TARGET void drawLanes(const uint32_t *__restrict key, const uint32_t *__restrict index,
@@ -321,8 +358,9 @@ void drawPoints(PointDraws &draws, int width) {
 } // namespace
 
 const LaneKernels &OSL_LANE_KERNELS() {
-  static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect,   drawPoints,
-                                   cameraRays,        hitGeometry, sampleLights};
+  static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect,    drawPoints,
+                                   cameraRays,        hitGeometry,  sampleLights,
+                                   sampleCosineLobes};
   return kernels;
 }
 

@@ -226,3 +226,73 @@ TEST(LaneKernels, LightSamplesMatchAtEveryWidth) {
       }
     }
 }
+
+TEST(LaneKernels, CosineLobeSamplesMatchOneLobesOwn) {
+  // 203 lobes of every cosine model (translucent ones too), some seen from
+  // below, each sampled in lanes and alone by sampleLobe; a mixture of the
+  // lobe alone (ShadingResult::sample) gives the lanes' `alone` sample.
+  const Lobe::Model models[] = {Lobe::Diffuse, Lobe::Translucent, Lobe::OrenNayar, Lobe::Burley,
+                                Lobe::OrenNayarEnergy};
+  Sampler rng(5, 8, 2);
+  std::vector<Lobe> lobes;
+  std::vector<Vec3> wos, randoms;
+  for (int i = 0; i < 203; ++i) {
+    Vec3 a = rng.get(), b = rng.get(), r = rng.get();
+    Lobe l;
+    l.model = models[i % 5];
+    l.n = normalize(Vec3(2 * a.x - 1, 2 * a.y - 1, 2 * a.z - 1));
+    l.a = b.x;
+    l.tintR = Vec3(b.y, b.z, 0.5f);
+    l.weight = Vec3(0.25f + b.z, 0.5f, 1);
+    lobes.push_back(l);
+    Vec3 wo = normalize(Vec3(2 * b.y - 1, 2 * b.x - 1, 2 * r.z - 1));
+    wos.push_back(i % 11 == 0 ? -l.n : wo);
+    randoms.push_back(r);
+  }
+  int sampled = 0;
+  for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
+    for (int width : {1, 4, 8, 16}) {
+      SCOPED_TRACE(std::string(kernels->isa) + " width " + std::to_string(width));
+      for (Lobe::Model model : models) {
+        Lobe probe;
+        probe.model = model;
+        CosineModel m = *cosineModelOf(probe);
+        CosineDraws draws;
+        std::vector<size_t> which;
+        for (size_t i = 0; i < lobes.size(); ++i)
+          if (lobes[i].model == model) {
+            draws.push(cosineLobeOf(lobes[i]), lobes[i].weight, 1.0f, wos[i], randoms[i].x,
+                       randoms[i].y);
+            which.push_back(i);
+          }
+        kernels->sampleCosineLobes(m, draws, width);
+        for (size_t k = 0; k < which.size(); ++k) {
+          size_t i = which[k];
+          BsdfSample alone = sampleLobe(lobes[i], wos[i], randoms[i].x, randoms[i].y);
+          CosineSample lanes = draws.sample(k);
+          EXPECT_TRUE(sameBits(lanes.eval.pdf, alone.pdf)) << "lobe " << i;
+          if (!(alone.pdf > 0))
+            continue;
+          ++sampled;
+          EXPECT_TRUE(sameBits(lanes.wi.x, alone.wi.x) && sameBits(lanes.wi.y, alone.wi.y) &&
+                      sameBits(lanes.wi.z, alone.wi.z))
+              << "lobe " << i;
+          EXPECT_TRUE(sameBits(lanes.eval.value.x, alone.value.x) &&
+                      sameBits(lanes.eval.value.z, alone.value.z))
+              << "lobe " << i;
+          ShadingResult mixture;
+          mixture.lobes.push_back(lobes[i]);
+          mixture.lobes[0].pick = 1;
+          BsdfSample whole = mixture.sample(wos[i], randoms[i].x, randoms[i].y, 0.5f);
+          BsdfSample fromLanes = draws.alone(k);
+          EXPECT_TRUE(sameBits(fromLanes.pdf, whole.pdf) &&
+                      sameBits(fromLanes.weight.x, whole.weight.x) &&
+                      sameBits(fromLanes.weight.y, whole.weight.y) &&
+                      sameBits(fromLanes.weight.z, whole.weight.z) &&
+                      fromLanes.diffuse == whole.diffuse)
+              << "lobe " << i;
+        }
+      }
+    }
+  EXPECT_GT(sampled, 4 * 100);
+}
