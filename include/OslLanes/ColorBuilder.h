@@ -13,6 +13,7 @@
 #include "mlir/Support/LogicalResult.h"
 
 #include <array>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -26,12 +27,18 @@ struct ColorSystem {
   std::array<float, 9> rgbToXyz;
   std::array<float, 3> luminance;
   /// blackbody's table, one list per channel: the color at temperature
-  /// T_i = 2 i^1.5 + 800, clamped at 0 and raised to 1/5.
-  std::array<std::vector<float>, 3> blackbodyTable;
+  /// T_i = 2 i^1.5 + 800, clamped at 0 and raised to 1/5. Made on first use
+  /// (about 1 ms, which every compile paid when the front end checked the
+  /// working space's name).
+  const std::array<std::vector<float>, 3> &blackbodyTable() const;
 
   /// The color system named `name` (OSL's: Rec709, sRGB, NTSC, EBU, PAL,
   /// SECAM, SMPTE, HDTV, CIE, AdobeRGB, XYZ, ACES2065-1, ACEScg), or null.
   static const ColorSystem *get(StringRef name);
+
+private:
+  mutable std::once_flag blackbodyOnce;
+  mutable std::array<std::vector<float>, 3> blackbody;
 };
 
 /// The names transformc knows under the working space `working`.

@@ -108,7 +108,7 @@ std::array<float, 3> blackbodyXYZ(float kelvin) {
   return xyz;
 }
 
-ColorSystem makeColorSystem(const Chromaticities &ch) {
+void initColorSystem(ColorSystem &cs, const Chromaticities &ch) {
   auto point = [&](int k) {
     float x = ch.xy[2 * k], y = ch.xy[2 * k + 1];
     return std::array<float, 3>{x, y, 1.0f - (x + y)};
@@ -130,7 +130,6 @@ ColorSystem makeColorSystem(const Chromaticities &ch) {
     g[i] /= w[1];
     b[i] /= w[2];
   }
-  ColorSystem cs;
   cs.name = ch.name;
   for (int i = 0; i < 3; ++i) {
     cs.xyzToRgb[i * 3 + 0] = r[i];
@@ -153,17 +152,6 @@ ColorSystem makeColorSystem(const Chromaticities &ch) {
   float rest = 1.0f - cs.luminance[0] - cs.luminance[1];
   if (std::fabs(rest - cs.luminance[2]) < 0.001f)
     cs.luminance[2] = rest;
-
-  float lastKelvin = 0;
-  for (int i = 0; lastKelvin <= kTableMaxKelvin; ++i) {
-    float s = std::sqrt(float(i));
-    float kelvin = s * s * s * 2.0f + kDraperKelvin;
-    lastKelvin = kelvin;
-    std::array<float, 3> rgb = rowTimes(blackbodyXYZ(kelvin), cs.xyzToRgb);
-    for (int c = 0; c < 3; ++c)
-      cs.blackbodyTable[c].push_back(std::pow(std::max(rgb[c], 0.0f), 1.0f / 5.0f));
-  }
-  return cs;
 }
 
 //===----------------------------------------------------------------------===//
@@ -417,6 +405,21 @@ LaneColor blackbodyBySpectrum(ColorLanes &l, const ColorSystem &cs, const Spectr
 
 } // namespace
 
+const std::array<std::vector<float>, 3> &ColorSystem::blackbodyTable() const {
+  std::call_once(blackbodyOnce, [&] {
+    float lastKelvin = 0;
+    for (int i = 0; lastKelvin <= kTableMaxKelvin; ++i) {
+      float s = std::sqrt(float(i));
+      float kelvin = s * s * s * 2.0f + kDraperKelvin;
+      lastKelvin = kelvin;
+      std::array<float, 3> rgb = rowTimes(blackbodyXYZ(kelvin), xyzToRgb);
+      for (int c = 0; c < 3; ++c)
+        blackbody[c].push_back(std::pow(std::max(rgb[c], 0.0f), 1.0f / 5.0f));
+    }
+  });
+  return blackbody;
+}
+
 const ColorSystem *ColorSystem::get(StringRef name) {
   static std::mutex mutex;
   static std::map<std::string, ColorSystem, std::less<>> made;
@@ -424,8 +427,11 @@ const ColorSystem *ColorSystem::get(StringRef name) {
   if (auto it = made.find(name); it != made.end())
     return &it->second;
   for (const Chromaticities &ch : kSpaces)
-    if (name == ch.name)
-      return &made.emplace(ch.name, makeColorSystem(ch)).first->second;
+    if (name == ch.name) {
+      ColorSystem &cs = made.try_emplace(ch.name).first->second;
+      initColorSystem(cs, ch);
+      return &cs;
+    }
   return nullptr;
 }
 
@@ -466,7 +472,7 @@ LaneColor mlir::osl::buildBlackbody(OpBuilder &b, Location loc, const ColorSyste
   static const char *names[3] = {"blackbody_r", "blackbody_g", "blackbody_b"};
   for (int c = 0; c < 3; ++c) {
     LLVM::GlobalOp entries =
-        getConstantTable(b, loc, tableSymbol(cs, names[c]), cs.blackbodyTable[c]);
+        getConstantTable(b, loc, tableSymbol(cs, names[c]), cs.blackbodyTable()[c]);
     Value lo = lookupConstantTable(b, loc, entries, index);
     Value hi = lookupConstantTable(b, loc, entries, l.addInt(index, 1));
     Value x = l.lerp(lo, hi, frac);
