@@ -507,6 +507,17 @@ llvm::SmallVector<size_t> IRGen::libraryOutputArgs(const Expr &e) const {
   if (name == "pointcloud_search") // (file, center, radius, max, [sort,] name, array, ...)
     for (size_t k = e.args.size() % 2 ? 6 : 5; k < e.args.size(); k += 2)
       outputs.push_back(k);
+  if (name == "fresnel") // (I, N, eta, Kr, Kt [, R, T])
+    for (size_t k = 3; k < e.args.size(); ++k)
+      outputs.push_back(k);
+  if ((name == "regex_search" || name == "regex_match") && e.args.size() == 3)
+    outputs.push_back(1); // (subject, results, regex)
+  if (name == "texture" || name == "texture3d" || name == "environment")
+    // The values of the "alpha" and "errormessage" options are outputs.
+    for (size_t k = 0; k + 1 < e.args.size(); ++k)
+      if (e.args[k]->kind == ExprKind::StringLit &&
+          (e.args[k]->name == "alpha" || e.args[k]->name == "errormessage"))
+        outputs.push_back(k + 1);
   return outputs;
 }
 

@@ -499,11 +499,61 @@ Value lane::pow(OpBuilder &b, Location loc, ValueRange x) {
   return result;
 }
 
-/// OSL's (OIIO's) safe_fmod: x - N*y with N = int(x/y), and 0 where y = 0.
+/// OSL's (OIIO's) safe_fmod, which OSL's scalar backend calls where the
+/// divisor is not a constant: x - N*y with N = int(x/y), and 0 where y = 0.
 /// N converts as x86 does, INT_MIN when x/y is out of int's range (or NaN),
 /// so huge quotients give OSL's large results, not C fmod's remainder. The
 /// derivative is x's alone, as OSL's dual fmod has it, also where y = 0.
+/// x - N*y for N = trunc(x * (1/y)), corrected by one where that quotient
+/// rounded across an integer; exact (the remainder for the right N is
+/// representable and one fused multiply-add makes it) while |x/y| < 2^22.
+static Value remainderStep(OpBuilder &b, Location loc, Value x, Value y, double divisor) {
+  Value q = b.create<arith::MulFOp>(loc, x, cst(b, loc, x, double(1.0f / float(divisor))));
+  Value n = b.create<math::TruncOp>(loc, q);
+  Value r = b.create<math::FmaOp>(loc, b.create<arith::NegFOp>(loc, n), y, x);
+  Value zero = cst(b, loc, x, 0);
+  // Overshot: the remainder's sign is not x's; undershot: |r| >= |y|.
+  Value over = sel(b, loc, fcmp(b, loc, arith::CmpFPredicate::OLT, x, zero),
+                   fcmp(b, loc, arith::CmpFPredicate::OGT, r, zero),
+                   fcmp(b, loc, arith::CmpFPredicate::OLT, r, zero));
+  Value under = fcmp(b, loc, arith::CmpFPredicate::OGE, b.create<math::AbsFOp>(loc, r),
+                     b.create<math::AbsFOp>(loc, y));
+  Value qSign = b.create<math::CopySignOp>(loc, cst(b, loc, q, 1), q);
+  Value step = sel(b, loc, over, b.create<arith::NegFOp>(loc, qSign),
+                   sel(b, loc, under, qSign, zero));
+  return b.create<math::FmaOp>(
+      loc, b.create<arith::NegFOp>(loc, b.create<arith::AddFOp>(loc, n, step)), y, x);
+}
+
+/// fmod by a constant, nonzero divisor: C's remainder, exactly, as OSL's
+/// scalar backend computes it (LLVM's frem; its batched backend uses frem
+/// for every divisor): fmod(2.1, 0.7) is 0.699999928, where x - N*y gives
+/// -5.96e-08. The remainder by y * 2^22 first (a multiple of y, so the
+/// remainder is the same) keeps each step's quotient small: exact for
+/// |x/y| < 2^44, as a libm call per lane would be, at a fraction of the
+/// cost (the quotients multiply by the reciprocal: the steps correct N).
+static Value fmodByConstant(OpBuilder &b, Location loc, Value x, Value y, double divisor) {
+  Value r = x;
+  double coarse = double(float(divisor * 0x1p22));
+  if (std::isfinite(coarse))
+    r = remainderStep(b, loc, r, cst(b, loc, y, coarse), coarse);
+  r = remainderStep(b, loc, r, y, divisor);
+  // A zero remainder has x's sign, as C's (-0 for a negative x).
+  Value zero = cst(b, loc, x, 0);
+  Value negativeZero =
+      b.create<arith::AndIOp>(loc, fcmp(b, loc, arith::CmpFPredicate::OLT, x, zero),
+                              fcmp(b, loc, arith::CmpFPredicate::OEQ, r, zero));
+  Value result = sel(b, loc, negativeZero, cst(b, loc, x, -0.0), r);
+  if (Operation *op = result.getDefiningOp())
+    op->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleValueOnly));
+  return result;
+}
+
 Value lane::fmod(OpBuilder &b, Location loc, ValueRange x) {
+  std::optional<double> constantDivisor = constantLaneValue(x[1]);
+  if (constantDivisor && *constantDivisor != 0 && std::isfinite(float(*constantDivisor)) &&
+      std::isfinite(1.0f / float(*constantDivisor)))
+    return fmodByConstant(b, loc, x[0], x[1], *constantDivisor);
   Value zero = cst(b, loc, x[1], 0);
   Value isZero = fcmp(b, loc, arith::CmpFPredicate::OEQ, x[1], zero);
   // y made safe, and without derivative: x - N*y then keeps x's alone (N
