@@ -447,7 +447,9 @@ const char *const kUnsupported[] = {
     "random", "exit", "arraylength", "spline", "noise",
     "snoise", "cellnoise", "hashnoise", "transform", "ptransform", "vtransform",
     "ntransform", "displace", "bump", "fmin", "fmax", "nsnoise",
-    "gabor", "pgabor", "sincos",
+    "gabor", "pgabor", "sincos", "transformc", "fresnel", "getattribute", "artistic_ior",
+    "isconstant", "pnoise", "psnoise", "getmatrix", "pointcloud_get", "pointcloud_search",
+    "pointcloud_write",
 };
 
 OslType typeFromCode(char c, BaseType tKind) {

@@ -11,3 +11,9 @@ struct color4 {
 };
 
 OSLMLIR_STRUCT2(color4, rgb, a)
+
+// The color converted between spaces; alpha unchanged.
+color4 transformc(string fromspace, string tospace, color4 c)
+{
+    return color4(transformc(fromspace, tospace, c.rgb), c.a);
+}

@@ -17,12 +17,18 @@
     T __operator__##name##__(T a, float b) { return T(a.A op b, a.B op b); } \
     T __operator__##name##__(float a, T b) { return T(a op b.A, a op b.B); }
 
+// Division by a float multiplies by its reciprocal, as OSL's headers do.
+#define OSLMLIR_DIVIDE2(T, A, B) \
+    T __operator__div__(T a, T b) { return T(a.A / b.A, a.B / b.B); } \
+    T __operator__div__(T a, float b) { float r = 1.0 / b; return T(a.A * r, a.B * r); } \
+    T __operator__div__(float a, T b) { return T(a / b.A, a / b.B); }
+
 #define OSLMLIR_STRUCT2(T, A, B) \
     T __operator__neg__(T a) { return T(-a.A, -a.B); } \
     OSLMLIR_OPERATOR2(T, A, B, add, +) \
     OSLMLIR_OPERATOR2(T, A, B, sub, -) \
     OSLMLIR_OPERATOR2(T, A, B, mul, *) \
-    OSLMLIR_OPERATOR2(T, A, B, div, /) \
+    OSLMLIR_DIVIDE2(T, A, B) \
     int __operator__eq__(T a, T b) { return a.A == b.A && a.B == b.B; } \
     int __operator__ne__(T a, T b) { return a.A != b.A || a.B != b.B; } \
     OSLMLIR_UNARY2(T, A, B, abs) OSLMLIR_UNARY2(T, A, B, ceil) \
@@ -38,7 +44,9 @@
     OSLMLIR_BINARY2(T, A, B, fmod) OSLMLIR_BINARY2(T, A, B, pow) \
     OSLMLIR_BINARY2(T, A, B, atan2) OSLMLIR_BINARY2(T, A, B, step) \
     T max(T a, T b) { return T(max(a.A, b.A), max(a.B, b.B)); } \
+    T max(T a, float b) { return T(max(a.A, b), max(a.B, b)); } \
     T min(T a, T b) { return T(min(a.A, b.A), min(a.B, b.B)); } \
+    T min(T a, float b) { return T(min(a.A, b), min(a.B, b)); } \
     T clamp(T x, T lo, T hi) { return T(clamp(x.A, lo.A, hi.A), clamp(x.B, lo.B, hi.B)); } \
     T clamp(T x, float lo, float hi) { return T(clamp(x.A, lo, hi), clamp(x.B, lo, hi)); } \
     T mix(T a, T b, T x) { return T(mix(a.A, b.A, x.A), mix(a.B, b.B, x.B)); } \
@@ -62,12 +70,18 @@
     T __operator__##name##__(float a, T b) \
     { return T(a op b.A, a op b.B, a op b.C, a op b.D); }
 
+#define OSLMLIR_DIVIDE4(T, A, B, C, D) \
+    T __operator__div__(T a, T b) { return T(a.A / b.A, a.B / b.B, a.C / b.C, a.D / b.D); } \
+    T __operator__div__(T a, float b) \
+    { float r = 1.0 / b; return T(a.A * r, a.B * r, a.C * r, a.D * r); } \
+    T __operator__div__(float a, T b) { return T(a / b.A, a / b.B, a / b.C, a / b.D); }
+
 #define OSLMLIR_STRUCT4(T, A, B, C, D) \
     T __operator__neg__(T a) { return T(-a.A, -a.B, -a.C, -a.D); } \
     OSLMLIR_OPERATOR4(T, A, B, C, D, add, +) \
     OSLMLIR_OPERATOR4(T, A, B, C, D, sub, -) \
     OSLMLIR_OPERATOR4(T, A, B, C, D, mul, *) \
-    OSLMLIR_OPERATOR4(T, A, B, C, D, div, /) \
+    OSLMLIR_DIVIDE4(T, A, B, C, D) \
     int __operator__eq__(T a, T b) \
     { return a.A == b.A && a.B == b.B && a.C == b.C && a.D == b.D; } \
     int __operator__ne__(T a, T b) { return !(a == b); } \
@@ -84,7 +98,9 @@
     OSLMLIR_BINARY4(T, A, B, C, D, fmod) OSLMLIR_BINARY4(T, A, B, C, D, pow) \
     OSLMLIR_BINARY4(T, A, B, C, D, atan2) OSLMLIR_BINARY4(T, A, B, C, D, step) \
     T max(T a, T b) { return T(max(a.A, b.A), max(a.B, b.B), max(a.C, b.C), max(a.D, b.D)); } \
+    T max(T a, float b) { return T(max(a.A, b), max(a.B, b), max(a.C, b), max(a.D, b)); } \
     T min(T a, T b) { return T(min(a.A, b.A), min(a.B, b.B), min(a.C, b.C), min(a.D, b.D)); } \
+    T min(T a, float b) { return T(min(a.A, b), min(a.B, b), min(a.C, b), min(a.D, b)); } \
     T clamp(T x, T lo, T hi) \
     { return T(clamp(x.A, lo.A, hi.A), clamp(x.B, lo.B, hi.B), \
                clamp(x.C, lo.C, hi.C), clamp(x.D, lo.D, hi.D)); } \

@@ -20,3 +20,5 @@ vector2 normalize(vector2 v)
     // A zero vector stays zero: division by 0 gives 0 in OSL.
     return v / length(v);
 }
+// Floored modulo, component by component.
+vector2 mod(vector2 a, vector2 b) { return a - b * floor(a / b); }
