@@ -120,11 +120,12 @@ std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
     return std::nullopt;
   }
   // Names may be chosen per point: each pair of names runs on its lanes.
+  // An empty name is unknown like any other, reported where a point takes
+  // it (among names chosen per point it is often one none takes: a string
+  // function's return value before its returns).
   auto between = [&](const std::string &from, const std::string &to) -> std::optional<RValue> {
-    if (from.empty() || to.empty()) {
-      g.valueError(call.loc, "transform() needs non-empty space names");
-      return std::nullopt;
-    }
+    if (from.empty() || to.empty())
+      return knownSpaces(g, {from, to}, call.loc), std::optional<RValue>(p);
     if (from == to)
       return p;
     if (isProjectionSpace(from)) {
