@@ -423,12 +423,16 @@ private:
   void materializeStrings(Var *v, SrcLoc l);
   bool checkStrings(const std::vector<std::pair<Var *, RValue>> &snap, SrcLoc l,
                     llvm::StringRef what);
-  /// The string fields of the carried struct variables, which control
-  /// flow may not change yet (they are not carried like other leaves).
+  /// The string fields of the carried struct variables (not carried like
+  /// other leaves): an `if` merges them (takeStructStrings), a loop may not
+  /// change them yet (checkStructStrings).
   std::vector<std::pair<Var *, std::vector<RValue>>>
   structStringSnapshot(const std::vector<Var *> &carried);
   bool checkStructStrings(const std::vector<std::pair<Var *, std::vector<RValue>>> &snap,
                           SrcLoc l, llvm::StringRef what);
+  /// Each snapshot variable's string fields now; restores the snapshot's.
+  std::vector<std::vector<RValue>>
+  takeStructStrings(const std::vector<std::pair<Var *, std::vector<RValue>>> &snap);
   /// The snapshot's variables' current values; restores the snapshot.
   std::vector<RValue> takeStrings(const std::vector<std::pair<Var *, RValue>> &snap);
   /// A string variable the arms of an `if` leave different: what each arm
@@ -436,9 +440,17 @@ private:
   /// compile time, else a run-time handle).
   struct StringArms {
     Var *var = nullptr;
+    /// Which of a struct variable's string fields (collected in order);
+    /// -1 for a string variable.
+    int field = -1;
     mlir::Value thenValue, elseValue;
     std::vector<std::string> choices;
+    /// The merged string, from the if's result for it.
+    RValue merged(mlir::Value result) const;
   };
+  /// The arms' yields for a string they leave different.
+  StringArms mergeStringPair(const RValue &thenString, const RValue &elseString,
+                             mlir::Block *thenBlock, mlir::Block *elseBlock, SrcLoc l);
   /// Sets the variables both arms leave equal; returns the others, whose
   /// yielded values it emits at the ends of the arms' blocks.
   std::vector<StringArms>

@@ -30,8 +30,8 @@ std::vector<Var *> IRGen::carriedVars(const llvm::StringSet<> &names) {
 namespace {
 /// The IR values of a variable's value: one, an array's (or a matrix's)
 /// elements, or a struct's fields' values in order.
-/// (A struct's string fields are not among them: they are compile-time
-/// strings that control flow may not change; see checkStructStrings.)
+/// (A struct's string fields are not among them: an if merges them apart,
+/// see takeStructStrings; a loop may not change them, checkStructStrings.)
 void collectLeaves(const RValue &r, std::vector<Value> &out) {
   if (r.type.isString() && !r.type.isArray())
     return;
@@ -147,6 +147,18 @@ void collectStringFields(const RValue &r, std::vector<RValue> &out) {
     out.insert(out.end(), r.fields.begin(), r.fields.end());
   }
 }
+/// The inverse: sets the string fields, in collectStringFields' order.
+void replaceStringFields(RValue &r, const std::vector<RValue> &strings, size_t &k) {
+  if (r.type.isStructLike()) {
+    for (RValue &f : r.fields)
+      replaceStringFields(f, strings, k);
+  } else if (r.type.isString()) {
+    r = strings[k++];
+  } else if (r.type.isArray() && r.type.base == BaseType::String) {
+    for (RValue &f : r.fields)
+      f = strings[k++];
+  }
+}
 } // namespace
 
 std::vector<std::pair<Var *, std::vector<RValue>>>
@@ -179,6 +191,17 @@ bool IRGen::checkStructStrings(
   return true;
 }
 
+std::vector<std::vector<RValue>>
+IRGen::takeStructStrings(const std::vector<std::pair<Var *, std::vector<RValue>>> &snap) {
+  std::vector<std::vector<RValue>> now;
+  for (auto &[v, before] : snap) {
+    collectStringFields(v->val, now.emplace_back());
+    size_t k = 0;
+    replaceStringFields(v->val, before, k);
+  }
+  return now;
+}
+
 namespace {
 /// The compile-time strings a string may be (one, or its choices).
 std::vector<std::string> candidateStrings(const RValue &s) {
@@ -196,40 +219,55 @@ IRGen::takeStrings(const std::vector<std::pair<Var *, RValue>> &snap) {
   return now;
 }
 
+IRGen::StringArms IRGen::mergeStringPair(const RValue &t, const RValue &e, Block *thenBlock,
+                                         Block *elseBlock, SrcLoc l) {
+  OpBuilder::InsertionGuard guard(b);
+  StringArms m;
+  if (t.isRuntimeString() || e.isRuntimeString()) {
+    // A string computed at run time in either arm: both yield handles.
+    b.setInsertionPointToEnd(thenBlock);
+    m.thenValue = stringHandle(t, l);
+    b.setInsertionPointToEnd(elseBlock);
+    m.elseValue = stringHandle(e, l);
+    return m;
+  }
+  // Compile-time strings: a choice among both arms' candidates.
+  m.choices = candidateStrings(t);
+  std::vector<std::string> elseChoices = candidateStrings(e);
+  int offset = int(m.choices.size());
+  m.choices.insert(m.choices.end(), elseChoices.begin(), elseChoices.end());
+  b.setInsertionPointToEnd(thenBlock);
+  m.thenValue = t.isStringChoice() ? t.value : constInt(0, l);
+  b.setInsertionPointToEnd(elseBlock);
+  m.elseValue = e.isStringChoice()
+                    ? b.create<AddOp>(loc(l), e.value, constInt(offset, l)).getResult()
+                    : constInt(offset, l);
+  return m;
+}
+
+RValue IRGen::StringArms::merged(Value result) const {
+  if (choices.empty())
+    return RValue::runtimeString(result);
+  RValue s = RValue::string("");
+  s.choices = choices;
+  s.value = result;
+  return s;
+}
+
 std::vector<IRGen::StringArms>
 IRGen::mergeStringArms(const std::vector<std::pair<Var *, RValue>> &snap,
                        const std::vector<RValue> &thenStrings,
                        const std::vector<RValue> &elseStrings, Block *thenBlock,
                        Block *elseBlock, SrcLoc l) {
   std::vector<StringArms> merges;
-  OpBuilder::InsertionGuard guard(b);
   for (size_t i = 0; i < snap.size(); ++i) {
     const RValue &t = thenStrings[i], &e = elseStrings[i];
     if (sameString(t, e)) {
       snap[i].first->val = t;
       continue;
     }
-    StringArms m;
+    StringArms m = mergeStringPair(t, e, thenBlock, elseBlock, l);
     m.var = snap[i].first;
-    if (t.isRuntimeString() || e.isRuntimeString()) {
-      // A string computed at run time in either arm: both yield handles.
-      b.setInsertionPointToEnd(thenBlock);
-      m.thenValue = stringHandle(t, l);
-      b.setInsertionPointToEnd(elseBlock);
-      m.elseValue = stringHandle(e, l);
-    } else {
-      // Compile-time strings: a choice among both arms' candidates.
-      m.choices = candidateStrings(t);
-      std::vector<std::string> elseChoices = candidateStrings(e);
-      int offset = int(m.choices.size());
-      m.choices.insert(m.choices.end(), elseChoices.begin(), elseChoices.end());
-      b.setInsertionPointToEnd(thenBlock);
-      m.thenValue = t.isStringChoice() ? t.value : constInt(0, l);
-      b.setInsertionPointToEnd(elseBlock);
-      m.elseValue = e.isStringChoice()
-                        ? b.create<AddOp>(loc(l), e.value, constInt(offset, l)).getResult()
-                        : constInt(offset, l);
-    }
     merges.push_back(m);
   }
   return merges;
@@ -257,18 +295,20 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
   auto tmp = b.create<IfOp>(mloc, TypeRange{}, cond);
   Block *thenBlock = b.createBlock(&tmp.getThenRegion());
   auto tv = thenArm();
-  if (!tv || !checkStructStrings(structStrings, l, "a conditional"))
+  if (!tv)
     return std::nullopt;
   std::vector<Value> thenVals = flatten(carried, l);
   std::vector<RValue> thenStrings = takeStrings(strings);
+  std::vector<std::vector<RValue>> thenStructStrings = takeStructStrings(structStrings);
   unflatten(carried, init);
 
   Block *elseBlock = b.createBlock(&tmp.getElseRegion());
   auto ev = elseArm();
-  if (!ev || !checkStructStrings(structStrings, l, "a conditional"))
+  if (!ev)
     return std::nullopt;
   std::vector<Value> elseVals = flatten(carried, l);
   std::vector<RValue> elseStrings = takeStrings(strings);
+  std::vector<std::vector<RValue>> elseStructStrings = takeStructStrings(structStrings);
 
   OslType resultType;
   size_t resultLeaves = 0;
@@ -317,6 +357,18 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
   size_t numericResults = types.size();
   std::vector<StringArms> stringMerges =
       mergeStringArms(strings, thenStrings, elseStrings, thenBlock, elseBlock, l);
+  // A struct's string fields: those the arms leave different are merged
+  // as string variables are; the rest take the arms' common value.
+  for (size_t i = 0; i < structStrings.size(); ++i)
+    for (size_t k = 0; k < thenStructStrings[i].size(); ++k) {
+      const RValue &t = thenStructStrings[i][k], &e = elseStructStrings[i][k];
+      if (sameString(t, e))
+        continue;
+      StringArms m = mergeStringPair(t, e, thenBlock, elseBlock, l);
+      m.var = structStrings[i].first;
+      m.field = int(k);
+      stringMerges.push_back(m);
+    }
   for (StringArms &m : stringMerges) {
     thenYield.push_back(m.thenValue);
     elseYield.push_back(m.elseValue);
@@ -339,11 +391,17 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
       merged[i] = ifOp.getResult(r++);
   unflatten(carried, ArrayRef<Value>(merged).take_front(init.size()));
   for (auto [k, m] : llvm::enumerate(stringMerges)) {
-    Value index = ifOp.getResult(numericResults + k);
-    m.var->val = m.choices.empty() ? RValue::runtimeString(index) : RValue::string("");
-    m.var->val.choices = m.choices;
-    if (!m.choices.empty())
-      m.var->val.value = index;
+    RValue value = m.merged(ifOp.getResult(numericResults + k));
+    if (m.field < 0)
+      m.var->val = value;
+    else
+      thenStructStrings[llvm::find_if(structStrings, [&](const auto &e) {
+                          return e.first == m.var;
+                        }) - structStrings.begin()][m.field] = value;
+  }
+  for (size_t i = 0; i < structStrings.size(); ++i) {
+    size_t k = 0;
+    replaceStringFields(structStrings[i].first->val, thenStructStrings[i], k);
   }
   if (!wantValue)
     return RValue::voidValue();
