@@ -26,6 +26,20 @@ struct Macro {
   bool variadic = false;
   std::vector<std::string> params;
   std::vector<Token> body;
+  /// Where it was defined (line 0: on the command line).
+  SrcLoc loc{0, 0, 0};
+
+  /// The same definition (C allows redefining a macro only so).
+  bool sameAs(const Macro &o) const {
+    if (functionLike != o.functionLike || variadic != o.variadic || params != o.params ||
+        body.size() != o.body.size())
+      return false;
+    for (size_t i = 0; i < body.size(); ++i)
+      if (body[i].kind != o.body[i].kind || body[i].text != o.body[i].text ||
+          (i > 0 && body[i].spaceBefore != o.body[i].spaceBefore))
+        return false;
+    return true;
+  }
 };
 
 /// Limits that keep pathological macros from running away.
@@ -328,6 +342,16 @@ private:
         return false;
       }
       m.body.push_back(line[k]);
+    }
+    m.loc = line[1].loc;
+    auto old = macros.find(line[1].text);
+    if (old != macros.end() && !old->second.sameAs(m)) {
+      std::string where = old->second.loc.line == 0
+                              ? std::string("on the command line")
+                              : "at line " + std::to_string(old->second.loc.line);
+      if (!diags.warning(line[1].loc, "macro '" + line[1].text +
+                                          "' redefined (previous definition " + where + ")"))
+        return false;
     }
     macros[line[1].text] = std::move(m);
     return true;

@@ -192,6 +192,16 @@ struct LinkShaderGroupPass
           return;
         }
         OutputOp out = findOutput(fromFunc, outputName, element);
+        if (!out && component >= 0 && arrayLength(fromFunc, outputName, true) > 0) {
+          // OSL's testshade asserts on these too ("no support for
+          // individual array element connections").
+          param.emitError("connecting one element of array output '")
+              << fromLayer << "." << outputName << "' (to input '" << param.getName()
+              << "' of layer '" << l.name
+              << "') is not supported: connect the whole array to an array input";
+          ok = false;
+          return;
+        }
         if (!out) {
           param.emitError("layer '") << fromLayer << "' has no output '" << fromOutput
                                      << "' (connected to input '" << param.getName()
