@@ -679,9 +679,9 @@ Value lane::convert(OpBuilder &b, Location loc, Value x, Type to) {
   // int(x) truncates toward zero. NaN and values past int's range give
   // INT_MIN, as x86's conversion (and so OSL) does: fptosi alone would be
   // poison there, which LLVM folds to anything for a constant.
+  // (|x| < 2^31 leaves out -2^31 itself, whose int is INT_MIN anyway.)
   Value truncated = b.create<arith::FPToSIOp>(loc, toLane, x);
-  Value inRange = b.create<arith::AndIOp>(
-      loc, fcmp(b, loc, arith::CmpFPredicate::OGE, x, cst(b, loc, x, -2147483648.0)),
-      fcmp(b, loc, arith::CmpFPredicate::OLT, x, cst(b, loc, x, 2147483648.0)));
+  Value inRange = fcmp(b, loc, arith::CmpFPredicate::OLT, b.create<math::AbsFOp>(loc, x),
+                       cst(b, loc, x, 2147483648.0));
   return sel(b, loc, inRange, truncated, cst(b, loc, truncated, -2147483648.0));
 }
