@@ -54,6 +54,12 @@ public:
     files.push_back(name.str());
     return unsigned(files.size() - 1);
   }
+  /// A file name only messages use (#line's): not a file that was read.
+  unsigned addFileName(llvm::StringRef name) {
+    namesOnly.insert(unsigned(files.size()));
+    return addFile(name);
+  }
+  bool isFileNameOnly(unsigned file) const { return namesOnly.count(file) != 0; }
 
 private:
   std::vector<std::string> files;
@@ -62,6 +68,7 @@ private:
   WarningMode warningMode = WarningMode::Show;
   std::set<std::tuple<unsigned, unsigned, std::string>> warned;
   std::set<std::pair<unsigned, unsigned>> nowarn;
+  std::set<unsigned> namesOnly;
 };
 
 } // namespace osl::frontend

@@ -281,9 +281,8 @@ RValue IRGen::updatePath(const RValue &cur, const std::vector<Access> &path, siz
       res.fields[a.constIndex] = newValue;
       return res;
     }
-    // An element chosen per point (a string field of an array of structs):
-    // every element becomes a handle, and each takes the new one where the
-    // index picks it.
+    // An element chosen per point: every element becomes a handle, and
+    // each takes the new one where the index picks it.
     Value handle = stringHandle(newValue, l);
     for (int j = 0; j < a.length; ++j)
       res.fields[j] = RValue::runtimeString(select(selectsElement(a.index, j, a.length, l),
@@ -411,21 +410,6 @@ RValue IRGen::loadLValue(const LValue &lv, SrcLoc l) {
 }
 
 bool IRGen::storeLValue(const LValue &lv, RValue v, SrcLoc l) {
-  if (lv.var->type.isArray() && lv.var->type.base == BaseType::String && !lv.path.empty() &&
-      lv.path[0].constIndex < 0) {
-    // An element chosen per point: every element becomes a handle, and
-    // each takes the new one where the index picks it.
-    const Access &a = lv.path[0];
-    readVar(lv.var, l);
-    materializeStrings(lv.var, l);
-    Value handle = stringHandle(v, l);
-    for (int j = 0; j < a.length; ++j) {
-      RValue &f = lv.var->val.fields[j];
-      f = RValue::runtimeString(
-          select(selectsElement(a.index, j, a.length, l), handle, f.value, l));
-    }
-    return true;
-  }
   if (lv.path.empty()) {
     v.type = lv.var->type;
     lv.var->val = std::move(v);

@@ -514,8 +514,11 @@ llvm::SmallVector<size_t> IRGen::libraryOutputArgs(const Expr &e) const {
     outputs.push_back(1); // (subject, results, regex)
   if (name == "texture" || name == "texture3d" || name == "environment")
     // The values of the "alpha" and "errormessage" options are outputs.
-    for (size_t k = 0; k + 1 < e.args.size(); ++k)
-      if (e.args[k]->kind == ExprKind::StringLit &&
+    // Options are (name, value) pairs that end the call, after at least
+    // the file and the lookup point; a name TextureCall does not know as
+    // a literal is an error there.
+    for (size_t k = 2; k + 1 < e.args.size(); ++k)
+      if ((e.args.size() - k) % 2 == 0 && e.args[k]->kind == ExprKind::StringLit &&
           (e.args[k]->name == "alpha" || e.args[k]->name == "errormessage"))
         outputs.push_back(k + 1);
   return outputs;

@@ -20,6 +20,8 @@ osl::includedFiles(llvm::StringRef source, llvm::StringRef filename, llvm::raw_o
   llvm::StringSet<> seen;
   std::vector<IncludedFile> files;
   for (unsigned f = 1; f < diags.fileCount(); ++f) {
+    if (diags.isFileNameOnly(f)) // a #line directive's name
+      continue;
     llvm::StringRef path = diags.fileName(f);
     if (seen.insert(path).second)
       files.push_back({path.str(), path.starts_with(standardDir)});

@@ -97,11 +97,7 @@ public:
           }
         if (!match) {
           tok.kind = TokKind::Invalid;
-          if (static_cast<unsigned char>(c) >= 0x80 || !llvm::isPrint(c))
-            tok.text = "invalid character in source (byte 0x" +
-                       llvm::utohexstr(static_cast<unsigned char>(c)) + ")";
-          else
-            tok.text = std::string("invalid character '") + c + "' in source";
+          tok.text = std::string(1, c);
           advance();
           out.push_back(std::move(tok));
           continue;
@@ -189,8 +185,9 @@ private:
     std::string value;
     while (true) {
       if (pos >= src.size() || src[pos] == '\n') {
+        // The quote and the rest of its line (escapes resolved).
         tok.kind = TokKind::Invalid;
-        tok.text = "unterminated string literal";
+        tok.text = "\"" + value;
         return true;
       }
       char c = src[pos];
@@ -262,6 +259,15 @@ private:
 };
 
 } // namespace
+
+std::string osl::frontend::invalidTokenMessage(const Token &t) {
+  if (!t.text.empty() && t.text[0] == '"')
+    return "unterminated string literal";
+  unsigned char c = t.text.empty() ? 0 : static_cast<unsigned char>(t.text[0]);
+  if (c >= 0x80 || !llvm::isPrint(c))
+    return "invalid character in source (byte 0x" + llvm::utohexstr(c) + ")";
+  return "invalid character '" + t.text + "' in source";
+}
 
 bool osl::frontend::lex(llvm::StringRef source, Diagnostics &diags,
                         std::vector<Token> &out, unsigned file) {

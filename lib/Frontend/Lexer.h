@@ -11,9 +11,9 @@
 
 namespace osl::frontend {
 
-/// Invalid: a character or string literal that is no token; its text is
-/// the error, reported only if the token is compiled (an `#if 0` block may
-/// hold any text, as in C).
+/// Invalid: a character, or a string literal left open, that is no token:
+/// its text is as written, an error only if the token is compiled (an
+/// `#if 0` block may hold any text, as in C); invalidTokenMessage says why.
 enum class TokKind { Eof, Ident, Int, Float, String, Punct, Invalid };
 
 struct Token {
@@ -34,6 +34,10 @@ struct Token {
     return kind == TokKind::Ident && text == name;
   }
 };
+
+struct Token;
+/// Why an Invalid token is no token.
+std::string invalidTokenMessage(const Token &t);
 
 /// Splits source text into tokens (no preprocessing). Returns false after
 /// reporting an error. The token list always ends with an Eof token.

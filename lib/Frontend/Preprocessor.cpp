@@ -268,7 +268,9 @@ private:
   bool pragma(const std::vector<Token> &line) {
     if (line.size() >= 3 && line[1].is(TokKind::Ident) && line[1].text == "osl" &&
         line[2].is(TokKind::Ident) && line[2].text == "nowarn") {
-      diags.noWarningsOnLine(line[1].loc.file, line[1].loc.line + 1);
+      SrcLoc at = line[1].loc; // numbered as the lines after #line are
+      lineRemap.apply(at);
+      diags.noWarningsOnLine(at.file, at.line + 1);
       return true;
     }
     if (line.size() < 3 || !line[1].is(TokKind::Ident) || !line[2].is(TokKind::String))
@@ -346,9 +348,10 @@ private:
     m.loc = line[1].loc;
     auto old = macros.find(line[1].text);
     if (old != macros.end() && !old->second.sameAs(m)) {
-      std::string where = old->second.loc.line == 0
-                              ? std::string("on the command line")
-                              : "at line " + std::to_string(old->second.loc.line);
+      const SrcLoc &was = old->second.loc;
+      std::string where = was.line == 0 ? std::string("predefined or on the command line")
+                                        : "at " + diags.fileName(was.file).str() + ":" +
+                                              std::to_string(was.line);
       if (!diags.warning(line[1].loc, "macro '" + line[1].text +
                                           "' redefined (previous definition " + where + ")"))
         return false;
@@ -792,7 +795,7 @@ private:
       diags.error(name.loc, "#line needs a line number and, optionally, a file name");
       return false;
     }
-    long long number = std::strtoll(line[1].text.c_str(), nullptr, 0);
+    long long number = std::strtoll(line[1].text.c_str(), nullptr, 10);
     if (number < 1 || number > 2147483647) {
       diags.error(line[1].loc, "#line number " + line[1].text + " is out of range");
       return false;
@@ -801,7 +804,7 @@ private:
     // the remap's own file changes.
     lineRemap.offset = number - (long long)(name.loc.line + 1);
     if (line.size() > 2)
-      lineRemap.file = diags.addFile(line[2].text);
+      lineRemap.file = diags.addFileName(line[2].text);
     return true;
   }
 
@@ -842,7 +845,7 @@ bool osl::frontend::preprocess(const std::vector<Token> &raw, Diagnostics &diags
   // What the lexer could not make a token of is an error once compiled.
   for (const Token &t : out)
     if (t.is(TokKind::Invalid))
-      return diags.error(t.loc, t.text), false;
+      return diags.error(t.loc, invalidTokenMessage(t)), false;
   // Adjacent string literals are one string, as in C.
   size_t kept = 0;
   for (size_t i = 0; i < out.size(); ++i) {

@@ -401,9 +401,8 @@ Value lane::logb(OpBuilder &b, Location loc, ValueRange x) {
   exponent = b.create<arith::SubIOp>(loc, exponent, constant(b, loc, intLane, 127));
   return b.create<arith::SIToFPOp>(loc, mag.getType(), exponent);
 }
-/// clamp((x - e0) / (e1 - e0), 0, 1), with a step when e0 == e1.
-/// As stdosl.h: x clamped between the edges (which, reversed, gives
-/// edge0 and so -0), then scaled.
+/// linearstep as stdosl.h has it: x clamped between the edges (which,
+/// reversed, gives edge0 and so -0), then scaled; a step when e0 == e1.
 Value lane::linearstep(OpBuilder &b, Location loc, ValueRange x) {
   Value clamped = clamp(b, loc, {x[2], x[0], x[1]});
   Value ramp = b.create<arith::DivFOp>(loc, b.create<arith::SubFOp>(loc, clamped, x[0]),
@@ -499,11 +498,6 @@ Value lane::pow(OpBuilder &b, Location loc, ValueRange x) {
   return result;
 }
 
-/// OSL's (OIIO's) safe_fmod, which OSL's scalar backend calls where the
-/// divisor is not a constant: x - N*y with N = int(x/y), and 0 where y = 0.
-/// N converts as x86 does, INT_MIN when x/y is out of int's range (or NaN),
-/// so huge quotients give OSL's large results, not C fmod's remainder. The
-/// derivative is x's alone, as OSL's dual fmod has it, also where y = 0.
 /// x - N*y for N = trunc(x * (1/y)), corrected by one where that quotient
 /// rounded across an integer; exact (the remainder for the right N is
 /// representable and one fused multiply-add makes it) while |x/y| < 2^22.
@@ -528,27 +522,38 @@ static Value remainderStep(OpBuilder &b, Location loc, Value x, Value y, double 
 /// fmod by a constant, nonzero divisor: C's remainder, exactly, as OSL's
 /// scalar backend computes it (LLVM's frem; its batched backend uses frem
 /// for every divisor): fmod(2.1, 0.7) is 0.699999928, where x - N*y gives
-/// -5.96e-08. The remainder by y * 2^22 first (a multiple of y, so the
-/// remainder is the same) keeps each step's quotient small: exact for
-/// |x/y| < 2^44, as a libm call per lane would be, at a fraction of the
-/// cost (the quotients multiply by the reciprocal: the steps correct N).
+/// -5.96e-08. Remainders by y * 2^44 and y * 2^22 first (multiples of y,
+/// so the remainder is the same; a step whose divisor overflows is left
+/// out) keep each step's quotient below 2^22: exact for |x/y| < 2^66, as a
+/// libm call per lane would be, at a fraction of the cost (the quotients
+/// multiply by the reciprocal: the steps correct N). Past 2^66 the result
+/// is inexact (fmod(1e30, 0.1)).
 static Value fmodByConstant(OpBuilder &b, Location loc, Value x, Value y, double divisor) {
+  std::vector<double> steps;
+  for (int k = 2; k >= 1; --k) {
+    double coarse = double(float(std::ldexp(divisor, 22 * k)));
+    if (std::isfinite(coarse) && std::isfinite(1.0f / float(coarse)))
+      steps.push_back(coarse);
+  }
   Value r = x;
-  double coarse = double(float(divisor * 0x1p22));
-  if (std::isfinite(coarse))
+  for (double coarse : steps)
     r = remainderStep(b, loc, r, cst(b, loc, y, coarse), coarse);
   r = remainderStep(b, loc, r, y, divisor);
-  // A zero remainder has x's sign, as C's (-0 for a negative x).
+  // A zero remainder has x's sign, as C's (-0 for a negative x, -0 too).
   Value zero = cst(b, loc, x, 0);
-  Value negativeZero =
-      b.create<arith::AndIOp>(loc, fcmp(b, loc, arith::CmpFPredicate::OLT, x, zero),
-                              fcmp(b, loc, arith::CmpFPredicate::OEQ, r, zero));
-  Value result = sel(b, loc, negativeZero, cst(b, loc, x, -0.0), r);
+  Value isZero = fcmp(b, loc, arith::CmpFPredicate::OEQ, r, zero);
+  Value result = sel(b, loc, isZero, b.create<math::CopySignOp>(loc, zero, x), r);
   if (Operation *op = result.getDefiningOp())
     op->setAttr(kDualRuleAttr, b.getStringAttr(kDualRuleValueOnly));
   return result;
 }
 
+/// fmod: by a constant, C's remainder (fmodByConstant); otherwise OSL's
+/// (OIIO's) safe_fmod, which OSL's scalar backend calls where the divisor
+/// is not a constant: x - N*y with N = int(x/y), and 0 where y = 0. N
+/// converts as x86 does, INT_MIN when x/y is out of int's range (or NaN),
+/// so huge quotients give OSL's large results, not C fmod's remainder. The
+/// derivative is x's alone, as OSL's dual fmod has it, also where y = 0.
 Value lane::fmod(OpBuilder &b, Location loc, ValueRange x) {
   std::optional<double> constantDivisor = constantLaneValue(x[1]);
   if (constantDivisor && *constantDivisor != 0 && std::isfinite(float(*constantDivisor)) &&

@@ -101,8 +101,9 @@ public:
       return true;
     bool ended = endImage();
     bool written = std::ferror(file) == 0;
-    release();
-    return (ended && written) || fail(error);
+    // The last buffer reaches the disk in fclose: a full disk shows there.
+    bool closed = release();
+    return (ended && written && closed) || fail(error);
   }
 
 private:
@@ -122,14 +123,20 @@ private:
     return true;
   }
 
-  void release() {
+  /// Frees libpng's state and closes the file; false when closing failed.
+  bool release() {
     if (png)
       png_destroy_write_struct(&png, info ? &info : nullptr);
     png = nullptr;
     info = nullptr;
-    if (file && std::fclose(file) != 0 && messages.empty())
-      messages = std::strerror(errno);
+    bool closed = true;
+    if (file && std::fclose(file) != 0) {
+      closed = false;
+      if (messages.empty())
+        messages = std::strerror(errno);
+    }
     file = nullptr;
+    return closed;
   }
 
   bool fail(std::string &error) {
@@ -158,12 +165,16 @@ std::unique_ptr<Writer> openPng(const std::string &path, const WriteSpec &spec,
   PixelType type = PixelType::UInt8;
   if (spec.dataType == "uint16")
     type = PixelType::UInt16;
+  // testshade's int outputs are floats in a PNG unless -od names a type
+  // (as OpenImageIO's path writes them; see writesIntPixels).
+  WriteSpec stored = spec;
+  stored.integerPixels = spec.integerPixels && !spec.dataType.empty();
   std::FILE *file = std::fopen(path.c_str(), "wb");
   if (!file) {
     error = "cannot write " + path + ": " + std::strerror(errno);
     return nullptr;
   }
-  auto writer = std::make_unique<PngWriter>(file, spec, type, path);
+  auto writer = std::make_unique<PngWriter>(file, stored, type, path);
   if (!writer->begin(error))
     return nullptr;
   return writer;

@@ -236,6 +236,8 @@ TEST(LaneKernels, CosineLobeSamplesMatchOneLobesOwn) {
   Sampler rng(5, 8, 2);
   std::vector<Lobe> lobes;
   std::vector<Vec3> wos, randoms;
+  // Pick probabilities below 1 too (a cosine lobe beside a delta lobe).
+  std::vector<float> picks;
   for (int i = 0; i < 203; ++i) {
     Vec3 a = rng.get(), b = rng.get(), r = rng.get();
     Lobe l;
@@ -248,6 +250,7 @@ TEST(LaneKernels, CosineLobeSamplesMatchOneLobesOwn) {
     Vec3 wo = normalize(Vec3(2 * b.y - 1, 2 * b.x - 1, 2 * r.z - 1));
     wos.push_back(i % 11 == 0 ? -l.n : wo);
     randoms.push_back(r);
+    picks.push_back(i % 3 == 0 ? 0.375f : 1.0f);
   }
   int sampled = 0;
   for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
@@ -261,7 +264,7 @@ TEST(LaneKernels, CosineLobeSamplesMatchOneLobesOwn) {
         std::vector<size_t> which;
         for (size_t i = 0; i < lobes.size(); ++i)
           if (lobes[i].model == model) {
-            draws.push(cosineLobeOf(lobes[i]), lobes[i].weight, 1.0f, wos[i], randoms[i].x,
+            draws.push(cosineLobeOf(lobes[i]), lobes[i].weight, picks[i], wos[i], randoms[i].x,
                        randoms[i].y);
             which.push_back(i);
           }
@@ -278,11 +281,12 @@ TEST(LaneKernels, CosineLobeSamplesMatchOneLobesOwn) {
                       sameBits(lanes.wi.z, alone.wi.z))
               << "lobe " << i;
           EXPECT_TRUE(sameBits(lanes.eval.value.x, alone.value.x) &&
+                      sameBits(lanes.eval.value.y, alone.value.y) &&
                       sameBits(lanes.eval.value.z, alone.value.z))
               << "lobe " << i;
           ShadingResult mixture;
           mixture.lobes.push_back(lobes[i]);
-          mixture.lobes[0].pick = 1;
+          mixture.lobes[0].pick = picks[i];
           BsdfSample whole = mixture.sample(wos[i], randoms[i].x, randoms[i].y, 0.5f);
           BsdfSample fromLanes = draws.alone(k);
           EXPECT_TRUE(sameBits(fromLanes.pdf, whole.pdf) &&
