@@ -166,7 +166,8 @@ std::string testshadeSpelling(std::string a) {
       "param", "layer", "connect", "center", "debugnan", "scaleuv", "offsetuv", "offsetst", "iters", "entry", "reparam", "group",
       "shader", "od", "vary_udxdy", "vary_vdxdy", "vary_pdxdy", "colorspace",
       "options", "debug", "res", "raytype", "raytype_opt", "groupoutputs",
-      "batched", "groupname", "jbufferMB", "inbuffer", "userdata_isconnected", "expr"};
+      "batched", "groupname", "jbufferMB", "inbuffer", "userdata_isconnected", "expr",
+      "userdata", "print", "oslquery", "llvm_opt"};
   if (a.size() > 2 && a[0] == '-' && a[1] != '-') {
     llvm::StringRef name = llvm::StringRef(a).drop_front().split(':').first;
     for (const char *flag : kLong)
