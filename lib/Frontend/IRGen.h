@@ -440,8 +440,10 @@ private:
   /// compile time, else a run-time handle).
   struct StringArms {
     Var *var = nullptr;
-    /// Which of a struct variable's string fields (collected in order);
-    /// -1 for a string variable.
+    /// For a struct variable's string field: which of the if's struct
+    /// snapshots it is in, and which of its string fields (collected in
+    /// order); field -1 for a string variable.
+    size_t structIndex = 0;
     int field = -1;
     mlir::Value thenValue, elseValue;
     std::vector<std::string> choices;

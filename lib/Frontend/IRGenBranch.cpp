@@ -366,6 +366,7 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
         continue;
       StringArms m = mergeStringPair(t, e, thenBlock, elseBlock, l);
       m.var = structStrings[i].first;
+      m.structIndex = i;
       m.field = int(k);
       stringMerges.push_back(m);
     }
@@ -395,9 +396,7 @@ IRGen::emitIfRegion(Value cond, SrcLoc l, const llvm::StringSet<> &assigned,
     if (m.field < 0)
       m.var->val = value;
     else
-      thenStructStrings[llvm::find_if(structStrings, [&](const auto &e) {
-                          return e.first == m.var;
-                        }) - structStrings.begin()][m.field] = value;
+      thenStructStrings[m.structIndex][m.field] = value;
   }
   for (size_t i = 0; i < structStrings.size(); ++i) {
     size_t k = 0;

@@ -401,9 +401,7 @@ BsdfSample ShadingResult::finish(Vec3 wo, const Pick &picked, BsdfSample smp) co
   const Lobe *chosen = picked.lobe;
   if (!chosen)
     return BsdfSample();
-  smp.diffuse = chosen->model == Lobe::Diffuse || chosen->model == Lobe::OrenNayar ||
-                chosen->model == Lobe::OrenNayarEnergy || chosen->model == Lobe::Translucent ||
-                chosen->model == Lobe::Burley;
+  smp.diffuse = cosineModelOf(*chosen).has_value(); // the diffuse lobes are the cosine ones
   if (smp.delta) {
     smp.weight = smp.weight * chosen->weight / chosen->pick;
     return smp;
