@@ -38,7 +38,7 @@ int osl::renderScene(const RunOptions &options) {
   ropt.seed = uint32_t(options.seed);
   if (scene.maxBounces >= 0)
     ropt.maxBounces = scene.maxBounces;
-  ropt.timeShading = options.stats;
+  ropt.timeShading = options.timeKernels;
   if (options.cropGiven) {
     ropt.cropX0 = options.crop[0];
     ropt.cropY0 = options.crop[1];
@@ -47,7 +47,8 @@ int osl::renderScene(const RunOptions &options) {
   }
 
   Stats stats;
-  Stats *statsPtr = options.stats ? &stats : nullptr;
+  bool printStats = options.stats || options.timeKernels;
+  Stats *statsPtr = printStats ? &stats : nullptr;
   CompileOptions compile = options.compile;
   compile.camera = {ropt.xres, ropt.yres};
   render::Renderer renderer(scene, ropt);
@@ -67,7 +68,7 @@ int osl::renderScene(const RunOptions &options) {
       return 1;
     }
   }
-  if (options.stats) {
+  if (printStats) {
     llvm::errs() << "scene " << options.scenePath << ", " << ropt.xres << "x" << ropt.yres
                  << ", " << ropt.aa * ropt.aa << " paths per pixel, width "
                  << renderer.width() << "\n";
@@ -77,10 +78,12 @@ int osl::renderScene(const RunOptions &options) {
                  << llvm::format("shaded points: %ld in %ld batches, %.1f%% of lanes active\n",
                                  rstats.shadedPoints, rstats.batches,
                                  100 * rstats.activeLaneFraction)
-                 << llvm::format("in shading kernels: %.1f ms (%.1f ns per shaded point)\n",
-                                 rstats.shadingSeconds * 1e3,
-                                 rstats.shadingSeconds * 1e9 /
-                                     std::max(1L, rstats.shadedPoints));
+                 ;
+    if (ropt.timeShading)
+      llvm::errs() << llvm::format("in shading kernels: %.1f ms (%.1f ns per shaded point)\n",
+                                   rstats.shadingSeconds * 1e3,
+                                   rstats.shadingSeconds * 1e9 /
+                                       std::max(1L, rstats.shadedPoints));
   }
   return statusAfterShading(options);
 }

@@ -629,6 +629,7 @@ const Flag kFlags[] = {
     {{"--no-cache"}, setFlag<&RunOptions::noCache>},
     {{"--inline-library"}, setCompileFlag<&CompileOptions::inlineLibrary>},
     {{"--stats"}, setFlag<&RunOptions::stats>},
+    {{"--time-kernels"}, setFlag<&RunOptions::timeKernels>},
     {{"-h", "--help"}, helpFlag},
 };
 

@@ -259,6 +259,9 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       error = "-g, -o NAME FILE and --emit are for shading a grid, not --scene";
       return false;
     }
+  } else if (o.timeKernels) {
+    error = "--time-kernels times a render's shading batches: it needs --scene";
+    return false;
   } else if (o.isGroup) {
     if (!o.shaderPath.empty()) {
       error = "a shader given both positionally ('" + o.shaderPath + "') and as a group layer";

@@ -30,6 +30,8 @@ struct RunOptions {
   /// (output name, file); "null" discards.
   std::vector<std::pair<std::string, std::string>> outputs;
   bool stats = false;
+  /// --time-kernels: a render's --stats also times its shading kernels.
+  bool timeKernels = false;
   /// --check: compile (reporting errors) and stop, like oslc.
   bool checkOnly = false;
   /// oslc's make dependencies of a shader: -M/-MM print them instead of
