@@ -202,10 +202,18 @@ def OutlineLibrary : Pass<"osl-outline-library", "::mlir::ModuleOp"> {
     and before canonicalization (which would inline the regions).
 
     With `outline=false` (--math=double, whose f64 rewrite stays within
-    the kernel) every region's code is moved in place instead.
+    the kernel) every region's code is moved in place instead. A function
+    without loops or branches whose ops times its calls is at most
+    `inline-ops` (cell and hash noise called once or twice) goes back in
+    place: a call clobbers every vector register, so the caller spills its
+    live values around it, which costs more than such a body, and the
+    bound keeps unrolled loops of calls from growing the kernel.
   }];
   let options = [Option<"outline", "outline", "bool", "true",
-                        "make functions; false: inline every library region">];
+                        "make functions; false: inline every library region">,
+                 Option<"inlineOps", "inline-ops", "unsigned", "500",
+                        "inline a straight-line function whose ops times its calls "
+                        "is at most this">];
   let dependentDialects = ["::mlir::func::FuncDialect"];
 }
 

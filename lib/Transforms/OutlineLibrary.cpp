@@ -10,8 +10,10 @@
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Dialect/Func/IR/FuncOps.h"
+#include "mlir/IR/IRMapping.h"
 #include "mlir/IR/SymbolTable.h"
 #include "mlir/Transforms/RegionUtils.h"
+#include "llvm/ADT/MapVector.h"
 #include "llvm/ADT/StringExtras.h"
 #include "llvm/ADT/StringMap.h"
 #include "llvm/Support/xxhash.h"
@@ -77,6 +79,34 @@ func::FuncOp makeFunction(ModuleOp module, scf::ExecuteRegionOp region, StringRe
   return func;
 }
 
+/// The ops of `func`'s body, or nothing when it has a loop or branch (a
+/// region inside).
+std::optional<unsigned> straightLineOps(func::FuncOp func) {
+  unsigned ops = 0;
+  WalkResult walk = func.getBody().walk([&](Operation *op) {
+    if (op->getNumRegions() > 0)
+      return WalkResult::interrupt();
+    ++ops;
+    return WalkResult::advance();
+  });
+  if (walk.wasInterrupted())
+    return std::nullopt;
+  return ops;
+}
+
+/// Replaces `call` by a copy of `func`'s single-block body.
+void inlineCall(func::CallOp call, func::FuncOp func) {
+  IRMapping map;
+  map.map(func.getArguments(), call.getOperands());
+  OpBuilder b(call);
+  Block &body = func.getBody().front();
+  for (Operation &op : body.without_terminator())
+    b.clone(op, map);
+  for (auto [result, returned] : llvm::zip(call.getResults(), body.getTerminator()->getOperands()))
+    result.replaceAllUsesWith(map.lookupOrDefault(returned));
+  call.erase();
+}
+
 struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLibraryPass> {
   using OutlineLibraryBase::OutlineLibraryBase;
 
@@ -97,6 +127,7 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
     // search: a body is reused when it is equivalent op for op.
     DenseMap<llvm::hash_code, SmallVector<func::FuncOp, 1>> byCode;
     llvm::StringMap<int> namesUsed;
+    llvm::MapVector<func::FuncOp, SmallVector<func::CallOp>> callsOf;
     for (scf::ExecuteRegionOp region : regions) {
       SetVector<Value> captured;
       getUsedValuesDefinedAbove(region.getRegion(), captured);
@@ -133,6 +164,18 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
       auto call = b.create<func::CallOp>(region.getLoc(), func, captured.getArrayRef());
       region.replaceAllUsesWith(call.getResults());
       region.erase();
+      callsOf[func].push_back(call);
+    }
+    // A small straight-line function goes back in place: a call clobbers
+    // every vector register, and the caller's spills around it cost more
+    // than a hash. Bounded by its ops times its calls, for compile time.
+    for (auto &[func, calls] : callsOf) {
+      std::optional<unsigned> ops = straightLineOps(func);
+      if (!ops || uint64_t(*ops) * calls.size() > inlineOps)
+        continue;
+      for (func::CallOp call : calls)
+        inlineCall(call, func);
+      symbols.erase(func);
     }
   }
 };

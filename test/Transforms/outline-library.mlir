@@ -1,4 +1,5 @@
-// RUN: osl-opt %s -split-input-file --osl-outline-library | FileCheck %s
+// RUN: osl-opt %s -split-input-file --osl-outline-library=inline-ops=0 | FileCheck %s
+// RUN: osl-opt %s -split-input-file --osl-outline-library=inline-ops=3 | FileCheck %s --check-prefix=SMALL
 // RUN: osl-opt %s -split-input-file --osl-outline-library=outline=false | FileCheck %s --check-prefix=INLINE
 
 // Two calls of one routine with one signature share one private function
@@ -137,4 +138,54 @@ func.func @other_constant_other_function(%x: f32) -> (f32, f32, f32) {
     scf.yield %m : f32
   } {osl.library = "noise_gabor"}
   return %a, %b, %d : f32, f32, f32
+}
+
+// -----
+
+// With inline-ops, a function without loops whose ops times its calls is
+// at most that goes back in place (a call would spill more than it
+// computes); a bigger one, one called more often, or one with a loop
+// however small, stays a function.
+// SMALL-LABEL: func.func @small_functions_inline
+// SMALL-NOT: scf.execute_region
+// SMALL: %[[M:.+]] = arith.mulf %arg0, %arg0 : f32
+// SMALL: call @osl.lib.noise_perlin.{{[0-9a-f]+}}(%arg0)
+// SMALL: call @osl.lib.noise_cell.{{[0-9a-f]+}}(%arg0, %arg1)
+// SMALL: call @[[TWICE:osl\.lib\.noise_simplex\.[0-9a-f]+]](%arg0)
+// SMALL: call @[[TWICE]](%arg0)
+// SMALL: return %[[M]],
+// SMALL-NOT: noise_hash
+// SMALL: func.func private @osl.lib.noise_perlin
+// SMALL: func.func private @osl.lib.noise_cell
+// SMALL: scf.for
+// SMALL: func.func private @[[TWICE]]
+func.func @small_functions_inline(%x: f32, %n: index) -> (f32, f32, f32, f32, f32) {
+  %a = scf.execute_region -> f32 {
+    %m = arith.mulf %x, %x : f32
+    scf.yield %m : f32
+  } {osl.library = "noise_hash"}
+  %b = scf.execute_region -> f32 {
+    %m = arith.mulf %x, %x : f32
+    %p = arith.addf %m, %x : f32
+    %q = arith.mulf %p, %m : f32
+    scf.yield %q : f32
+  } {osl.library = "noise_perlin"}
+  %c = scf.execute_region -> f32 {
+    %c0 = arith.constant 0 : index
+    %c1 = arith.constant 1 : index
+    %r = scf.for %i = %c0 to %n step %c1 iter_args(%acc = %x) -> f32 {
+      %s = arith.mulf %acc, %x : f32
+      scf.yield %s : f32
+    }
+    scf.yield %r : f32
+  } {osl.library = "noise_cell"}
+  %d = scf.execute_region -> f32 {
+    %m = arith.addf %x, %x : f32
+    scf.yield %m : f32
+  } {osl.library = "noise_simplex"}
+  %e = scf.execute_region -> f32 {
+    %m = arith.addf %x, %x : f32
+    scf.yield %m : f32
+  } {osl.library = "noise_simplex"}
+  return %a, %b, %c, %d, %e : f32, f32, f32, f32, f32
 }
