@@ -70,6 +70,9 @@ struct CompileOptions {
   /// osl-run --inline-library: noise routines inline in each kernel instead
   /// of functions compiled once and shared (OslCompiler/LibraryObjects.h).
   bool inlineLibrary = false;
+  /// osl-run --outline-every-routine: no noise routine inline, however small
+  /// (how the prebuilt library is built).
+  bool outlineEveryRoutine = false;
   /// The renderer's image (testshade: the -g grid), which fixes the
   /// "screen", "NDC" and "raster" spaces.
   mlir::osl::CameraImage camera;

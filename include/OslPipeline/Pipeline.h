@@ -32,6 +32,10 @@ struct OslToLLVMPipelineOptions {
   /// Library routines (noise) inline at each call, not in functions the
   /// JIT compiles once (osl-outline-library's outline=false).
   bool inlineLibrary = false;
+  /// Every library routine a function, however small (osl-outline-library's
+  /// inline-ops=0): how the prebuilt library is built, so that it holds the
+  /// routines a shader calls too often to inline.
+  bool outlineEveryRoutine = false;
 };
 
 /// The whole chain.

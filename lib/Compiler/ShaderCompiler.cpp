@@ -165,7 +165,8 @@ bool ShaderCompiler::lower() {
   // verified once at its end unless asked (CompileOptions::verifyEachPass).
   mlir::osl::OslToLLVMPipelineOptions pipeline{options.width, options.reference,
                                                options.countLanes, options.math,
-                                               options.inlineLibrary};
+                                               options.inlineLibrary,
+                                               options.outlineEveryRoutine};
   mlir::PassManager oslLevel(&context);
   mlir::osl::buildOslLevelPipeline(oslLevel, pipeline);
   mlir::PassManager outlining(&context), lowering(&context);
@@ -395,7 +396,8 @@ std::string ShaderCompiler::optionsKey() const {
      << "\nwidth " << options.width << "\nreference " << options.reference
      << "\ncount lanes " << options.countLanes
      << "\nmath " << mlir::osl::mathLevelName(options.math)
-     << "\ninline library " << options.inlineLibrary << "\nllvm pipeline "
+     << "\ninline library " << options.inlineLibrary
+     << "\noutline every routine " << options.outlineEveryRoutine << "\nllvm pipeline "
      << int(options.llvmPipeline)
      << "\ncolorspace " << options.colorSpace << "\nraytype " << options.rayType
      << "\ngroup name " << options.groupName

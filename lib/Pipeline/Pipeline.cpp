@@ -31,8 +31,11 @@ struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
   Option<bool> inlineLibrary{*this, "inline-library",
                              llvm::cl::desc("library routines inline at each call"),
                              llvm::cl::init(false)};
+  Option<bool> outlineEveryRoutine{
+      *this, "outline-every-routine",
+      llvm::cl::desc("every library routine a function, however small"), llvm::cl::init(false)};
   osl::OslToLLVMPipelineOptions get() const {
-    return {width, reference, countLanes, math, inlineLibrary};
+    return {width, reference, countLanes, math, inlineLibrary, outlineEveryRoutine};
   }
 };
 } // namespace
@@ -85,6 +88,8 @@ void mlir::osl::buildLibraryOutliningPipeline(OpPassManager &pm,
   // one function.
   OutlineLibraryOptions outlineOptions;
   outlineOptions.outline = math != MathLevel::Double && !options.inlineLibrary;
+  if (options.outlineEveryRoutine)
+    outlineOptions.inlineOps = 0;
   pm.addPass(createOutlineLibrary(outlineOptions));
 }
 

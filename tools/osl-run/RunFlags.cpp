@@ -628,6 +628,7 @@ const Flag kFlags[] = {
     {{"--cache-dir"}, cacheDirFlag},
     {{"--no-cache"}, setFlag<&RunOptions::noCache>},
     {{"--inline-library"}, setCompileFlag<&CompileOptions::inlineLibrary>},
+    {{"--outline-every-routine"}, setCompileFlag<&CompileOptions::outlineEveryRoutine>},
     {{"--stats"}, setFlag<&RunOptions::stats>},
     {{"--time-kernels"}, setFlag<&RunOptions::timeKernels>},
     {{"-h", "--help"}, helpFlag},

@@ -15,6 +15,7 @@ file(REMOVE_RECURSE "${OUT_DIR}/library" "${scratch}")
 foreach(width 1 4 8 16)
   execute_process(
     COMMAND "${OSL_RUN}" "${CATALOG}" --width ${width} -g 1 1 -t 1 --cache-dir "${scratch}"
+            --outline-every-routine
     RESULT_VARIABLE status
     OUTPUT_QUIET
     ERROR_VARIABLE errors)
