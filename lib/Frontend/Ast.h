@@ -126,6 +126,9 @@ struct FunctionDecl {
   StmtPtr body; // a Block
   /// A file-level function: its place among them (0, 1, ...); -1 nested.
   int order = -1;
+  /// Calls from positions past this see it: `order`, or just before the
+  /// place of an earlier prototype (a declaration ending in ';').
+  int visibleFrom = -1;
 };
 
 struct ShaderDecl {

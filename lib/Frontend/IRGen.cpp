@@ -458,6 +458,14 @@ Scope *IRGen::newScope(Scope *parent) {
 
 Var *IRGen::declareVar(Scope *scope, const std::string &name, OslType type, SrcLoc l,
                        RValue init) {
+  if (scope == shaderParams || scope == shaderBody) {
+    auto global = root->vars.find(name);
+    if (global != root->vars.end() && global->second->isGlobal) {
+      error(l, "\"" + name + "\" already declared in this scope (a shader global; a nested "
+               "block or a function may use the name)");
+      return nullptr;
+    }
+  }
   if (scope->vars.count(name)) {
     Var *old = scope->vars[name];
     error(l, "redefinition of '" + name + "' (first declared at line " +

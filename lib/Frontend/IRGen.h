@@ -568,6 +568,9 @@ private:
   std::deque<Var> vars;
   Scope *root = nullptr;
   Scope *current = nullptr;
+  /// The shader's parameters' scope and its body's outermost one: oslc
+  /// declares the globals in the same scope, so their names are taken there.
+  Scope *shaderParams = nullptr, *shaderBody = nullptr;
   unsigned nextVarId = 0;
 
   /// All user functions by name (for the assignment scan).

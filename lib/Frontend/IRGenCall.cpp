@@ -56,6 +56,19 @@ std::optional<RValue> IRGen::emitCall(const Expr &e, const OslType *expected) {
   }
   if (!e.isCtor) {
     std::vector<FunctionRef> cands = lookupFunctions(e.name);
+    // As in C, a file-level function is callable only after its definition
+    // (or, in osl-mlir, a prototype: oslc takes one for an empty body).
+    int use = usePosition();
+    auto later = [&](const FunctionRef &f) {
+      return f.decl->order >= 0 && f.decl->visibleFrom >= use;
+    };
+    bool definedLater = llvm::any_of(cands, later);
+    llvm::erase_if(cands, later);
+    if (definedLater && cands.empty() && !isBuiltinName(e.name) && !lookupStruct(e.name)) {
+      error(e.loc, "function '" + e.name + "' was not declared in this scope (it is defined "
+                   "later in the file)");
+      return std::nullopt;
+    }
     if (isBuiltinName(e.name))
       // A function that redefines a library one calls the library one by
       // its name (OSL has no recursion).

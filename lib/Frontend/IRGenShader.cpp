@@ -71,7 +71,7 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   // (osl-link-group, with lazy-globals=false).
   mlir::cast<ClosureEmptyOp>(emptyCi.getDefiningOp()).setInitialCi(true);
   Scope *paramScope = newScope(root);
-  current = paramScope;
+  current = shaderParams = paramScope;
   // Before the parameters: a default value may call exit().
   exitFlag = declareFlag(root, kExitFlag, shader.loc);
   // OSL runs a parameter's default when the parameter is first used: the
@@ -97,7 +97,7 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
         op.setNotConnectable(true);
     });
 
-  current = newScope(paramScope);
+  current = shaderBody = newScope(paramScope);
   shaderReturned = declareFlag(current, kReturnedFlag, shader.loc);
   // Lanes a default value stopped run none of the body.
   std::optional<bool> exited = getConstBool(exitFlag->val.value);

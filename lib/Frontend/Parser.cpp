@@ -6,6 +6,8 @@
 //===----------------------------------------------------------------------===//
 #include "ExprParser.h"
 
+#include <map>
+
 using namespace osl::frontend;
 
 namespace {
@@ -15,6 +17,8 @@ public:
   using ExprParser::ExprParser;
 
   bool parseProgram(Program &program) {
+    // Each name's first prototype: where its definition becomes callable.
+    std::map<std::string, int> prototypePositions;
     while (!cur().is(TokKind::Eof)) {
       const Token &t = cur();
       if (t.isIdent("struct")) {
@@ -46,9 +50,16 @@ public:
         auto fn = parseFunctionRest(type);
         if (!fn)
           return false;
+        int position = int(program.functions.size());
         if (fn->body) {
-          fn->order = int(program.functions.size());
+          fn->order = position;
+          auto prototype = prototypePositions.find(fn->name);
+          fn->visibleFrom = prototype == prototypePositions.end() ? position : prototype->second;
           program.functions.push_back(std::move(fn));
+        } else {
+          // The first one counts; seen from uses after it, even in the
+          // function defined right after it (whose order is `position`).
+          prototypePositions.emplace(fn->name, position - 1);
         }
         continue;
       }
