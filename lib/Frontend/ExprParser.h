@@ -244,11 +244,24 @@ protected:
   }
 
   ExprPtr parsePostfix() {
+    bool parenthesized = cur().isPunct("(");
     ExprPtr e = parsePrimary();
     if (!e)
       return nullptr;
     while (true) {
       const Token &t = cur();
+      // OSL's grammar indexes and selects fields of variables only: oslc
+      // rejects (a).x, f(x)[0] and vector(1).y as syntax errors.
+      bool selects = (t.isPunct("[") && !peek(1).isPunct("[")) || t.isPunct(".");
+      if (selects && (parenthesized || (e->kind != ExprKind::Ident &&
+                                        e->kind != ExprKind::Index &&
+                                        e->kind != ExprKind::Member))) {
+        error(t.loc, "'" + t.text + "' applies to a variable only, not to " +
+                         (parenthesized ? "a parenthesized expression"
+                                        : "the value of an expression") +
+                         " (oslc: syntax error); assign the value to a variable first");
+        return nullptr;
+      }
       if (t.isPunct("[") && !peek(1).isPunct("[")) { // `[[` starts metadata
         SrcLoc loc = t.loc;
         advance();
