@@ -495,8 +495,16 @@ private:
         return nullptr;
     } else {
       auto e = std::make_unique<Stmt>(StmtKind::ExprStmt, cur().loc);
+      bool parenthesized = cur().isPunct("(");
       if (!(e->expr = parseExpression()))
         return nullptr;
+      // oslc's grammar takes one expression here (the step may have
+      // several): `for (i = 0, j = 1; ...)` is its syntax error.
+      if (e->expr->kind == ExprKind::Comma && !parenthesized) {
+        error(e->expr->loc, "a 'for' initializer is one expression or a declaration in OSL "
+                            "(oslc: syntax error); assign the others before the loop");
+        return nullptr;
+      }
       if (!expectPunct(";", "after the 'for' initializer"))
         return nullptr;
       s->init = std::move(e);

@@ -32,7 +32,7 @@ namespace {
 /// Signatures, for errors.
 const char *usage(llvm::StringRef name) {
   return llvm::StringSwitch<const char *>(name)
-      .Case("concat", "string concat(string, ...)")
+      .Case("concat", "string concat(string, string[, string... up to 6])")
       .Case("format", "string format(string fmt, ...)")
       .Case("strlen", "int strlen(string)")
       .Case("hash", "int hash(string)")
@@ -340,6 +340,9 @@ std::optional<RValue> StringCall::emit() {
       ok = addFormatted(k);
     ok = ok && checkFormat(0);
   } else if (name == "concat") {
+    // OSL's concat takes 2 strings, and stdosl.h's overloads 3 to 6.
+    if (args.size() < 2 || args.size() > 6)
+      ok = wrong();
     for (size_t k = 0; ok && k < args.size(); ++k)
       ok = addOperand(k, 's');
   } else if (name == "hash" && !args.empty() && !args[0].type.isString()) {
