@@ -271,19 +271,30 @@ std::optional<RValue> IRGen::emitTernary(const Expr &e, const OslType *expected)
   auto cb = toBool(*c, e.args[0]->loc);
   if (!cb)
     return std::nullopt;
+  // oslc's ?: takes no structs ("Cannot initialize struct S z = unknown").
+  auto structArm = [&](const RValue &v) {
+    if (!v.type.isStructLike())
+      return false;
+    error(e.loc, "'?:' does not take structs in OSL (oslc rejects '" + v.type.str() +
+                     "' arms); choose with if/else");
+    return true;
+  };
   if (mustRunMasked(*e.args[1]) || mustRunMasked(*e.args[2])) {
     llvm::StringSet<> names;
     scanAssigned(*e.args[1], names);
     scanAssigned(*e.args[2], names);
-    return emitIfRegion(
+    auto merged = emitIfRegion(
         *cb, e.loc, names, [&]() { return emitExpr(*e.args[1], expected); },
         [&]() { return emitExpr(*e.args[2], expected); }, true);
+    if (merged && structArm(*merged))
+      return std::nullopt;
+    return merged;
   }
   auto a = emitExpr(*e.args[1], expected);
   if (!a)
     return std::nullopt;
   auto bv = emitExpr(*e.args[2], expected);
-  if (!bv)
+  if (!bv || structArm(*a) || structArm(*bv))
     return std::nullopt;
   if (a->type.isString() && bv->type.isString()) {
     if (auto k = getConstBool(*cb))
@@ -298,13 +309,6 @@ std::optional<RValue> IRGen::emitTernary(const Expr &e, const OslType *expected)
     return stringChoice({*a, *bv}, index, e.loc);
   }
   auto t = unify(a->type, bv->type);
-  if (t && t->isStructLike() && !t->isArray()) {
-    if (auto v = selectFields(*cb, *a, *bv, e.loc))
-      return v;
-    error(e.loc, "conditional expressions on struct '" + t->str() +
-                     "' with string fields are not supported yet");
-    return std::nullopt;
-  }
   if (t && t->isMatrix()) {
     auto ca = coerce(*a, *t, e.args[1]->begin, "");
     auto cbv = coerce(*bv, *t, e.args[2]->begin, "");
