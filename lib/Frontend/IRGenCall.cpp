@@ -475,11 +475,14 @@ std::optional<RValue> IRGen::inlineCall(const FunctionRef &f, const Expr &call,
 //===----------------------------------------------------------------------===//
 
 /// The function OSL calls for operator `op` on a struct: `a + b` is
-/// `__operator__add__(a, b)`, `-a` is `__operator__neg__(a)`.
+/// `__operator__add__(a, b)`, `-a` is `__operator__neg__(a)`; oslc's own
+/// words (`!=` is "neq": the __operator__ne__ its color2.h and others
+/// define is never called).
 static llvm::StringRef operatorFunctionName(llvm::StringRef op, bool unary) {
   if (unary)
     return llvm::StringSwitch<llvm::StringRef>(op)
         .Case("-", "__operator__neg__")
+        .Case("+", "__operator__add__")
         .Case("!", "__operator__not__")
         .Case("~", "__operator__compl__")
         .Default("");
@@ -490,7 +493,9 @@ static llvm::StringRef operatorFunctionName(llvm::StringRef op, bool unary) {
       .Case("/", "__operator__div__")
       .Case("%", "__operator__mod__")
       .Case("==", "__operator__eq__")
-      .Case("!=", "__operator__ne__")
+      .Case("!=", "__operator__neq__")
+      .Case("&&", "__operator__and__")
+      .Case("||", "__operator__or__")
       .Case("<", "__operator__lt__")
       .Case("<=", "__operator__le__")
       .Case(">", "__operator__gt__")

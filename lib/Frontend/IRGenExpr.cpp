@@ -182,6 +182,20 @@ std::optional<RValue> IRGen::emitLogical(const Expr &e) {
   auto l = emitExpr(*e.args[0]);
   if (!l)
     return std::nullopt;
+  if (l->type.isStructLike()) {
+    // A struct's && and || are its __operator__and__/or__ (no short
+    // circuit: a function takes both operands).
+    auto r = emitExpr(*e.args[1]);
+    if (!r)
+      return std::nullopt;
+    std::optional<RValue> overloaded;
+    if (tryOverloadedOperator(e.name, e, {*l, *r}, overloaded))
+      return overloaded;
+    error(e.loc, "invalid operands to '" + e.name + "': '" + l->type.str() + "' and '" +
+                     r->type.str() + "' (no " + (isAnd ? "__operator__and__" : "__operator__or__") +
+                     " for them)");
+    return std::nullopt;
+  }
   auto lc = toBool(*l, e.args[0]->loc);
   if (!lc)
     return std::nullopt;
