@@ -80,8 +80,16 @@ std::optional<RValue> emitConnectionBuiltin(IRGen &g, const Expr &call, bool &kn
   OslType intType(BaseType::Int);
   // The argument is evaluated (its errors reported) though only its name
   // matters.
-  if (!g.emitExpr(arg))
+  std::optional<RValue> value = g.emitExpr(arg);
+  if (!value)
     return std::nullopt;
+  // oslc's signature is "i?": any type but an array (an element is fine).
+  if (value->type.isArray()) {
+    g.error(call.loc, "wrong arguments to 'isconnected(" + value->type.str() +
+                          ")'; candidates: int isconnected(T), T not an array (ask of an "
+                          "element)");
+    return std::nullopt;
+  }
   ParamRef param = g.parameterOf(arg);
   const FrontendOptions &options = g.frontendOptions();
   int answer = 0;
