@@ -393,9 +393,13 @@ private:
   FailureOr<Operation *> deriveFor(scf::ForOp loop, Operation *user) {
     SmallVector<unsigned> floats =
         floatIndices(loop.getResultTypes(), primalCounts(loop, loop.getInitArgs().size()).second);
-    SmallVector<Value> inits(loop.getInitArgs());
-    if (failed(deriveAll(loop.getInitArgs(), floats, loop, user, inits)))
+    SmallVector<Value> dInits;
+    if (failed(deriveAll(loop.getInitArgs(), floats, loop, user, dInits)))
       return failure();
+    // The inits as they are now: deriving them may have rebuilt the loop
+    // that made one (an earlier loop's result).
+    SmallVector<Value> inits(loop.getInitArgs());
+    inits.append(dInits);
     OpBuilder b(loop);
     auto rebuilt = b.create<scf::ForOp>(loop.getLoc(), loop.getLowerBound(),
                                         loop.getUpperBound(), loop.getStep(), inits);
@@ -418,9 +422,12 @@ private:
     auto [ownInits, ownResults] = primalCounts(loop, loop.getInits().size());
     SmallVector<unsigned> carried = floatIndices(before.getArgumentTypes(), ownInits);
     SmallVector<unsigned> forwarded = floatIndices(loop.getResultTypes(), ownResults);
-    SmallVector<Value> inits(loop.getInits());
-    if (failed(deriveAll(loop.getInits(), carried, loop, user, inits)))
+    SmallVector<Value> dInits;
+    if (failed(deriveAll(loop.getInits(), carried, loop, user, dInits)))
       return failure();
+    // As in deriveFor: read the inits after deriving them.
+    SmallVector<Value> inits(loop.getInits());
+    inits.append(dInits);
     SmallVector<Type> types(loop.getResultTypes());
     for (unsigned j : forwarded)
       types.push_back(loop.getResult(j).getType());

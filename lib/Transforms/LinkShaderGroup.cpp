@@ -12,6 +12,7 @@
 #include "OslDialect/GroupNames.h"
 #include "OslLanes/LaneMath.h"
 #include "OslTransforms/Passes.h"
+#include "VaryingTypes.h"
 
 #include "mlir/IR/Builders.h"
 #include "mlir/IR/IRMapping.h"
@@ -268,6 +269,9 @@ struct LinkShaderGroupPass
     param.erase();
     for (Operation *user : users)
       retypeParamDefault(user);
+    // A varying output feeding a parameter typed uniform: the ops reading
+    // it follow (osl.deriv's type is its value's).
+    makeDataUsersVarying(value);
   }
 
   /// A parameter whose default is another parameter (`output S b = a`)

@@ -15,6 +15,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslTransforms/Passes.h"
+#include "VaryingTypes.h"
 
 #include "mlir/IR/IRMapping.h"
 #include "mlir/IR/Matchers.h"
@@ -112,8 +113,11 @@ public:
       results.erase(results.begin());
       if (!*goOn) {
         // The loop's uses first: inlining replaces the regions' results.
+        // A result the loop typed uniform may now be a varying value: the
+        // ops reading it follow (osl.deriv's type is its value's).
         loop.replaceAllUsesWith(results);
         loop.erase();
+        makeDataUsersVarying(results);
         for (scf::ExecuteRegionOp t : trips)
           inlineRegion(t);
         return Outcome::Unrolled;
@@ -141,6 +145,9 @@ private:
     mapping.map(block.getArguments(), args);
     for (Operation &op : block.without_terminator())
       b.clone(op, mapping);
+    // The trip's copies read the values the last trip left, which may be
+    // varying where the loop's arguments were typed uniform.
+    makeDataUsersVarying(SmallVector<Value>(args));
     SmallVector<Value> mapped;
     for (Value v : yielded)
       mapped.push_back(mapping.lookupOrDefault(v));

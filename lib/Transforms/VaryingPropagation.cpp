@@ -9,6 +9,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslTransforms/Passes.h"
+#include "VaryingTypes.h"
 
 #include "mlir/IR/Builders.h"
 
@@ -22,23 +23,7 @@ using namespace mlir::osl;
 
 namespace {
 
-/// Makes `v` varying; returns true if that changed it.
-bool makeVarying(Value v) {
-  if (isVarying(v.getType()))
-    return false;
-  v.setType(VaryingType::get(v.getType()));
-  return true;
-}
-
 bool isVaryingValue(Value v) { return isVarying(v.getType()); }
-
-/// Ops whose results depend only on their operands (is_constant answers
-/// one uniform 0 or 1 however its operand varies).
-bool isDataOp(Operation *op) {
-  return op->getDialect() && isa<OslDialect>(op->getDialect()) &&
-         op->getNumRegions() == 0 && op->getNumResults() > 0 &&
-         !isa<GlobalOp, BatchMaskOp, AnyOp, IsConstantOp>(op);
-}
 
 bool propagateIf(IfOp op) {
   bool changed = false;
