@@ -416,6 +416,50 @@ struct LinkShaderGroupPass
   /// Inlines `l` before the first op that needs one of its outputs, outside
   /// any loop, or nowhere if nothing reads it. A read of a constant output
   /// takes the constant instead.
+  /// Where the code of a layer `first` reads at `readAt` goes: before
+  /// `first`, but before the layers placed there earlier (the op tagged with
+  /// their names just before it) that `first` reads later.
+  Operation *insertionPoint(Operation *first, std::pair<int64_t, int64_t> readAt) {
+    // The earlier layers' code, grouped by layer, in order.
+    SmallVector<std::pair<StringAttr, SmallVector<Operation *>>> run;
+    for (Operation *p = first->getPrevNode(); p; p = p->getPrevNode()) {
+      auto tag = p->getAttrOfType<StringAttr>(kFromLayerAttr);
+      if (!tag || !placedLazily.contains(tag.getValue()))
+        break;
+      if (run.empty() || run.back().first != tag)
+        run.push_back({tag, {}});
+      run.back().second.push_back(p);
+    }
+    Operation *insertAt = first;
+    for (auto &[tag, ops] : run) { // nearest first
+      SmallVector<Value> values;
+      for (Operation *op : ops)
+        llvm::append_range(values, op->getResults());
+      if (firstReadWithin(first, values) <= readAt)
+        break; // read before this layer: its code, and the earlier, stay first
+      insertAt = ops.back(); // the layer's first op
+    }
+    return insertAt;
+  }
+
+  /// Where `op` (with what it holds, in order) first reads one of `values`:
+  /// (the reading op's place in a pre-order walk, the operand).
+  static std::pair<int64_t, int64_t> firstReadWithin(Operation *op, ArrayRef<Value> read) {
+    llvm::SmallPtrSet<Value, 8> values(read.begin(), read.end());
+    std::pair<int64_t, int64_t> found{INT64_MAX, INT64_MAX};
+    int64_t index = 0;
+    op->walk<WalkOrder::PreOrder>([&](Operation *inner) {
+      for (OpOperand &use : inner->getOpOperands())
+        if (values.contains(use.get())) {
+          found = {index, int64_t(use.getOperandNumber())};
+          return WalkResult::interrupt();
+        }
+      ++index;
+      return WalkResult::advance();
+    });
+    return found;
+  }
+
   void placeLazily(Layer &l) {
     SmallVector<ParamOp> connected, reads;
     group.walk([&](ParamOp param) {
@@ -462,8 +506,16 @@ struct LinkShaderGroupPass
     for (Operation *p = first->getParentOp(); p != group; p = p->getParentOp())
       if (!isa<IfOp>(p))
         first = p;
-    OpBuilder b(first);
+    // Layers placed before the same op run in the order the op reads them
+    // (`a + b` runs a's layer, then b's), as OSL runs a layer at the first
+    // read of its output; they are placed last first, so a later-placed
+    // layer may belong before an earlier one.
+    SmallVector<Value> mine;
+    for (ParamOp param : reads)
+      mine.push_back(param.getResult());
+    OpBuilder b(insertionPoint(first, firstReadWithin(first, mine)));
     llvm::StringMap<Value> outputs = inlineLayer(l, b);
+    placedLazily.insert(l.name);
     for (ParamOp param : reads)
       replaceConnected(param, outputs, connection(param)->second);
   }
@@ -507,6 +559,8 @@ struct LinkShaderGroupPass
   SmallVector<Layer> layers;
   llvm::StringMap<size_t> layerIndex;
   llvm::StringMap<llvm::StringMap<Value>> placed;
+  /// The layers placed where they are first read (their ops are tagged).
+  llvm::StringSet<> placedLazily;
   /// Ci as the last layer placed that assigns it left it.
   Value currentCi;
   llvm::StringSet<> requestedOutputs;
