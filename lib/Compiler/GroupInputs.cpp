@@ -39,6 +39,18 @@ public:
   }
 
   bool mark(llvm::StringRef name, llvm::StringRef attr, Attribute value) {
+    bool found = setOnParams(name, attr, value);
+    if (!found)
+      noParameter(name);
+    return found;
+  }
+
+  void markIfPresent(llvm::StringRef name, llvm::StringRef attr, Attribute value) {
+    setOnParams(name, attr, value);
+  }
+
+private:
+  bool setOnParams(llvm::StringRef name, llvm::StringRef attr, Attribute value) {
     bool found = false;
     func.walk([&](mlir::osl::ParamOp p) {
       if (p.getName() == name) {
@@ -46,12 +58,9 @@ public:
         found = true;
       }
     });
-    if (!found)
-      noParameter(name);
     return found;
   }
 
-private:
   /// IN[k]: the triple IN gets component k from a float parameter "IN[k]"
   /// (its default IN's own component) that the connection reads.
   bool connectComponent(llvm::StringRef base, int k, Attribute from) {
@@ -121,9 +130,10 @@ bool markGroupInputs(func::FuncOp func, const GroupLayer &layer, const ShaderGro
     if (c.toLayer == layer.name && !marker.connect(c))
       return false;
   Builder b(func.getContext());
+  // Per-geometry data for a parameter the layer lacks is ignored: the front
+  // end warns of its value, as of any other (and as testshade does).
   for (const std::string &name : layer.userdata)
-    if (!marker.mark(name, "userdata", b.getUnitAttr())) // osl.param's own attribute
-      return false;
+    marker.markIfPresent(name, "userdata", b.getUnitAttr()); // osl.param's own attribute
   return true;
 }
 

@@ -550,6 +550,9 @@ OwningOpRef<ModuleOp> IRGen::emitProgram(const Program &program) {
   for (const GlobalDecl &g : kGlobals) {
     Var *v = declareVar(root, g.name, OslType(g.type), SrcLoc(), RValue());
     v->isGlobal = true;
+    // oslc's read-only globals: all but P, I and N (and Ci, declared apart).
+    llvm::StringRef name = g.name;
+    v->isReadOnlyGlobal = name != "P" && name != "I" && name != "N";
   }
   for (const auto &s : program.structs)
     structsByName[s->name] = s.get();

@@ -104,6 +104,11 @@ struct Var {
   /// and v too, are writable, as testshade's lazyglobals test shows.)
   bool readOnly = false;
   bool writtenThrough = false;
+  /// A shader's input parameter: oslc refuses writes to it ("cannot write
+  /// to non-output parameter"); and a global oslc declares read-only (u, v,
+  /// Ng, dPdu, time...): it warns of writes, which take effect.
+  bool isShaderInput = false;
+  bool isReadOnlyGlobal = false;
   /// The shader parameter this variable is, or a function's parameter
   /// refers to (isconnected() answers for it).
   ParamRef param;

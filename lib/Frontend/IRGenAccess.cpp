@@ -444,6 +444,14 @@ std::optional<RValue> IRGen::coerceForAssignment(RValue v, OslType to, SrcLoc l,
 }
 
 bool IRGen::checkWritable(const LValue &lv, SrcLoc l, const llvm::Twine &how) {
+  if (lv.var->isShaderInput) {
+    error(l, "cannot write to non-output parameter \"" + lv.var->name + "\"" + how.str() +
+                 " (declare it 'output', or copy it to a local)");
+    return false;
+  }
+  if (lv.var->isReadOnlyGlobal)
+    return diags.warning(l, "cannot write to non-output parameter \"" + lv.var->name + "\"" +
+                                how.str());
   if (!lv.var->readOnly)
     return true;
   lv.var->writtenThrough = true;

@@ -312,6 +312,7 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   if (!v)
     return false;
   v->isOutputParam = p.isOutput;
+  v->isShaderInput = !p.isOutput;
   v->param = {p.name, isLockgeomZero(p)};
   return true;
 }
@@ -367,6 +368,7 @@ bool IRGen::emitStructParam(const Param &p, Scope *scope) {
   if (!v)
     return false;
   v->isOutputParam = p.isOutput;
+  v->isShaderInput = !p.isOutput;
   v->param = {p.name, isLockgeomZero(p)};
   return true;
 }
@@ -395,6 +397,7 @@ bool IRGen::emitStringArrayParam(const Param &p, OslType t, const std::string &v
   if (!v)
     return false;
   v->isOutputParam = p.isOutput;
+  v->isShaderInput = !p.isOutput;
   return true;
 }
 

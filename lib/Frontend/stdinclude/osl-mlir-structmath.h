@@ -30,7 +30,7 @@
     OSLMLIR_OPERATOR2(T, A, B, mul, *) \
     OSLMLIR_DIVIDE2(T, A, B) \
     int __operator__eq__(T a, T b) { return a.A == b.A && a.B == b.B; } \
-    int __operator__ne__(T a, T b) { return a.A != b.A || a.B != b.B; } \
+    int __operator__neq__(T a, T b) { return a.A != b.A || a.B != b.B; } \
     OSLMLIR_UNARY2(T, A, B, abs) OSLMLIR_UNARY2(T, A, B, ceil) \
     OSLMLIR_UNARY2(T, A, B, floor) OSLMLIR_UNARY2(T, A, B, round) \
     OSLMLIR_UNARY2(T, A, B, trunc) OSLMLIR_UNARY2(T, A, B, sign) \
@@ -84,7 +84,7 @@
     OSLMLIR_DIVIDE4(T, A, B, C, D) \
     int __operator__eq__(T a, T b) \
     { return a.A == b.A && a.B == b.B && a.C == b.C && a.D == b.D; } \
-    int __operator__ne__(T a, T b) { return !(a == b); } \
+    int __operator__neq__(T a, T b) { return !(a == b); } \
     OSLMLIR_UNARY4(T, A, B, C, D, abs) OSLMLIR_UNARY4(T, A, B, C, D, ceil) \
     OSLMLIR_UNARY4(T, A, B, C, D, floor) OSLMLIR_UNARY4(T, A, B, C, D, round) \
     OSLMLIR_UNARY4(T, A, B, C, D, trunc) OSLMLIR_UNARY4(T, A, B, C, D, sign) \
