@@ -99,12 +99,21 @@ struct LinkShaderGroupPass
     }
     if (!anyEntry)
       layers.back().entry = true;
-    // Asking for "layer.name" makes that layer run for it.
+    // Asking for "layer.name" makes that layer run for it; asking for
+    // "name", every layer with an output of that name (testshade makes each
+    // a renderer output, which OSL never skips).
     for (auto &name : requestedOutputs) {
       auto [layer, output] = name.getKey().rsplit('.');
       auto it = layerIndex.find(layer);
-      if (!output.empty() && it != layerIndex.end())
+      if (!output.empty() && it != layerIndex.end()) {
         layers[it->second].entry = true;
+        continue;
+      }
+      for (Layer &l : layers)
+        l.func.walk([&](OutputOp out) {
+          if (out.getName() == name.getKey())
+            l.entry = true;
+        });
     }
     if (failed(checkConnections()))
       return signalPassFailure();
