@@ -115,6 +115,10 @@ bool mlir::osl::isProjectionSpace(StringRef space) {
 
 std::optional<Matrix44> mlir::osl::namedSpaceTransform(StringRef from, StringRef to,
                                                         const CameraImage &camera) {
+  // A space to itself is exactly the identity (as OSL answers), not a
+  // product with a float inverse.
+  if (from == to && (isProjectionSpace(to) || toCommon(to)))
+    return identity();
   if (!isProjectionSpace(to))
     return namedSpaceTransform(from, to);
   auto fromCommon = toCommon(from);
@@ -129,6 +133,8 @@ std::optional<Matrix44> mlir::osl::namedSpaceTransform(StringRef from,
   auto toSpace = toCommon(to);
   if (!fromCommon || !toSpace)
     return std::nullopt;
+  if (from == to)
+    return identity();
   return multiply(*fromCommon, inverse(*toSpace));
 }
 
