@@ -89,6 +89,12 @@ protected:
     if (!isAssignOp(cur()))
       return lhs;
     const Token &op = cur();
+    // OSL's compound assignments are + - * / & | ^ << >> (oslc: `%=` is a
+    // syntax error).
+    if (op.text == "%=") {
+      error(op.loc, "OSL has no '%=' (oslc: syntax error); write 'x = x % y'");
+      return nullptr;
+    }
     if (lhs->kind != ExprKind::Ident && lhs->kind != ExprKind::Index &&
         lhs->kind != ExprKind::Member) {
       error(op.loc, "the left side of '" + op.text + "' is not assignable");

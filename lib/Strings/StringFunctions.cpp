@@ -389,17 +389,37 @@ std::string osl::repeatConversions(std::string_view format, const std::vector<in
   return out;
 }
 
+/// `text` as a message quotes it: newlines and tabs escaped.
+static std::string quoted(std::string_view text) {
+  std::string out = "\"";
+  for (char c : text)
+    out += c == '\n' ? "\\n" : c == '\t' ? "\\t" : std::string(1, c);
+  return out + "\"";
+}
+
 std::string osl::formatError(std::string_view format, std::string_view valueKinds) {
   std::string literal;
   size_t next = 0;
   return walkFormat(format, literal, [&](const Conversion &c) -> std::string {
     if (next >= valueKinds.size())
-      return "format string \"" + std::string(format) + "\" needs more values than the " +
+      return "format string " + quoted(format) + " needs more values than the " +
              std::to_string(valueKinds.size()) + " given";
-    if (valueKinds[next++] == 's' && c.letter != 's')
-      return "format string \"" + std::string(format) + "\" prints a string with '%" +
-             c.letter + "'";
-    return "";
+    // oslc's pairs: ints take %d %i %o %x %X, floats (and triples' and
+    // matrices' components) %f %g %e, strings and closures %s.
+    char kind = valueKinds[next++];
+    const char *letters = kind == 'i' ? "dioxX" : kind == 'f' || kind == 't' ? "fge" : "s";
+    if (std::strchr(letters, c.letter))
+      return "";
+    const char *what = kind == 'i'                  ? "an int"
+                       : kind == 'f' || kind == 't' ? "a float"
+                       : kind == 'k'                ? "a closure"
+                                                    : "a string";
+    const char *wanted = kind == 'i'                  ? "%d, %i, %o, %x or %X"
+                         : kind == 'f' || kind == 't' ? "%f, %g or %e"
+                                                      : "%s";
+    return "format string " + quoted(format) + " prints value " + std::to_string(next) +
+           ", " + what + ", with '%" + c.letter + "': OSL takes " + wanted +
+           " for it (oslc: mismatched format string and arguments)";
   });
 }
 
