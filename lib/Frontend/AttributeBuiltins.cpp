@@ -118,6 +118,15 @@ std::pair<RValue, RValue> attributeValue(IRGen &g, const Expr &call, const std::
   else if (fits)
     fits = (found->isInt ? element.isInt() : element.isFloat()) &&
            int(found->numbers.size()) == (t.isArray() ? t.arrayLen : 1);
+  if (!found && object.empty() && !indexed)
+    // The renderer's per-point user data: found where it has it.
+    if (auto data = testshadeUserdata(g, attribute, t, call.loc)) {
+      RValue value = g.loadLValue(*dest, call.loc);
+      value.value = g.select(data->first, data->second, value.value, call.loc);
+      Value one = g.constInt(1, call.loc), zero = g.constInt(0, call.loc);
+      return {value, RValue::num(OslType(BaseType::Int),
+                                 g.select(data->first, one, zero, call.loc))};
+    }
   if (!fits)
     return {g.loadLValue(*dest, call.loc),
             RValue::num(OslType(BaseType::Int), g.constInt(0, call.loc))};
@@ -218,6 +227,31 @@ std::optional<std::string> testshadeStringUserdata(const IRGen &g, llvm::StringR
 
 std::optional<std::pair<Value, Value>> testshadeUserdata(IRGen &g, llvm::StringRef name,
                                                          const OslType &type, SrcLoc l) {
+  // testshade's renderer has float user data "s" = u and "t" = v on every
+  // point, "red" = u where u > 0.5, "green" = v where u < 0.5, and "blue" =
+  // 1 - u on the rows where int(v * 12) is even (as testshade answers); it
+  // looks there before the data given on the command line.
+  if (type.isFloat() && !type.isArray() &&
+      llvm::is_contained({"s", "t", "red", "green", "blue"}, name)) {
+    OpBuilder &b = g.builder();
+    Location ml = g.loc(l);
+    Type f32 = b.getF32Type();
+    Value u = g.getGlobal("u", f32, l), v = g.getGlobal("v", f32, l);
+    Value half = g.constFloat(0.5f, l);
+    Value value = name == "t" || name == "green" ? v : u;
+    Value found = g.constBool(true, l);
+    if (name == "red")
+      found = b.create<CmpOp>(ml, "gt", u, half);
+    else if (name == "green")
+      found = b.create<CmpOp>(ml, "lt", u, half);
+    if (name == "blue") {
+      value = b.create<SubOp>(ml, g.constFloat(1, l), u);
+      Value row = g.convert(b.create<MulOp>(ml, v, g.constFloat(12, l)), b.getI32Type(), l);
+      Value odd = b.create<ModOp>(ml, row, g.constInt(2, l));
+      found = b.create<CmpOp>(ml, "eq", odd, g.constInt(0, l));
+    }
+    return std::make_pair(found, value);
+  }
   // Data given on the command line (--userdata) is the same on every point.
   if (const ::osl::UserDatum *d = g.userDatum(name)) {
     RendererAttribute a = userDatumAttribute(*d);
@@ -232,29 +266,7 @@ std::optional<std::pair<Value, Value>> testshadeUserdata(IRGen &g, llvm::StringR
       return std::make_pair(g.constBool(true, l), value);
     }
   }
-  // testshade's renderer has float user data "s" = u and "t" = v on every
-  // point, "red" = u where u > 0.5, "green" = v where u < 0.5, and "blue" =
-  // 1 - u on the rows where int(v * 12) is even (as testshade answers).
-  if (!type.isFloat() || !llvm::is_contained({"s", "t", "red", "green", "blue"}, name))
-    return std::nullopt;
-  OpBuilder &b = g.builder();
-  Location ml = g.loc(l);
-  Type f32 = b.getF32Type();
-  Value u = g.getGlobal("u", f32, l), v = g.getGlobal("v", f32, l);
-  Value half = g.constFloat(0.5f, l);
-  Value value = name == "t" || name == "green" ? v : u;
-  Value found = g.constBool(true, l);
-  if (name == "red")
-    found = b.create<CmpOp>(ml, "gt", u, half);
-  else if (name == "green")
-    found = b.create<CmpOp>(ml, "lt", u, half);
-  if (name == "blue") {
-    value = b.create<SubOp>(ml, g.constFloat(1, l), u);
-    Value row = g.convert(b.create<MulOp>(ml, v, g.constFloat(12, l)), b.getI32Type(), l);
-    Value odd = b.create<ModOp>(ml, row, g.constInt(2, l));
-    found = b.create<CmpOp>(ml, "eq", odd, g.constInt(0, l));
-  }
-  return std::make_pair(found, value);
+  return std::nullopt;
 }
 
 } // namespace osl::frontend
