@@ -118,6 +118,8 @@ struct CompileOptions {
 /// What isconnected() answers in one layer (FrontendOptions).
 struct LayerConnections {
   std::vector<std::string> inputs, outputs;
+  /// Parameters the command line makes per-geometry (--param:lockgeom=0).
+  std::vector<std::string> perGeometry;
   /// Inputs connected to an array output, and its length.
   std::vector<std::pair<std::string, int>> arrayLengths;
 };

@@ -85,6 +85,10 @@ struct FrontendOptions {
   /// Inputs connected to an array output, with its length: an unsized
   /// array input (`float a[]`) takes it.
   std::vector<std::pair<std::string, int>> connectedArrayLengths;
+  /// Parameters given lockgeom=0 on the command line (testshade's
+  /// --param:lockgeom=0): per-geometry data as [[int lockgeom = 0]] makes
+  /// them (testshade's renderer data, such as "t", comes first).
+  std::vector<std::string> perGeometryParams;
 };
 
 /// A group's name as testshade gives it: `given` (--groupname), or

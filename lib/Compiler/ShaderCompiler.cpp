@@ -94,6 +94,7 @@ ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
   frontend.connectedInputs = connections.inputs;
   frontend.connectedOutputs = connections.outputs;
   frontend.connectedArrayLengths = connections.arrayLengths;
+  frontend.perGeometryParams = connections.perGeometry;
   frontend.userdataIsConnected = options.userdataIsConnected;
   auto module = parseOslShader(source, filename, context, params, os, frontend);
   if (module && options.optimizationWarnings) {
@@ -495,6 +496,7 @@ LayerConnections connectionsOf(const ShaderGroup &group, size_t index,
                                const OutputLengths &outputLengths) {
   LayerConnections c;
   const std::string &layer = group.layers[index].name;
+  c.perGeometry = group.layers[index].userdata;
   for (const GroupConnection &k : group.connections) {
     if (k.toLayer == layer) {
       c.inputs.push_back(connectedName(k.toInput));

@@ -571,6 +571,8 @@ private:
 
   std::deque<Scope> scopes;
   std::deque<Var> vars;
+  /// A lockgeom=0 parameter: in its metadata or on the command line.
+  bool isPerGeometry(const Param &p) const;
   Scope *root = nullptr;
   Scope *current = nullptr;
   /// The shader's parameters' scope and its body's outermost one: oslc

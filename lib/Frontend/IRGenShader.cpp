@@ -47,7 +47,9 @@ void collectNames(const Stmt &s, llvm::StringSet<> &names) {
 
 } // namespace
 
-static bool isLockgeomZero(const Param &p) { return p.intMetadataIsZero("lockgeom"); }
+bool IRGen::isPerGeometry(const Param &p) const {
+  return p.intMetadataIsZero("lockgeom") || llvm::is_contained(options.perGeometryParams, p.name);
+}
 
 bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
   for (const ParamOverride &o : overrides) {
@@ -290,7 +292,7 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   bool connected = llvm::is_contained(options.connectedInputs, p.name);
   // Per-geometry string data (lockgeom=0) given on the command line takes
   // precedence, as numbers do below: one string for every point.
-  if (t.isString() && !t.isArray() && !connected && isLockgeomZero(p))
+  if (t.isString() && !t.isArray() && !connected && isPerGeometry(p))
     if (std::optional<std::string> data = testshadeStringUserdata(*this, p.name))
       val = RValue::string(*data);
   // A string an upstream layer computes: a run-time handle, which the group
@@ -304,7 +306,7 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   if (t.hasElems() || !t.isString()) {
     wrapInParamOps(val, p.name, p.loc);
     // Per-geometry data (lockgeom=0) the renderer has takes precedence.
-    if (!t.hasElems() && isLockgeomZero(p))
+    if (!t.hasElems() && isPerGeometry(p))
       if (auto data = testshadeUserdata(*this, p.name, t, p.loc))
         val.value = select(data->first, data->second, val.value, p.loc);
   }
@@ -313,7 +315,7 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
     return false;
   v->isOutputParam = p.isOutput;
   v->isShaderInput = !p.isOutput;
-  v->param = {p.name, isLockgeomZero(p)};
+  v->param = {p.name, isPerGeometry(p)};
   return true;
 }
 
@@ -369,7 +371,7 @@ bool IRGen::emitStructParam(const Param &p, Scope *scope) {
     return false;
   v->isOutputParam = p.isOutput;
   v->isShaderInput = !p.isOutput;
-  v->param = {p.name, isLockgeomZero(p)};
+  v->param = {p.name, isPerGeometry(p)};
   return true;
 }
 
