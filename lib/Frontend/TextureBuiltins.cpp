@@ -475,8 +475,12 @@ std::optional<RValue> emitGetTextureInfo(IRGen &g, const Expr &call) {
       choices[k] = {""};
       continue;
     }
-    if (k == 0 && v->isRuntimeString()) {
-      fileHandle = v->value;
+    // A file computed at run time, or chosen per point: each point asks of
+    // its own file only (asking of every choice would open, and report,
+    // files no point uses, and leave a broken file's first error to an
+    // earlier batch's query).
+    if (k == 0 && (v->isRuntimeString() || v->isStringChoice())) {
+      fileHandle = v->isRuntimeString() ? v->value : g.stringHandle(*v, arg.loc);
       choices[k] = {""};
       continue;
     }
