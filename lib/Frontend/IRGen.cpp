@@ -431,7 +431,8 @@ IRGen::compileTimeStrings(const RValue &s, SrcLoc l, const llvm::Twine &what) {
 
 std::optional<RValue>
 IRGen::forEachStringChoice(const RValue &s, SrcLoc l,
-                           llvm::function_ref<std::optional<RValue>(const std::string &)> emitOne) {
+                           llvm::function_ref<std::optional<RValue>(const std::string &)> emitOne,
+                           const llvm::StringSet<> &assigned, bool wantValue) {
   if (!s.isStringChoice())
     return emitOne(s.str);
   // if (choice == 0) A else if (choice == 1) B ... else <last>
@@ -440,8 +441,8 @@ IRGen::forEachStringChoice(const RValue &s, SrcLoc l,
       return emitOne(s.choices[k]);
     Value isK = b.create<CmpOp>(loc(l), "eq", s.value, constInt(int(k), l));
     return emitIfRegion(
-        isK, l, {}, [&]() { return emitOne(s.choices[k]); }, [&]() { return from(k + 1); },
-        /*wantValue=*/true);
+        isK, l, assigned, [&]() { return emitOne(s.choices[k]); },
+        [&]() { return from(k + 1); }, wantValue);
   };
   return from(0);
 }

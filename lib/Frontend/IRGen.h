@@ -261,10 +261,13 @@ public:
 
   /// Calls `emitOne` with the string `s` names: once if it is known, else
   /// once per choice under `if (choice == k)`, so lanes run only the
-  /// choices they made (lane-group filtering); the results merge per lane.
+  /// choices they made (lane-group filtering); the results merge per lane,
+  /// as do the variables in `assigned` (which `emitOne` may write). With
+  /// `wantValue` false the calls' results are void.
   std::optional<RValue>
   forEachStringChoice(const RValue &s, SrcLoc l,
-                      llvm::function_ref<std::optional<RValue>(const std::string &)> emitOne);
+                      llvm::function_ref<std::optional<RValue>(const std::string &)> emitOne,
+                      const llvm::StringSet<> &assigned = {}, bool wantValue = true);
   /// A string chosen by `index` (i32) among `strings`.
   RValue stringChoice(std::vector<RValue> strings, mlir::Value index, SrcLoc l);
   /// The run-time handle (i32) of any string: compile-time strings are

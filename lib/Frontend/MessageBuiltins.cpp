@@ -50,11 +50,14 @@ std::optional<RValue> emitSetMessage(IRGen &g, const Expr &call) {
   auto ops = rowOperands(g, *value, call.args[1]->loc, "setmessage");
   if (!ops)
     return std::nullopt;
-  auto done = g.forEachStringChoice(*name, call.loc, [&](const std::string &n) {
-    g.builder().create<SetMessageOp>(g.loc(call.loc), n, value->type.str(), ops->kinds,
-                                     ops->values, Value());
-    return std::optional<RValue>(RValue::voidValue());
-  });
+  auto done = g.forEachStringChoice(
+      *name, call.loc,
+      [&](const std::string &n) {
+        g.builder().create<SetMessageOp>(g.loc(call.loc), n, value->type.str(), ops->kinds,
+                                         ops->values, Value());
+        return std::optional<RValue>(RValue::voidValue());
+      },
+      {}, /*wantValue=*/false);
   if (!done)
     return std::nullopt;
   return RValue::voidValue();
@@ -97,20 +100,22 @@ std::optional<RValue> emitGetMessage(IRGen &g, const Expr &call) {
   for (Value v : ops->values)
     types.push_back(VaryingType::get(getUniformType(v.getType())));
   Type foundType = VaryingType::get(b.getI32Type());
-  std::vector<RValue> results;
-  auto found = g.forEachStringChoice(*name, call.loc, [&](const std::string &nm) {
-    auto get = b.create<GetMessageOp>(g.loc(call.loc), foundType, types, nm,
-                                      current.type.str(), ops->kinds, ops->values, Value());
-    results.push_back(fromRowOperands(current, get.getValues()));
-    return std::optional<RValue>(RValue::num(OslType(BaseType::Int), get.getFound()));
-  });
-  if (!found)
+  // A name chosen per point: each choice stores into the destination under
+  // its own condition, and the destination merges per lane.
+  llvm::StringSet<> assigned;
+  assigned.insert(rootName(*call.args[n - 1]));
+  bool stored = true;
+  auto found = g.forEachStringChoice(
+      *name, call.loc,
+      [&](const std::string &nm) {
+        auto get = b.create<GetMessageOp>(g.loc(call.loc), foundType, types, nm,
+                                          current.type.str(), ops->kinds, ops->values, Value());
+        stored &= g.storeLValue(*dest, fromRowOperands(current, get.getValues()), call.loc);
+        return std::optional<RValue>(RValue::num(OslType(BaseType::Int), get.getFound()));
+      },
+      assigned);
+  if (!found || !stored)
     return std::nullopt;
-  if (results.size() != 1) {
-    g.valueError(call.args[n - 2]->loc, "'getmessage' needs one message name for every point");
-    return std::nullopt;
-  }
-  g.storeLValue(*dest, results[0], call.loc);
   return found;
 }
 
