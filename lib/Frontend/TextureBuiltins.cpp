@@ -267,7 +267,20 @@ bool TextureCall::option(size_t nameArg) {
                                     errorOut->type.str() + "'");
     return true;
   }
-  return g.valueError(nameExpr.loc, "unknown texture option '" + name + "'");
+  // OSL reports an option it does not know when the shader runs, ignores
+  // it and shades on (a newer OSL's option in an older one's renderer);
+  // osl-run also warns where it is written (a misspelt "blurr").
+  if (!g.diagnostics().warning(nameExpr.loc, "unknown texture option '" + name +
+                                                 "': OSL ignores it (with an error when "
+                                                 "the shader runs)"))
+    return false;
+  auto value = g.emitExpr(*call.args[k]);
+  if (!value)
+    return false;
+  g.reportAtRunTime("Unknown texture optional argument: \"" + name + "\", <" +
+                        value->type.str() + "> (" + g.fileLine(call.loc) + ")",
+                    call.loc);
+  return true;
 }
 
 std::optional<RValue> TextureCall::emit(const OslType *expected) {
