@@ -232,18 +232,23 @@ std::optional<RValue> emitClosureArith(IRGen &g, llvm::StringRef op, RValue l, R
 }
 
 std::optional<RValue> emitClosureMix(IRGen &g, RValue x, RValue y, RValue a, SrcLoc sl) {
+  // stdosl.h's two: a float weight, or a color one (x*(1-a) + y*a).
+  bool colorWeight = a.type.isTriple();
   if (y.type.base != BaseType::Closure || x.type.isArray() || y.type.isArray() ||
-      !a.type.isScalar()) {
+      !(a.type.isScalar() || colorWeight)) {
     g.error(sl, "wrong arguments to 'mix(" + x.type.str() + ", " + y.type.str() + ", " +
                     a.type.str() + ")'; candidates: closure color mix(closure color, "
-                    "closure color, float)");
+                    "closure color, float); closure color mix(closure color, closure color, "
+                    "color)");
     return std::nullopt;
   }
-  auto weight = g.coerce(a, OslType(BaseType::Float), sl, "as mix's weight");
+  OslType weightType(colorWeight ? BaseType::Color : BaseType::Float);
+  auto weight = g.coerce(a, weightType, sl, "as mix's weight");
   if (!weight)
     return std::nullopt;
-  Value rest = g.builder().create<SubOp>(g.loc(sl), g.constFloat(1, sl), weight->value);
-  auto left = emitClosureArith(g, "*", x, RValue::num(OslType(BaseType::Float), rest), sl);
+  Value one = colorWeight ? g.constTriple(1, 1, 1, sl) : g.constFloat(1, sl);
+  Value rest = g.builder().create<SubOp>(g.loc(sl), one, weight->value);
+  auto left = emitClosureArith(g, "*", x, RValue::num(weightType, rest), sl);
   auto right = left ? emitClosureArith(g, "*", y, *weight, sl) : std::nullopt;
   if (!right)
     return std::nullopt;
