@@ -422,9 +422,6 @@ struct LinkShaderGroupPass
     return constants;
   }
 
-  /// Inlines `l` before the first op that needs one of its outputs, outside
-  /// any loop, or nowhere if nothing reads it. A read of a constant output
-  /// takes the constant instead.
   /// Where the code of a layer `first` reads at `readAt` goes: before
   /// `first`, but before the layers placed there earlier (the op tagged with
   /// their names just before it) that `first` reads later.
@@ -469,6 +466,9 @@ struct LinkShaderGroupPass
     return found;
   }
 
+  /// Inlines `l` before the first op that needs one of its outputs, outside
+  /// any loop, or nowhere if nothing reads it. A read of a constant output
+  /// takes the constant instead.
   void placeLazily(Layer &l) {
     SmallVector<ParamOp> connected, reads;
     group.walk([&](ParamOp param) {
