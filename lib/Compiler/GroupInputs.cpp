@@ -39,18 +39,15 @@ public:
   }
 
   bool mark(llvm::StringRef name, llvm::StringRef attr, Attribute value) {
-    bool found = setOnParams(name, attr, value);
+    bool found = markIfPresent(name, attr, value);
     if (!found)
       noParameter(name);
     return found;
   }
 
-  void markIfPresent(llvm::StringRef name, llvm::StringRef attr, Attribute value) {
-    setOnParams(name, attr, value);
-  }
-
-private:
-  bool setOnParams(llvm::StringRef name, llvm::StringRef attr, Attribute value) {
+  /// Sets `attr` on the parameter `name` (each of its ops); false if the
+  /// layer has none.
+  bool markIfPresent(llvm::StringRef name, llvm::StringRef attr, Attribute value) {
     bool found = false;
     func.walk([&](mlir::osl::ParamOp p) {
       if (p.getName() == name) {
@@ -61,6 +58,7 @@ private:
     return found;
   }
 
+private:
   /// IN[k]: the triple IN gets component k from a float parameter "IN[k]"
   /// (its default IN's own component) that the connection reads.
   bool connectComponent(llvm::StringRef base, int k, Attribute from) {

@@ -115,12 +115,10 @@ bool mlir::osl::isProjectionSpace(StringRef space) {
 
 std::optional<Matrix44> mlir::osl::namedSpaceTransform(StringRef from, StringRef to,
                                                         const CameraImage &camera) {
-  // A space to itself is exactly the identity (as OSL answers), not a
-  // product with a float inverse.
-  if (from == to && (isProjectionSpace(to) || toCommon(to)))
-    return identity();
   if (!isProjectionSpace(to))
     return namedSpaceTransform(from, to);
+  if (from == to) // as below
+    return identity();
   auto fromCommon = toCommon(from);
   if (!fromCommon)
     return std::nullopt;
@@ -133,6 +131,8 @@ std::optional<Matrix44> mlir::osl::namedSpaceTransform(StringRef from,
   auto toSpace = toCommon(to);
   if (!fromCommon || !toSpace)
     return std::nullopt;
+  // A space to itself is exactly the identity (as OSL answers), not a
+  // product with a float inverse.
   if (from == to)
     return identity();
   return multiply(*fromCommon, inverse(*toSpace));

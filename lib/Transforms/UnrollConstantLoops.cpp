@@ -147,7 +147,7 @@ private:
       b.clone(op, mapping);
     // The trip's copies read the values the last trip left, which may be
     // varying where the loop's arguments were typed uniform.
-    makeDataUsersVarying(SmallVector<Value>(args));
+    makeDataUsersVarying(args);
     SmallVector<Value> mapped;
     for (Value v : yielded)
       mapped.push_back(mapping.lookupOrDefault(v));

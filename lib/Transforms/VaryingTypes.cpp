@@ -21,7 +21,7 @@ bool mlir::osl::isDataOp(Operation *op) {
          !isa<GlobalOp, BatchMaskOp, AnyOp, IsConstantOp>(op);
 }
 
-void mlir::osl::makeDataUsersVarying(ArrayRef<Value> values) {
+void mlir::osl::makeDataUsersVarying(ValueRange values) {
   SmallVector<Value> work;
   for (Value v : values)
     if (isVarying(v.getType()))

@@ -9,7 +9,7 @@
 #ifndef OSLTRANSFORMS_VARYINGTYPES_H
 #define OSLTRANSFORMS_VARYINGTYPES_H
 
-#include "mlir/IR/Value.h"
+#include "mlir/IR/ValueRange.h"
 
 namespace mlir::osl {
 
@@ -23,7 +23,7 @@ bool isDataOp(Operation *op);
 /// Makes varying the results of the data ops that read `values` (now
 /// varying) and, in turn, of those that read them: a result typed from
 /// operands (osl.deriv's is its value's type) follows them.
-void makeDataUsersVarying(ArrayRef<Value> values);
+void makeDataUsersVarying(ValueRange values);
 
 } // namespace mlir::osl
 
