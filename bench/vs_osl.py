@@ -121,7 +121,9 @@ def suite_cases(suite):
                 i += 2
                 continue
             if t == "-o":
-                args += ["-o", tokens[i + 1], tokens[i + 1] + ".exr"]
+                # The test's own file name, as .exr (an output may be asked
+                # for twice, into two files).
+                args += ["-o", tokens[i + 1], os.path.splitext(tokens[i + 2])[0] + ".exr"]
                 i += 3
                 continue
             if t != name:

@@ -54,6 +54,18 @@ def Osl_OutputOp : Osl_Op<"output"> {
   let assemblyFormat = "$name `=` $value attr-dict `:` type($value)";
 }
 
+def Osl_SetGlobalOp : Osl_Op<"set_global"> {
+  let summary = "the value a group's layer leaves in a writable global";
+  let description = [{
+    Where a layer of a group ends, what it assigned to a global (P, N...):
+    in OSL the layers share their globals, so the layers that run after it
+    read this value. osl-link-group replaces those reads and erases the op.
+    Not pure: the canonicalizer must keep it until then.
+  }];
+  let arguments = (ins StrAttr:$name, Osl_Value:$value);
+  let assemblyFormat = "$name `=` $value attr-dict `:` type($value)";
+}
+
 //===----------------------------------------------------------------------===//
 // Uniformity: masks and broadcasts
 //===----------------------------------------------------------------------===//

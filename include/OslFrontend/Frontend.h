@@ -74,6 +74,9 @@ struct FrontendOptions {
   /// testshade's --debugnan: report where a value stored into a variable
   /// has a NaN or infinite component (DebugNan.cpp).
   bool debugNan = false;
+  /// A layer of a group: what it leaves in the globals it assigns is marked
+  /// (osl.set_global), as the layers that run after it read those values.
+  bool groupLayer = false;
   /// What isconnected() answers: this layer's inputs an upstream layer's
   /// output feeds, and its outputs a downstream layer or the renderer reads
   /// (names, with ".field" for a struct's field); with

@@ -88,6 +88,7 @@ ShaderCompiler::parseSource(llvm::StringRef source, llvm::StringRef filename,
   frontend.userData = options.userData;
   frontend.layerName = layerName.str();
   frontend.layerIndex = layerIndex;
+  frontend.groupLayer = !layerName.empty(); // only a group's layers are named here
   frontend.groupName = options.groupName;
   frontend.warningsAsErrors = options.warningsAsErrors;
   frontend.debugNan = options.debugNan;

@@ -509,19 +509,37 @@ Value IRGen::getGlobal(llvm::StringRef name, Type base, SrcLoc l) {
   if (it != globalValues.end())
     return it->second;
   OpBuilder::InsertionGuard guard(b);
-  if (lastGlobal)
+  if (options.groupLayer) {
+    // Each read before the outermost statement that holds it (not one read
+    // for all): osl-link-group lets a read see what the layers it places
+    // before that statement assign (OSL's layers share their globals).
+    Block *block = b.getInsertionBlock();
+    Block::iterator at = b.getInsertionPoint();
+    while (block != entryBlock && block != bodyBlock && !isa<func::FuncOp>(block->getParentOp())) {
+      at = block->getParentOp()->getIterator();
+      block = block->getParentOp()->getBlock();
+    }
+    b.setInsertionPoint(block, at);
+  } else if (lastGlobal) {
     b.setInsertionPointAfter(lastGlobal);
-  else
+  } else {
     b.setInsertionPointToStart(entryBlock);
+  }
   auto op = b.create<GlobalOp>(loc(l), VaryingType::get(base), name);
-  lastGlobal = op;
-  globalValues[name] = op.getResult();
+  if (!options.groupLayer) {
+    lastGlobal = op;
+    globalValues[name] = op.getResult();
+  }
   return op.getResult();
 }
 
 RValue IRGen::readVar(Var *v, SrcLoc l) {
-  if (v->isGlobal && !v->val.value)
-    v->val = RValue::num(v->type, getGlobal(v->name, irType(b, v->type), l));
+  if (v->isGlobal && !v->val.value) {
+    RValue read = RValue::num(v->type, getGlobal(v->name, irType(b, v->type), l));
+    if (options.groupLayer)
+      return read; // read again where next read (see getGlobal)
+    v->val = read;
+  }
   return v->val;
 }
 
@@ -551,6 +569,7 @@ OwningOpRef<ModuleOp> IRGen::emitProgram(const Program &program) {
   for (const GlobalDecl &g : kGlobals) {
     Var *v = declareVar(root, g.name, OslType(g.type), SrcLoc(), RValue());
     v->isGlobal = true;
+    globalVars.push_back(v);
     // oslc's read-only globals: all but P, I and N (and Ci, declared apart).
     llvm::StringRef name = g.name;
     v->isReadOnlyGlobal = name != "P" && name != "I" && name != "N";

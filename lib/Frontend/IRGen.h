@@ -571,6 +571,8 @@ private:
   bool checkSize(SrcLoc l);
   mlir::Block *entryBlock = nullptr;
   mlir::Operation *lastGlobal = nullptr; // globals are emitted at the top
+  /// Where the shader body's outermost statements are emitted.
+  mlir::Block *bodyBlock = nullptr;
 
   std::deque<Scope> scopes;
   std::deque<Var> vars;
@@ -618,6 +620,8 @@ private:
   std::map<const FunctionDecl *, llvm::StringSet<>> functionAssignedCache;
 
   llvm::StringMap<mlir::Value> globalValues;
+  /// The shader globals' variables, in their declaration order.
+  llvm::SmallVector<Var *> globalVars;
   unsigned exprDepth = 0;
   llvm::StringMap<const StructDecl *> structsByName;
 

@@ -109,6 +109,7 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
       scanAssigned(*s, names);
     Value running = b.create<NotOp>(loc(shader.loc), exitFlag->val.value);
     auto body = [&]() -> std::optional<RValue> {
+      bodyBlock = b.getInsertionBlock();
       if (!emitStmtList(shader.body->body, 0, /*tail=*/true))
         return std::nullopt;
       return RValue::voidValue();
@@ -116,8 +117,10 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
     auto nothing = []() -> std::optional<RValue> { return RValue::voidValue(); };
     if (!emitIfRegion(running, shader.loc, names, body, nothing, false))
       return false;
-  } else if (!*exited && !emitStmtList(shader.body->body, 0, /*tail=*/true)) {
-    return false;
+  } else if (!*exited) {
+    bodyBlock = b.getInsertionBlock();
+    if (!emitStmtList(shader.body->body, 0, /*tail=*/true))
+      return false;
   }
 
   SrcLoc endLoc = shader.loc;
@@ -148,6 +151,10 @@ bool IRGen::emitShader(const ShaderDecl &shader, func::FuncOp func) {
       b.create<OutputOp>(loc(p.loc), name, leaf.value);
     });
   }
+  if (options.groupLayer)
+    for (Var *v : globalVars)
+      if (v->val.value) // in a layer only assigning a global sets it (see readVar)
+        b.create<SetGlobalOp>(loc(endLoc), v->name, v->val.value);
   if (ci->val.value != emptyCi)
     b.create<OutputOp>(loc(endLoc), "Ci", ci->val.value);
   b.create<func::ReturnOp>(loc(endLoc));

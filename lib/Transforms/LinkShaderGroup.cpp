@@ -12,6 +12,7 @@
 #include "OslDialect/GroupNames.h"
 #include "OslLanes/LaneMath.h"
 #include "OslTransforms/Passes.h"
+#include "SharedGlobals.h"
 #include "VaryingTypes.h"
 
 #include "mlir/IR/Builders.h"
@@ -82,8 +83,11 @@ struct LinkShaderGroupPass
         layerIndex[name.getValue()] = layers.size();
         layers.push_back({f, name.getValue()});
       }
-    if (layers.empty())
-      return; // a single shader: nothing to link
+    if (layers.empty()) {
+      // A single shader: nothing to link, and no later layer reads its globals.
+      module.walk([](SetGlobalOp write) { write.erase(); });
+      return;
+    }
     if (auto requested = module->getAttrOfType<ArrayAttr>(kGroupOutputsAttr)) {
       keepAllOutputs = false;
       for (Attribute a : requested)
@@ -152,6 +156,9 @@ struct LinkShaderGroupPass
           placeLazily(l);
         }
 
+    // The layers now run in OSL's order: each global's reads see what the
+    // layers before them assigned.
+    forwardWrittenGlobals(group);
     if (failed(checkRequestedOutputs()))
       return signalPassFailure();
     makeParamsOpaque();

@@ -110,6 +110,14 @@ struct VaryingPropagationPass
             changed |= makeVarying(r);
       });
     }
+    // A broadcast placed before this pass (of what a layer left in a
+    // global) whose value turned out varying is that value.
+    func.walk([](BroadcastOp op) {
+      if (isVaryingValue(op.getValue())) {
+        op.replaceAllUsesWith(op.getValue());
+        op.erase();
+      }
+    });
     insertBroadcasts(func);
   }
 };

@@ -232,3 +232,55 @@ module {
     return
   }
 }
+
+// -----
+
+// Layers share their globals: a read of P after a layer that assigned it
+// (an entry, run first) takes that layer's value; a read before it, and the
+// layer's own read, the renderer's. A uniform value is broadcast.
+// CHECK-LABEL: func.func @root_reads_displaced_P
+// CHECK: %[[P:.*]] = osl.global "P" {osl.from_layer = "displace"}
+// CHECK: %[[MOVED:.*]] = osl.add %[[P]]
+// CHECK-NOT: osl.set_global
+// CHECK: %[[ZERO:.*]] = osl.broadcast %{{.*}} {osl.from_layer = "displace"} : f32 -> !osl.varying<f32>
+// CHECK: osl.output "displace.h"
+// CHECK-NOT: osl.global "P"
+// CHECK: osl.output "moved" = %[[MOVED]]
+// CHECK: osl.output "zero" = %[[ZERO]]
+// EAGER-LABEL: func.func @root_reads_displaced_P
+// EAGER: %[[MOVED:.*]] = osl.add
+// EAGER-NOT: osl.set_global
+// EAGER: osl.output "moved" = %[[MOVED]]
+module {
+  func.func @displace() attributes {osl.layer = "displace", osl.entry} {
+    %p = osl.global "P" : !osl.varying<vector<3xf32>>
+    %d = arith.constant dense<[0.5, 0.0, 0.0]> : vector<3xf32>
+    %moved = osl.add %p, %d : !osl.varying<vector<3xf32>>, vector<3xf32> -> !osl.varying<vector<3xf32>>
+    osl.set_global "P" = %moved : !osl.varying<vector<3xf32>>
+    %zero = arith.constant 0.0 : f32
+    osl.set_global "u" = %zero : f32
+    osl.output "h" = %zero : f32
+    return
+  }
+  func.func @root_reads_displaced_P() attributes {osl.layer = "root_reads_displaced_P", osl.entry} {
+    %p = osl.global "P" : !osl.varying<vector<3xf32>>
+    %u = osl.global "u" : !osl.varying<f32>
+    osl.output "moved" = %p : !osl.varying<vector<3xf32>>
+    osl.output "zero" = %u : !osl.varying<f32>
+    return
+  }
+}
+
+// -----
+
+// A shader alone: nothing reads what it leaves in P.
+// CHECK-LABEL: func.func @alone_writes_P
+// CHECK-NOT: osl.set_global
+// CHECK: return
+module {
+  func.func @alone_writes_P() {
+    %p = osl.global "P" : !osl.varying<vector<3xf32>>
+    osl.set_global "P" = %p : !osl.varying<vector<3xf32>>
+    return
+  }
+}

@@ -99,9 +99,13 @@ void printPixelValues(const RunOptions &options, const CompiledShader &shader,
         const OutputSpec &spec = shader.outputs[files[i].first];
         const float *pixel =
             result.images[files[i].first].data() + (size_t(y) * w + x) * spec.channels;
-        llvm::outs() << "  " << (i < options.outputs.size() ? options.outputs[i].first
-                                                             : spec.name)
-                     << " :";
+        llvm::StringRef label =
+            i < options.outputs.size() ? llvm::StringRef(options.outputs[i].first) : spec.name;
+        // testshade labels LAYER.NAME as NAME.
+        auto [layer, name] = label.split('.');
+        if (options.isGroup && !name.empty() && options.group.findLayer(layer.str()))
+          label = name;
+        llvm::outs() << "  " << label << " :";
         for (int c = 0; c < spec.channels; ++c) {
           if (spec.integer)
             llvm::outs() << " " << int(pixel[c]);
