@@ -22,9 +22,10 @@
 namespace osl {
 
 /// The string functions, with their operand and result kinds: s a string
-/// handle, i an int, f a float, t a triple, `*` any number (possibly none)
-/// of the previous kind, `?` an optional last operand, `.` any number of
-/// any kinds (format's values).
+/// handle, i an int, f a float, t a triple, k a closure (its handle, formatted
+/// as OSL prints closures), `*` any number (possibly none) of the previous
+/// kind, `?` an optional last operand, `.` any number of any kinds (format's
+/// values).
 struct StringFunction {
   const char *name;
   const char *operands;
@@ -68,7 +69,7 @@ constexpr int32_t stringFunctionCode(std::string_view name) {
   return -1;
 }
 
-/// Do `kinds` (one letter per operand: s, i, f, t) fit the operand pattern
+/// Do `kinds` (one letter per operand: s, i, f, t, k) fit the operand pattern
 /// of function `code`?
 constexpr bool stringOperandsMatch(int32_t code, std::string_view kinds) {
   std::string_view pattern = kStringFunctions[code].operands;
@@ -79,7 +80,8 @@ constexpr bool stringOperandsMatch(int32_t code, std::string_view kinds) {
     char next = last ? 0 : pattern[p + 1];
     if (want == '.') { // any kinds to the end
       for (; k < kinds.size(); ++k)
-        if (kinds[k] != 's' && kinds[k] != 'i' && kinds[k] != 'f' && kinds[k] != 't')
+        if (kinds[k] != 's' && kinds[k] != 'i' && kinds[k] != 'f' && kinds[k] != 't' &&
+            kinds[k] != 'k')
           return false;
       return true;
     }

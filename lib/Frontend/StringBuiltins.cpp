@@ -124,7 +124,8 @@ bool StringCall::addFormatValue(size_t k) {
   SrcLoc l = call.args[k]->begin;
   if (v.type.isString())
     return addOperand(k, 's');
-  if (v.type.isClosure() && ::osl::printStreamCode(call.name) >= 0) {
+  if (v.type.isClosure() && !v.type.isArray() &&
+      (::osl::printStreamCode(call.name) >= 0 || call.name == "format")) {
     // Printed as OSL prints closures (the runtime walks the tree).
     operands.push_back(v);
     operandLocs.push_back(l);
