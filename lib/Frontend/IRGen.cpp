@@ -226,8 +226,8 @@ bool IRGen::checkStructType(const OslType &t, SrcLoc l) {
     return true;
   for (size_t j = 0; j < t.structDecl->fields.size(); ++j) {
     const StructField &f = t.structDecl->fields[j];
-    if ((f.type.base == BaseType::Closure && (t.isArray() || f.type.isArray())) ||
-        (f.type.base == BaseType::Matrix && (t.isArray() || f.type.isArray())))
+    if ((f.type.base == BaseType::Closure || f.type.base == BaseType::Matrix) &&
+        f.type.isArray())
       return error(l, "field '" + f.name + "' of struct '" + t.structDecl->name +
                           "': '" + f.type.str() + "' fields are not supported yet");
     if (t.isArray() && f.type.isArray())
