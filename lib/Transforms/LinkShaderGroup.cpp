@@ -88,10 +88,20 @@ struct LinkShaderGroupPass
       module.walk([](SetGlobalOp write) { write.erase(); });
       return;
     }
+    // The root layer's outputs keep their own names in the group: asked for
+    // as ROOT.NAME, they are NAME (and only the root runs for them).
+    llvm::StringSet<> rootQualified;
     if (auto requested = module->getAttrOfType<ArrayAttr>(kGroupOutputsAttr)) {
       keepAllOutputs = false;
-      for (Attribute a : requested)
-        requestedOutputs.insert(cast<StringAttr>(a).getValue());
+      for (Attribute a : requested) {
+        StringRef name = cast<StringAttr>(a).getValue();
+        auto [layer, output] = name.rsplit('.');
+        if (!output.empty() && layer == layers.back().name) {
+          rootQualified.insert(output);
+          name = output;
+        }
+        requestedOutputs.insert(name);
+      }
     }
     bool anyEntry = false;
     for (Layer &l : layers) {
@@ -107,6 +117,10 @@ struct LinkShaderGroupPass
     // "name", every layer with an output of that name (testshade makes each
     // a renderer output, which OSL never skips).
     for (auto &name : requestedOutputs) {
+      if (rootQualified.contains(name.getKey())) {
+        layers.back().entry = true;
+        continue;
+      }
       auto [layer, output] = name.getKey().rsplit('.');
       auto it = layerIndex.find(layer);
       if (!output.empty() && it != layerIndex.end()) {

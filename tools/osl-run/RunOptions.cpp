@@ -277,12 +277,10 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
         return false;
     // The group is checked as it is assembled (GroupAssembly.h: in
     // testshade's words) and again when it compiles.
-    // testshade also takes the root layer's own outputs as ROOT.NAME.
-    std::string rootPrefix = o.group.layers.back().name + ".";
+    // (testshade also takes the root layer's own outputs as ROOT.NAME:
+    // osl-link-group runs only the root for those.)
     for (auto &[name, file] : o.outputs)
-      o.group.outputs.push_back(llvm::StringRef(name).starts_with(rootPrefix)
-                                    ? name.substr(rootPrefix.size())
-                                    : name);
+      o.group.outputs.push_back(name);
     o.compile.params.clear();
   } else {
     if (!o.group.connections.empty() || !o.group.entries.empty() || !o.reparams.empty()) {
