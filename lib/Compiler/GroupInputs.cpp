@@ -70,7 +70,16 @@ private:
           tip = p.getResult();
       });
     if (!tip) {
-      noParameter((base + "[" + llvm::Twine(k) + "]").str());
+      bool array = false;
+      func.walk([&](mlir::osl::ParamOp p) { array |= p.getName() == base && p.getIndex(); });
+      // (OSL's testshade asserts on these: "no support for individual array
+      // element connections".)
+      if (array)
+        errs << "error: connecting to one element of array input '" << layer.name << "."
+             << base << "[" << k << "]' is not supported: connect a whole array output to the "
+             << "whole array input\n";
+      else
+        noParameter((base + "[" + llvm::Twine(k) + "]").str());
       return false;
     }
     b.setInsertionPointAfterValue(tip);

@@ -100,7 +100,7 @@ std::optional<RValue> emitTypeConstructor(IRGen &g, OslType t,
         g.valueError(call.args[0]->loc, "empty space name");
         return std::nullopt;
       }
-      if (space == "common" || !knownSpaces(g, {space}, call.loc))
+      if (space == "common" || !knownSpaces(g, space, "common", call.loc))
         return RValue::num(t, value);
       return RValue::num(t, g.builder().create<TransformOp>(g.loc(call.loc), value.getType(),
                                                             space, "common",

@@ -707,9 +707,10 @@ std::optional<RValue> emitNoise(IRGen &gen, const Expr &call, const OslType *exp
 /// (SpaceBuiltins.cpp).
 std::optional<RValue> emitTransform(IRGen &gen, const Expr &call);
 std::optional<RValue> emitTransformc(IRGen &gen, const Expr &call);
-/// Whether the renderer knows every space named; each unknown one is
-/// reported when the point runs (SpaceBuiltins.cpp).
-bool knownSpaces(IRGen &gen, std::initializer_list<llvm::StringRef> names, SrcLoc l);
+/// Whether the renderer knows `from` as a source space and `to` as a
+/// destination; each unknown one is reported when the point runs
+/// (SpaceBuiltins.cpp).
+bool knownSpaces(IRGen &gen, llvm::StringRef from, llvm::StringRef to, SrcLoc l);
 /// Whether a color converts from space `from` to `to`; if not, the renderer
 /// reports it when the point runs (SpaceBuiltins.cpp).
 bool knownColorTransform(IRGen &gen, const std::string &from, const std::string &to, SrcLoc l);

@@ -164,9 +164,7 @@ RValue IRGen::namedMatrix(StringRef from, StringRef to, SrcLoc l, bool &known) {
   auto fromCommon = namedSpaceTransform(from, "common", options.camera);
   auto toSpace = namedSpaceTransform("common", to, options.camera);
   known = false;
-  for (StringRef name : {from, to})
-    if (!namedSpaceTransform(name, "common", options.camera))
-      reportAtRunTime("Unknown transformation \"" + name.str() + "\"", l);
+  knownSpaces(*this, from, to, l); // reports the unknown names
   RValue a = constMatrix(fromCommon ? *fromCommon : identity, l);
   RValue c = constMatrix(toSpace ? *toSpace : identity, l);
   return matrixValue(matrixMultiply(a.elems, c.elems, l));

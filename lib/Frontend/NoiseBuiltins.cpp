@@ -47,9 +47,13 @@ std::optional<NoiseOptionValues> parseNoiseOptions(IRGen &g, const Expr &call,
       return std::nullopt;
     };
     if (name.str == "anisotropic" || name.str == "do_filter") {
-      if (!v.type.isInt())
+      // A comparison is an int in OSL (`"do_filter", a != 1`).
+      if (!v.type.isInt() && v.type.base != BaseType::Bool)
         return bad("an int");
-      (name.str == "anisotropic" ? out.anisotropic : out.doFilter) = v.value;
+      auto asInt = g.coerce(v, OslType(BaseType::Int), valueLoc, "for noise option '" + name.str + "'");
+      if (!asInt)
+        return std::nullopt;
+      (name.str == "anisotropic" ? out.anisotropic : out.doFilter) = asInt->value;
     } else if (name.str == "direction") {
       if (!v.type.isTriple())
         return bad("a vector");

@@ -14,17 +14,17 @@ using namespace mlir::osl;
 
 namespace osl::frontend {
 
-/// Whether the renderer knows every space of a transform; each unknown one is
-/// reported when the point runs (the transform is then the identity, as in
-/// OSL).
-bool knownSpaces(IRGen &g, std::initializer_list<llvm::StringRef> names, SrcLoc l) {
-  bool known = true;
-  for (llvm::StringRef name : names)
-    if (!namedSpaceTransform(name, "common", g.cameraImage())) {
+/// Whether the renderer knows `from` as a source space and `to` as a
+/// destination (testshade's knows "camera" and the projection spaces only
+/// as destinations); each unknown one is reported when the point runs (the
+/// transform is then the identity, as in OSL).
+bool knownSpaces(IRGen &g, llvm::StringRef from, llvm::StringRef to, SrcLoc l) {
+  bool fromKnown = bool(namedSpaceTransform(from, "common", g.cameraImage()));
+  bool toKnown = bool(namedSpaceTransform("common", to, g.cameraImage()));
+  for (auto [name, known] : {std::pair(from, fromKnown), std::pair(to, toKnown)})
+    if (!known)
       g.reportAtRunTime("Unknown transformation \"" + name.str() + "\"", l);
-      known = false;
-    }
-  return known;
+  return fromKnown && toKnown;
 }
 
 /// Whether transformc(from, to, ...) can convert; if not, the color stays as
@@ -125,24 +125,19 @@ std::optional<RValue> emitTransform(IRGen &g, const Expr &call) {
   // function's return value before its returns).
   auto between = [&](const std::string &from, const std::string &to) -> std::optional<RValue> {
     if (from.empty() || to.empty())
-      return knownSpaces(g, {from, to}, call.loc), std::optional<RValue>(p);
+      return knownSpaces(g, from, to, call.loc), std::optional<RValue>(p);
     if (from == to)
       return p;
-    if (isProjectionSpace(from)) {
-      g.error(call.args[0]->loc, "the renderer knows '" + from +
-                                     "' only as a destination space");
-      return std::nullopt;
-    }
+    // An unknown space (reported) leaves the point as it is, as in OSL.
+    if (!knownSpaces(g, from, to, call.loc))
+      return p;
     if (isProjectionSpace(to)) {
       // The camera's projection depends on the image size the front end was
       // given: a constant matrix, applied with the w divide.
-      // (An unknown space is reported, and its half is the identity.)
       bool known = true;
       RValue m = g.namedMatrix(from, to, call.loc, known);
       return RValue::num(p.type, g.transformByMatrix(m.elems, p.value, p.type.base, call.loc));
     }
-    if (!knownSpaces(g, {from, to}, call.loc))
-      return p;
     Value v = g.builder().create<TransformOp>(g.loc(call.loc), p.value.getType(), from, to,
                                               transformKindOf(p.type.base), p.value);
     return RValue::num(p.type, v);

@@ -119,6 +119,8 @@ std::optional<Matrix44> mlir::osl::namedSpaceTransform(StringRef from, StringRef
     return namedSpaceTransform(from, to);
   if (from == to) // as below
     return identity();
+  if (from == "camera") // as below
+    return std::nullopt;
   auto fromCommon = toCommon(from);
   if (!fromCommon)
     return std::nullopt;
@@ -135,6 +137,9 @@ std::optional<Matrix44> mlir::osl::namedSpaceTransform(StringRef from,
   // product with a float inverse.
   if (from == to)
     return identity();
+  // testshade's renderer has a matrix to "camera" but none from it.
+  if (from == "camera")
+    return std::nullopt;
   return multiply(*fromCommon, inverse(*toSpace));
 }
 

@@ -61,7 +61,8 @@ bool parseConversion(std::string_view format, size_t &pos, Conversion &out) {
   if (pos >= format.size())
     return false;
   char letter = format[pos++];
-  if (letter != 's' && !isIntLetter(letter) && !isFloatLetter(letter))
+  if (letter != 's' && !isIntLetter(letter) && !isFloatLetter(letter) &&
+      !std::strchr("mnpv", letter))
     return false;
   out = {spec, letter};
   return true;
@@ -79,6 +80,10 @@ std::string printfText(const std::string &spec, char letter, T value) {
 std::string formatNumber(const Conversion &c, double value, bool isInt, osl::FormatStyle style) {
   if (c.letter == 's') // a number printed as text: its usual form
     return isInt ? printfText(c.spec, 'd', int(value)) : printfText(c.spec, 'g', value);
+  // oslc also takes %c, %m, %n, %p and %v for a float, which OSL prints as
+  // %f (and C's meanings of %n and %p are never used).
+  if (std::strchr("mnpv", c.letter) || (!isInt && c.letter == 'c'))
+    return formatNumber({c.spec, isInt ? 'd' : 'f'}, value, isInt, style);
   if (style == osl::FormatStyle::Fmt && c.letter == 'o' && value < 0) {
     // OSL formats through fmt, whose octal of a negative int is its sign
     // and magnitude (-45), not C's two's complement (37777777733).
@@ -405,9 +410,10 @@ std::string osl::formatError(std::string_view format, std::string_view valueKind
       return "format string " + quoted(format) + " needs more values than the " +
              std::to_string(valueKinds.size()) + " given";
     // oslc's pairs: ints take %d %i %o %x %X, floats (and triples' and
-    // matrices' components) %f %g %e, strings and closures %s.
+    // matrices' components) %f %g %e (and %c %m %n %p %v, printed as %f),
+    // strings and closures %s.
     char kind = valueKinds[next++];
-    const char *letters = kind == 'i' ? "dioxX" : kind == 'f' || kind == 't' ? "fge" : "s";
+    const char *letters = kind == 'i' ? "dioxX" : kind == 'f' || kind == 't' ? "fgecmnpv" : "s";
     if (std::strchr(letters, c.letter))
       return "";
     const char *what = kind == 'i'                  ? "an int"

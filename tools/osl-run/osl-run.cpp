@@ -41,9 +41,16 @@ int fail(const std::string &message) {
   return 1;
 }
 
+/// A requested output: its kernel row block, its file ("null": none) and
+/// the name it was asked for by.
+struct OutputFile {
+  size_t index;
+  std::string file, name;
+};
+
 /// Maps each requested output to its kernel row block.
 bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
-                    std::vector<std::pair<size_t, std::string>> &files,
+                    std::vector<OutputFile> &files,
                     std::string &error) {
   auto requested = options.outputs;
   if (requested.empty()) {
@@ -77,10 +84,12 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
       return false;
     }
     if (it->closure) {
+      if (file == "null")
+        continue; // nothing to write (testshade skips it with a note)
       error = "output '" + name + "' is a closure, not an image; render it with --scene";
       return false;
     }
-    files.push_back({size_t(it - shader.outputs.begin()), file});
+    files.push_back({size_t(it - shader.outputs.begin()), file, name});
   }
   return true;
 }
@@ -88,7 +97,7 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
 /// --print: each pixel's requested outputs, as testshade prints them
 /// ("Pixel (X, Y):" then "  NAME : V V V" per output, %g numbers).
 void printPixelValues(const RunOptions &options, const CompiledShader &shader,
-                      const std::vector<std::pair<size_t, std::string>> &files,
+                      const std::vector<OutputFile> &files,
                       const ShadeResult &result) {
   int w = imageWidth(options.grid), h = imageHeight(options.grid);
   for (int y = 0; y < h; ++y)
@@ -96,11 +105,10 @@ void printPixelValues(const RunOptions &options, const CompiledShader &shader,
       llvm::outs() << "Pixel (" << x + options.grid.colBegin << ", "
                    << y + options.grid.rowBegin << "):\n";
       for (size_t i = 0; i < files.size(); ++i) {
-        const OutputSpec &spec = shader.outputs[files[i].first];
+        const OutputSpec &spec = shader.outputs[files[i].index];
         const float *pixel =
-            result.images[files[i].first].data() + (size_t(y) * w + x) * spec.channels;
-        llvm::StringRef label =
-            i < options.outputs.size() ? llvm::StringRef(options.outputs[i].first) : spec.name;
+            result.images[files[i].index].data() + (size_t(y) * w + x) * spec.channels;
+        llvm::StringRef label = files[i].name;
         // testshade labels LAYER.NAME as NAME.
         auto [layer, name] = label.split('.');
         if (options.isGroup && !name.empty() && options.group.findLayer(layer.str()))
@@ -213,11 +221,11 @@ void armTimeout(int seconds) {
 /// renamed when whole). What the shader prints comes band by band, before
 /// the "Output ... to ..." lines.
 int shadeInBands(RunOptions &options, const CompiledShader &shader,
-                 const std::vector<std::pair<size_t, std::string>> &files, int bandRows,
+                 const std::vector<OutputFile> &files, int bandRows,
                  ThreadPool &pool, Stats &stats) {
   std::string error;
   std::vector<std::pair<size_t, ImageStream>> streams;
-  for (auto &[index, file] : files) {
+  for (auto &[index, file, name] : files) {
     if (file == "null")
       continue;
     ImageStream stream;
@@ -255,8 +263,8 @@ int shadeInBands(RunOptions &options, const CompiledShader &shader,
   stats.add("shading", shading);
   llvm::outs() << "\n";
   for (size_t i = 0; i < files.size(); ++i)
-    if (files[i].second != "null" && !options.outputs.empty())
-      llvm::outs() << "Output " << options.outputs[i].first << " to " << files[i].second << "\n";
+    if (files[i].file != "null" && !options.outputs.empty())
+      llvm::outs() << "Output " << files[i].name << " to " << files[i].file << "\n";
   return statusAfterShading(options);
 }
 
@@ -279,10 +287,10 @@ int osl::statusAfterShading(const RunOptions &options) {
 /// Marks the outputs written to files (or printed, --print) as kept;
 /// returns the bytes one row of their images takes.
 double keepWrittenImages(RunOptions &options, const CompiledShader &shader,
-                         const std::vector<std::pair<size_t, std::string>> &files) {
+                         const std::vector<OutputFile> &files) {
   options.grid.keepImages.assign(shader.outputs.size(), false);
   double rowBytes = 0;
-  for (auto &[index, file] : files)
+  for (auto &[index, file, name] : files)
     if ((file != "null" || options.printValues) && !options.grid.keepImages[index]) {
       options.grid.keepImages[index] = true;
       rowBytes += 4.0 * imageWidth(options.grid) * shader.outputs[index].channels;
@@ -322,7 +330,7 @@ bool shadePasses(const RunOptions &options, ShaderCompiler &compiler,
 /// its closing blank line when it writes none. False (reported) if an
 /// image cannot be written.
 bool writeResults(const RunOptions &options, const CompiledShader &shader,
-                  const std::vector<std::pair<size_t, std::string>> &files,
+                  const std::vector<OutputFile> &files,
                   const ShadeResult &result, const PrintLog &printed, Stats *statsPtr) {
   ScopedTimer timer(statsPtr, "write images");
   bool imagesFirst = !options.outputs.empty();
@@ -330,7 +338,7 @@ bool writeResults(const RunOptions &options, const CompiledShader &shader,
     emitPrints(printed, shader.name, options.errorRepeats);
   llvm::outs() << "\n";
   for (size_t i = 0; i < files.size(); ++i) {
-    auto &[index, file] = files[i];
+    auto &[index, file, name] = files[i];
     if (file == "null")
       continue;
     std::string error;
@@ -348,7 +356,7 @@ bool writeResults(const RunOptions &options, const CompiledShader &shader,
     }
     // testshade's report of each image it was asked for.
     if (imagesFirst)
-      llvm::outs() << "Output " << options.outputs[i].first << " to " << file << "\n";
+      llvm::outs() << "Output " << files[i].name << " to " << file << "\n";
   }
   if (options.printValues)
     printPixelValues(options, shader, files, result);
@@ -477,7 +485,7 @@ int main(int argc, char **argv) {
     return 0;
   }
 
-  std::vector<std::pair<size_t, std::string>> files;
+  std::vector<OutputFile> files;
   if (!resolveOutputs(options, *shader, files, error))
     return fail(error);
   double rowBytes = keepWrittenImages(options, *shader, files);
