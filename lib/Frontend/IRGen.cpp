@@ -537,7 +537,7 @@ RValue IRGen::readVar(Var *v, SrcLoc l) {
   if (v->isGlobal && !v->val.value) {
     RValue read = RValue::num(v->type, getGlobal(v->name, irType(b, v->type), l));
     if (options.groupLayer)
-      return read; // read again where next read (see getGlobal)
+      return read; // each read its own (see getGlobal)
     v->val = read;
   }
   return v->val;

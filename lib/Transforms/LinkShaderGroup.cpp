@@ -89,17 +89,18 @@ struct LinkShaderGroupPass
       return;
     }
     // The root layer's outputs keep their own names in the group: asked for
-    // as ROOT.NAME, they are NAME (and only the root runs for them).
-    llvm::StringSet<> rootQualified;
+    // as ROOT.NAME (and not also as NAME), they are NAME, and only the root
+    // runs for them.
+    llvm::StringSet<> rootOnly, plain;
     if (auto requested = module->getAttrOfType<ArrayAttr>(kGroupOutputsAttr)) {
       keepAllOutputs = false;
       for (Attribute a : requested) {
         StringRef name = cast<StringAttr>(a).getValue();
         auto [layer, output] = name.rsplit('.');
-        if (!output.empty() && layer == layers.back().name) {
-          rootQualified.insert(output);
-          name = output;
-        }
+        if (!output.empty() && layer == layers.back().name)
+          rootOnly.insert(name = output);
+        else
+          plain.insert(name);
         requestedOutputs.insert(name);
       }
     }
@@ -117,7 +118,7 @@ struct LinkShaderGroupPass
     // "name", every layer with an output of that name (testshade makes each
     // a renderer output, which OSL never skips).
     for (auto &name : requestedOutputs) {
-      if (rootQualified.contains(name.getKey())) {
+      if (rootOnly.contains(name.getKey()) && !plain.contains(name.getKey())) {
         layers.back().entry = true;
         continue;
       }
