@@ -50,7 +50,8 @@ std::optional<NoiseOptionValues> parseNoiseOptions(IRGen &g, const Expr &call,
       // A comparison is an int in OSL (`"do_filter", a != 1`).
       if (!v.type.isInt() && v.type.base != BaseType::Bool)
         return bad("an int");
-      auto asInt = g.coerce(v, OslType(BaseType::Int), valueLoc, "for noise option '" + name.str + "'");
+      auto asInt = g.coerce(v, OslType(BaseType::Int), valueLoc,
+                            "for noise option '" + name.str + "'");
       if (!asInt)
         return std::nullopt;
       (name.str == "anisotropic" ? out.anisotropic : out.doFilter) = asInt->value;

@@ -99,6 +99,13 @@ bool resolveOutputs(const RunOptions &options, const CompiledShader &shader,
 void printPixelValues(const RunOptions &options, const CompiledShader &shader,
                       const std::vector<OutputFile> &files,
                       const ShadeResult &result) {
+  // testshade labels LAYER.NAME as NAME.
+  std::vector<llvm::StringRef> labels;
+  for (const OutputFile &f : files) {
+    auto [layer, name] = llvm::StringRef(f.name).split('.');
+    bool layered = options.isGroup && !name.empty() && options.group.findLayer(layer.str());
+    labels.push_back(layered ? name : llvm::StringRef(f.name));
+  }
   int w = imageWidth(options.grid), h = imageHeight(options.grid);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -108,12 +115,7 @@ void printPixelValues(const RunOptions &options, const CompiledShader &shader,
         const OutputSpec &spec = shader.outputs[files[i].index];
         const float *pixel =
             result.images[files[i].index].data() + (size_t(y) * w + x) * spec.channels;
-        llvm::StringRef label = files[i].name;
-        // testshade labels LAYER.NAME as NAME.
-        auto [layer, name] = label.split('.');
-        if (options.isGroup && !name.empty() && options.group.findLayer(layer.str()))
-          label = name;
-        llvm::outs() << "  " << label << " :";
+        llvm::outs() << "  " << labels[i] << " :";
         for (int c = 0; c < spec.channels; ++c) {
           if (spec.integer)
             llvm::outs() << " " << int(pixel[c]);
@@ -356,7 +358,7 @@ bool writeResults(const RunOptions &options, const CompiledShader &shader,
     }
     // testshade's report of each image it was asked for.
     if (imagesFirst)
-      llvm::outs() << "Output " << files[i].name << " to " << file << "\n";
+      llvm::outs() << "Output " << name << " to " << file << "\n";
   }
   if (options.printValues)
     printPixelValues(options, shader, files, result);
