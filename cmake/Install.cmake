@@ -14,6 +14,12 @@ install(DIRECTORY ${PROJECT_BINARY_DIR}/include/
 install(TARGETS OslRuntime OslImageIO OslClosures OslStrings OslReference
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS OslOiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+# OpenImageIO's plugin and the Python query module, each finding
+# ../bin/osl-run from where it is installed.
+if(TARGET osl-imageio)
+  install(TARGETS osl-imageio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+endif()
+install(FILES ${PROJECT_SOURCE_DIR}/python/oslquery.py DESTINATION ${CMAKE_INSTALL_LIBDIR}/python)
 foreach(tool osl-opt osl-run osl-assemble osl-imgdiff)
   if(TARGET ${tool})
     install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

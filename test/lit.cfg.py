@@ -12,6 +12,10 @@ config.test_exec_root = os.path.join(config.osl_obj_root, "test")
 config.excludes = ["Inputs", "CMakeLists.txt", "lit.cfg.py", "lit.site.cfg.py", "farm"]
 
 config.substitutions.append(("%shaders", os.path.join(config.osl_src_root, "shaders")))
+# python/oslquery.py as the build lays it out, beside bin/osl-run.
+# lib/osl.imageio.so, found by OpenImageIO on OIIO_LIBRARY_PATH.
+config.substitutions.append(("%osl_lib", os.path.join(config.osl_obj_root, "lib")))
+config.substitutions.append(("%pymodules", os.path.join(config.osl_obj_root, "python")))
 config.substitutions.append(("%conformance", os.path.join(config.osl_src_root, "conformance")))
 
 llvm_config.with_system_environment(["HOME", "INCLUDE", "LIB", "TMP", "TEMP"])

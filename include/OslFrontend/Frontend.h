@@ -128,6 +128,16 @@ std::optional<std::string> shaderInfoText(llvm::StringRef source, llvm::StringRe
                                           llvm::ArrayRef<std::string> includePaths = {},
                                           llvm::ArrayRef<std::string> defines = {});
 
+/// The shader's interface as JSON, for tools that query it as OSL's
+/// OSLQuery does (python/oslquery.py): {"shadertype", "shadername",
+/// "metadata", "params"}, each parameter with its name, type, flags, value
+/// and metadata, and a struct parameter followed by its fields. Null after
+/// printing diagnostics to `errs`.
+std::optional<std::string> shaderQueryJson(llvm::StringRef source, llvm::StringRef filename,
+                                           llvm::raw_ostream &errs,
+                                           llvm::ArrayRef<std::string> includePaths = {},
+                                           llvm::ArrayRef<std::string> defines = {});
+
 /// A shader parameter as a renderer's query lists it: its name, its type as
 /// OSL writes it ("color", "float[3]") and whether it is an output.
 struct ShaderParamInfo {

@@ -193,6 +193,8 @@ class Context:
 
 REDIRECT = " >> out.txt 2>>out.txt "
 
+PYTHON_MODULES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python")
+
 SHADER_DECL = re.compile(r"\b(?:shader|surface|displacement|volume|light)\s+([A-Za-z_]\w*)\s*[(\[]")
 
 
@@ -471,6 +473,15 @@ def main():
     global IMGDIFF
     imgdiff = os.path.join(os.path.dirname(osl_run), "osl-imgdiff")
     IMGDIFF = imgdiff if os.access(imgdiff, os.X_OK) else None
+    # Tests that `import oslquery` get osl-mlir's (python/oslquery.py),
+    # which asks this osl-run.
+    os.environ["OSLMLIR_OSL_RUN"] = osl_run
+    os.environ["PYTHONPATH"] = os.pathsep.join(
+        [PYTHON_MODULES] + [p for p in [os.environ.get("PYTHONPATH")] if p])
+    # oiiotool reads "shader.oso?RES=64" through osl-mlir's osl.imageio.so.
+    os.environ["OIIO_LIBRARY_PATH"] = os.pathsep.join(
+        [os.path.join(os.path.dirname(os.path.dirname(osl_run)), "lib")] +
+        [p for p in [os.environ.get("OIIO_LIBRARY_PATH")] if p])
     names = sorted(d for d in os.listdir(suite)
                    if os.path.exists(os.path.join(suite, d, "run.py")))
     if args.tests:

@@ -622,6 +622,7 @@ const Flag kFlags[] = {
     {{"--check"}, setFlag<&RunOptions::checkOnly>},
     {{"-M", "-MM", "-MD", "-MMD"}, dependenciesFlag},
     {{"--info"}, setFlag<&RunOptions::infoOnly>},
+    {{"--info-json"}, setFlag<&RunOptions::infoJson>},
     {{"--timeout"}, timeoutFlag},
     {{"--image-memory"}, imageMemoryFlag},
     {{"--texture-cache-mb"}, textureCacheFlag},

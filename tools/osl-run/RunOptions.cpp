@@ -116,6 +116,7 @@ const char *const osl::kUsage =
     "  --print                print every pixel's requested outputs as text\n"
     "  --info                 print the shader's parameters, defaults and metadata\n"
     "                         as oslinfo -v does, and stop\n"
+    "  --info-json            the same as JSON (what python/oslquery.py reads)\n"
     "  --interpret            reference mode: one point at a time, ordinary\n"
     "                         branches, no masking (what the differential\n"
     "                         tester compares the SIMD kernels with)\n"

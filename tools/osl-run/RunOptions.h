@@ -55,6 +55,8 @@ struct RunOptions {
   int imageMemoryMB = 8;
   /// --info: print the shader's parameters and metadata as oslinfo -v does.
   bool infoOnly = false;
+  /// --info-json: the same as JSON, for python/oslquery.py.
+  bool infoJson = false;
   /// -od: the images' data type (float, half, uint8, uint16); "" keeps the
   /// format's own choice.
   std::string dataType;

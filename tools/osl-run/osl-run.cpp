@@ -447,10 +447,11 @@ int main(int argc, char **argv) {
       return 0;
     return error.empty() ? 1 : fail(error);
   }
-  if (options.infoOnly) {
+  if (options.infoOnly || options.infoJson) {
+    auto describe = options.infoJson ? shaderQueryJson : shaderInfoText;
     std::optional<std::string> info =
-        shaderInfoText(source->getBuffer(), options.shaderPath, llvm::errs(),
-                       options.compile.includePaths, options.compile.defines);
+        describe(source->getBuffer(), options.shaderPath, llvm::errs(),
+                 options.compile.includePaths, options.compile.defines);
     if (!info)
       return 1;
     llvm::outs() << *info;
