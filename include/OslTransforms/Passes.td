@@ -205,15 +205,21 @@ def OutlineLibrary : Pass<"osl-outline-library", "::mlir::ModuleOp"> {
     the kernel) every region's code is moved in place instead. A function
     without loops or branches whose ops times its calls is at most
     `inline-ops` (cell and hash noise called once or twice) goes back in
-    place: a call clobbers every vector register, so the caller spills its
-    live values around it, which costs more than such a body, and the
-    bound keeps unrolled loops of calls from growing the kernel.
+    place while the copies made, cheapest function first, fit in
+    `inline-budget` for the kernel: a call clobbers every vector register,
+    so the caller spills its live values around it, which costs more than
+    such a body (and inlined constant arguments fold); the bounds keep
+    unrolled loops of calls, or many different routines called once each
+    (a noise name chosen per point), from growing the kernel.
   }];
   let options = [Option<"outline", "outline", "bool", "true",
                         "make functions; false: inline every library region">,
                  Option<"inlineOps", "inline-ops", "unsigned", "500",
                         "inline a straight-line function whose ops times its calls "
-                        "is at most this">];
+                        "is at most this">,
+                 Option<"inlineBudget", "inline-budget", "unsigned", "1500",
+                        "inline such functions while their copies' ops add up "
+                        "to at most this">];
   let dependentDialects = ["::mlir::func::FuncDialect"];
 }
 

@@ -167,15 +167,30 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
       callsOf[func].push_back(call);
     }
     // A small straight-line function goes back in place: a call clobbers
-    // every vector register, and the caller's spills around it cost more
-    // than a hash. Bounded by its ops times its calls, for compile time.
-    for (auto &[func, calls] : callsOf) {
-      std::optional<unsigned> ops = straightLineOps(func);
-      if (!ops || uint64_t(*ops) * calls.size() > inlineOps)
-        continue;
-      for (func::CallOp call : calls)
-        inlineCall(call, func);
-      symbols.erase(func);
+    // every vector register, the caller's spills around it cost more than
+    // a hash, and constant arguments fold. Bounded for compile time: its
+    // copies (ops times calls) by inline-ops, and all copies by one
+    // budget per kernel, cheapest first, so a shader calling many
+    // different routines once each keeps the bigger ones as calls.
+    struct Candidate {
+      func::FuncOp func;
+      uint64_t cost;
+    };
+    SmallVector<Candidate> candidates;
+    for (auto &[func, calls] : callsOf)
+      if (std::optional<unsigned> ops = straightLineOps(func))
+        candidates.push_back({func, uint64_t(*ops) * calls.size()});
+    // Stable: equal costs keep the order of first call, the same in every run.
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](const Candidate &a, const Candidate &b) { return a.cost < b.cost; });
+    uint64_t budget = inlineBudget;
+    for (const Candidate &c : candidates) {
+      if (c.cost > inlineOps || c.cost > budget)
+        break;
+      budget -= c.cost;
+      for (func::CallOp call : callsOf[c.func])
+        inlineCall(call, c.func);
+      symbols.erase(c.func);
     }
   }
 };

@@ -1,5 +1,7 @@
 // RUN: osl-opt %s -split-input-file --osl-outline-library=inline-ops=0 | FileCheck %s
 // RUN: osl-opt %s -split-input-file --osl-outline-library=inline-ops=3 | FileCheck %s --check-prefix=SMALL
+// RUN: osl-opt %s -split-input-file --osl-outline-library="inline-ops=3 inline-budget=4" \
+// RUN:   | FileCheck %s --check-prefix=BUDGET
 // RUN: osl-opt %s -split-input-file --osl-outline-library=outline=false | FileCheck %s --check-prefix=INLINE
 
 // Two calls of one routine with one signature share one private function
@@ -188,4 +190,31 @@ func.func @small_functions_inline(%x: f32, %n: index) -> (f32, f32, f32, f32, f3
     scf.yield %m : f32
   } {osl.library = "noise_simplex"}
   return %a, %b, %c, %d, %e : f32, f32, f32, f32, f32
+}
+
+// -----
+
+// The copies share one budget per kernel, cheapest first: with
+// inline-budget=4 the hash (2 ops, return included) goes in place, and then
+// the cell noise (3) no longer fits, though alone it would.
+// SMALL-LABEL: func.func @one_budget_per_kernel
+// SMALL-NOT: call
+// SMALL: return
+// BUDGET-LABEL: func.func @one_budget_per_kernel
+// BUDGET: %[[A:.+]] = call @osl.lib.noise_cell.{{[0-9a-f]+}}(%arg0)
+// BUDGET: %[[B:.+]] = arith.addf %arg0, %arg0 : f32
+// BUDGET: return %[[A]], %[[B]]
+// BUDGET-NOT: noise_hash
+// BUDGET: func.func private @osl.lib.noise_cell
+func.func @one_budget_per_kernel(%x: f32) -> (f32, f32) {
+  %a = scf.execute_region -> f32 {
+    %m = arith.mulf %x, %x : f32
+    %p = arith.addf %m, %x : f32
+    scf.yield %p : f32
+  } {osl.library = "noise_cell"}
+  %b = scf.execute_region -> f32 {
+    %m = arith.addf %x, %x : f32
+    scf.yield %m : f32
+  } {osl.library = "noise_hash"}
+  return %a, %b : f32, f32
 }
