@@ -72,10 +72,15 @@ def Osl_SetGlobalOp : Osl_Op<"set_global"> {
 
 def Osl_BroadcastOp : Osl_Op<"broadcast", [Pure]> {
   let summary = "a uniform value used where a varying one is required";
+  let description = [{
+    The value may be varying already (a pass made it so after the
+    broadcast was placed): the broadcast is then the identity and folds.
+  }];
   let arguments = (ins Osl_Value:$value);
   let results = (outs Osl_Value:$result);
   let assemblyFormat = "$value attr-dict `:` type($value) `->` type($result)";
   let hasVerifier = 1;
+  let hasFolder = 1;
 }
 
 def Osl_BatchMaskOp : Osl_Op<"batch_mask", [Pure]> {

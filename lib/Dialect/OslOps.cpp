@@ -143,11 +143,20 @@ LogicalResult GlobalOp::verify() {
   return success();
 }
 
+// The value may be varying already: a pass that made it so (a loop
+// unrolled, a constant if folded) leaves the broadcast an identity, which
+// folds away and osl-varying-propagation removes.
 LogicalResult BroadcastOp::verify() {
-  if (isVarying(getValue().getType()) || !isVarying(getType()) ||
-      getUniformType(getType()) != getValue().getType())
-    return emitOpError("turns a uniform T into !osl.varying<T>");
+  if (!isVarying(getType()) ||
+      getUniformType(getType()) != getUniformType(getValue().getType()))
+    return emitOpError("turns a uniform T (or a varying one) into !osl.varying<T>");
   return success();
+}
+
+OpFoldResult BroadcastOp::fold(FoldAdaptor) {
+  if (getValue().getType() == getType())
+    return getValue();
+  return {};
 }
 
 LogicalResult BatchMaskOp::verify() {

@@ -316,8 +316,11 @@ std::optional<RValue> IRGen::coerce(RValue v, OslType to, SrcLoc l,
   }
   if (to.isMatrix())
     return v.type.isMatrix() ? v : scaledIdentity(v.value, l);
-  Value value = convert(v.value, irType(b, to), l);
-  return RValue::num(to, value);
+  Value value = v.value;
+  // A comparison made a triple (color(u > 0.5)): 0 or 1 first.
+  if (v.type.isBool() && to.isTriple())
+    value = convert(value, b.getF32Type(), l);
+  return RValue::num(to, convert(value, irType(b, to), l));
 }
 
 std::optional<RValue> IRGen::cast(RValue v, OslType to, SrcLoc l) {

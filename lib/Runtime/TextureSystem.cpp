@@ -125,6 +125,14 @@ void texture(const char *where, const char *file, const char *subimageName, int3
       ok = ts.texture(handle, thread, opt, at(kTextureCoordRow), at(kTextureCoordRow + 1),
                       at(d), at(d + 1), at(d + 2), at(d + 3), channels, result,
                       slopes ? dresultds : nullptr, slopes ? dresultdt : nullptr);
+      // OpenImageIO's closest-texel lookup leaves the slopes it was given
+      // holding whatever its stack held (testshade's derivatives are
+      // garbage there too): a texel's value is constant, its slope 0, and
+      // the result the same from run to run and at every width.
+      if (opt.interpmode == TextureOpt::InterpClosest) {
+        std::fill(std::begin(dresultds), std::end(dresultds), 0.0f);
+        std::fill(std::begin(dresultdt), std::end(dresultdt), 0.0f);
+      }
     } else {
       Imath::V3f p(at(kTextureCoordRow), at(kTextureCoordRow + 1), at(kTextureCoordRow + 2));
       Imath::V3f dx(at(d), at(d + 1), at(d + 2)), dy(at(d + 3), at(d + 4), at(d + 5));

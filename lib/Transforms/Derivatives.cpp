@@ -510,8 +510,11 @@ private:
     }
     if (isa<math::RsqrtOp>(def))
       return mul(cst(-0.5), mul(r, div(r, x)));
-    if (isa<math::AbsFOp>(def))
-      return b.create<math::CopySignOp>(loc, cst(1), x);
+    if (isa<math::AbsFOp>(def)) {
+      // OSL's: x >= 0 ? x' : -x', so -0 keeps its slope (and NaN flips it).
+      Value nonNegative = b.create<arith::CmpFOp>(loc, arith::CmpFPredicate::OGE, x, cst(0));
+      return b.create<arith::SelectOp>(loc, nonNegative, cst(1), cst(-1));
+    }
     if (isa<math::ErfOp>(def)) // 2/sqrt(pi) e^(-x^2)
       return mul(cst(1.12837916709551257390),
                  b.create<math::ExpOp>(loc, b.create<arith::NegFOp>(loc, mul(x, x))));

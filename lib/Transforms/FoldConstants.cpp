@@ -155,13 +155,39 @@ struct ExtractOfKnownTriple : public OpRewritePattern<ExtractOp> {
   }
 };
 
+/// Whether `v`'s type may still change in osl-varying-propagation: it is a
+/// loop's (or an if's) result or block argument, typed uniform until the
+/// pass finds it varying, or computed from one (looked up a few ops back).
+bool typePending(Value v, int depth = 6) {
+  Operation *def = v.getDefiningOp();
+  if (!def || def->getNumRegions() > 0)
+    return true;
+  if (depth == 0)
+    return def->getNumOperands() > 0;
+  return llvm::any_of(def->getOperands(),
+                      [&](Value operand) { return typePending(operand, depth - 1); });
+}
+
+/// `v` where a value of `type` was. A value whose type is pending that
+/// replaces a varying one is broadcast, so its users (a derivative,
+/// luminance) keep types that verify; the broadcast folds once the value
+/// is varying. Anything else replaces as it is, so that what folded away
+/// no longer makes its users varying.
+Value asTypeOf(PatternRewriter &b, Location loc, Value v, Type type) {
+  if (v.getType() == type || !isa<VaryingType>(type) || isa<VaryingType>(v.getType()) ||
+      !typePending(v))
+    return v;
+  return b.create<BroadcastOp>(loc, type, v);
+}
+
 struct SelectOnConstant : public OpRewritePattern<SelectOp> {
   using OpRewritePattern::OpRewritePattern;
   LogicalResult matchAndRewrite(SelectOp op, PatternRewriter &b) const override {
     std::optional<bool> cond = constantBool(op.getCondition());
     if (!cond)
       return failure();
-    b.replaceOp(op, *cond ? op.getTrueValue() : op.getFalseValue());
+    b.replaceOp(op, asTypeOf(b, op.getLoc(), *cond ? op.getTrueValue() : op.getFalseValue(),
+                             op.getType()));
     return success();
   }
 };
@@ -178,6 +204,9 @@ struct IfOnConstant : public OpRewritePattern<IfOp> {
     SmallVector<Value> results(yield.getValues());
     b.eraseOp(yield);
     b.inlineBlockBefore(&arm, op);
+    b.setInsertionPoint(op);
+    for (auto [value, result] : llvm::zip(results, op.getResults()))
+      value = asTypeOf(b, op.getLoc(), value, result.getType());
     b.replaceOp(op, results);
     return success();
   }

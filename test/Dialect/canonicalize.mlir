@@ -117,3 +117,17 @@ func.func @sub_of_itself_and_mul_by_zero() {
   osl.output "g" = %g : !osl.varying<vector<3xf32>>
   return
 }
+
+// -----
+
+// A broadcast whose value a pass made varying (an unrolled loop's result)
+// is the value itself.
+// CHECK-LABEL: func.func @broadcast_of_varying
+// CHECK-NOT: osl.broadcast
+// CHECK: osl.output "b" = %[[U:.+]] :
+func.func @broadcast_of_varying() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %b = osl.broadcast %u : !osl.varying<f32> -> !osl.varying<f32>
+  osl.output "b" = %b : !osl.varying<f32>
+  return
+}

@@ -71,9 +71,17 @@ func.func @select_condition_not_bool(%a: f32) {
 
 // -----
 
-func.func @broadcast_of_varying(%a: !osl.varying<f32>) {
-  // expected-error @+1 {{turns a uniform T into !osl.varying<T>}}
-  %0 = osl.broadcast %a : !osl.varying<f32> -> !osl.varying<f32>
+func.func @broadcast_to_uniform(%a: f32) {
+  // expected-error @+1 {{turns a uniform T (or a varying one) into !osl.varying<T>}}
+  %0 = osl.broadcast %a : f32 -> f32
+  return
+}
+
+// -----
+
+func.func @broadcast_to_other_type(%a: f32) {
+  // expected-error @+1 {{turns a uniform T (or a varying one) into !osl.varying<T>}}
+  %0 = osl.broadcast %a : f32 -> !osl.varying<i32>
   return
 }
 
