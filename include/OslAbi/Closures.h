@@ -82,8 +82,9 @@ inline constexpr ClosureSignature kClosures[] = {
     {"generalized_schlick_bsdf", "nnccffccfs", OSL_MX_FILM_KEYWORDS},
     {"translucent_bsdf", "nc", OSL_MX_KEYWORDS},
     {"transparent_bsdf", "", OSL_MX_KEYWORDS},
-    // N, albedo, radius, anisotropy
-    {"subsurface_bssrdf", "nccf", OSL_MX_KEYWORDS},
+    // N, albedo, transmission_depth, transmission_color, anisotropy (OSL
+    // 1.13's stdosl.h)
+    {"subsurface_bssrdf", "ncfcf", OSL_MX_KEYWORDS},
     {"sheen_bsdf", "ncf", OSL_MX_KEYWORDS},
     {"uniform_edf", "c", OSL_MX_KEYWORDS},
     // albedo, extinction, anisotropy

@@ -56,10 +56,13 @@ std::optional<RValue> emitSpline(IRGen &g, const Expr &call, bool inverse) {
       if (!c.type.isInt())
         return wrong();
       auto k = IRGen::getConstInt(c.value);
-      if (k && (*k < 4 || size_t(*k) > arr.elems.size())) {
+      // Fewer than 4 make no whole segment, and OSL reads knots before
+      // the array (LaneSpline reads the first there); more than the array
+      // holds would read past it.
+      if (k && (*k < 0 || size_t(*k) > arr.elems.size())) {
         g.error(call.args[2]->loc, "knot count " + llvm::Twine(*k) +
-                                       " is out of range for '" + arr.type.str() +
-                                       "' (at least 4)");
+                                       " is out of range for '" + arr.type.str() + "' (0 to " +
+                                       llvm::Twine(arr.elems.size()) + ")");
         return std::nullopt;
       }
       count = c.value; // may be a parameter or computed per point

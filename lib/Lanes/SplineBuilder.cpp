@@ -19,6 +19,8 @@
 #include "mlir/Dialect/SCF/IR/SCF.h"
 #include "mlir/Dialect/Vector/IR/VectorOps.h"
 
+#include <algorithm>
+
 using namespace mlir;
 using namespace mlir::osl;
 
@@ -77,11 +79,15 @@ public:
       n = intConst(len);
       return;
     }
-    // Only the first `count` knots (at most all of them); at least one segment.
+    // Only the first `count` knots (at most all of them). Fewer than 4
+    // make no whole segment: OSL's count of segments, (n - 4) / step + 1
+    // in C's division, is then 0 or less and its segment negative, and it
+    // reads knots before the array (osl-mlir reads the first knot there).
     n = lane::min(b, loc, {count, intConst(len)});
     Value segs = b.create<arith::DivSIOp>(
         loc, b.create<arith::SubIOp>(loc, n, intConst(4)), intConst(basis.step));
-    nsegs = lane::max(b, loc, {b.create<arith::AddIOp>(loc, segs, intConst(1)), intConst(1)});
+    nsegs = b.create<arith::AddIOp>(loc, segs, intConst(1));
+    minSeg = (0 - 4) / basis.step; // the segment of a count of 0: nsegs - 1
   }
 
   /// The value of component `c` of the spline at x.
@@ -139,18 +145,22 @@ public:
   ArrayRef<SmallVector<Value>> knots;
   Type floatLane, intLane;
   int maxSegs;
+  int minSeg = 0; // the lowest segment a count below 4 selects
   Value nsegs, n; // lane i32
 
 private:
   Value isIndex(Value index, int k) {
     return b.create<arith::CmpIOp>(loc, arith::CmpIPredicate::eq, index, intConst(k));
   }
-  /// Knot s*step + i of each lane's segment s.
+  /// Knot s*step + i of each lane's segment s (the first knot for an index
+  /// before the array).
   Value knotOfSegment(Value seg, int i, size_t c) {
-    Value r = asLane(knots[i][c]);
-    for (int s = 1; s < maxSegs; ++s)
-      r = b.create<arith::SelectOp>(loc, isIndex(seg, s),
-                                    asLane(knots[s * basis.step + i][c]), r);
+    int last = int(knots.size()) - 1;
+    auto knot = [&](int s) { return asLane(knots[std::clamp(s * basis.step + i, 0, last)][c]); };
+    Value r = knot(0);
+    for (int s = minSeg; s < maxSegs; ++s)
+      if (s != 0)
+        r = b.create<arith::SelectOp>(loc, isIndex(seg, s), knot(s), r);
     return r;
   }
 };

@@ -32,7 +32,7 @@ CLOSURES = [
      'dielectric_bsdf(N, vector(0), color(1), color(1), 0.01, 0.01, 1.5, "ggx")', (0.98, 1.001)),
     ("translucent_bsdf", "translucent_bsdf(N, color(1))", (0.995, 1.001)),
     ("transparent_bsdf", "transparent_bsdf()", (0.999, 1.001)),
-    ("subsurface_bssrdf", "subsurface_bssrdf(N, color(1), color(1), 0)", (0.999, 1.001)),
+    ("subsurface_bssrdf", "subsurface_bssrdf(N, color(1), 1.0, color(1), 0)", (0.999, 1.001)),
     ("uniform_edf", "uniform_edf(color(1))", (0.999, 1.001)),
     ("oren_nayar", "oren_nayar(N, 0.5)", (0.8, 1.0)),
     ("oren_nayar_diffuse_bsdf", "oren_nayar_diffuse_bsdf(N, color(1), 0.5)", (0.8, 1.0)),

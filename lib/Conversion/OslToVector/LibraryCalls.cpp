@@ -349,8 +349,8 @@ LogicalResult mlir::osl::lowering::checkSplineKnotCounts(Operation *root) {
                                     : cast<SplineInverseOp>(op).getKnots().size();
     APInt known;
     if (count && matchPattern(count, m_ConstantInt(&known)) &&
-        (known.getSExtValue() < 4 || known.getSExtValue() > len)) {
-      op->emitError("knot count ") << known.getSExtValue() << " is out of range (4 to "
+        (known.getSExtValue() < 0 || known.getSExtValue() > len)) {
+      op->emitError("knot count ") << known.getSExtValue() << " is out of range (0 to "
                                    << len << ")";
       ok = false;
     }
