@@ -336,6 +336,11 @@ public:
   mlir::Value boolAnd(mlir::Value x, mlir::Value y, SrcLoc l);
   mlir::Value boolOr(mlir::Value x, mlir::Value y, SrcLoc l);
   mlir::Value boolNot(mlir::Value x, SrcLoc l);
+  /// Whether `e` names a variable in scope (which OSL's ops read where
+  /// they run, not where the operand is written).
+  bool isVariableRead(const Expr &e) {
+    return e.kind == ExprKind::Ident && lookupVar(e.name);
+  }
 
 private:
   // --- program structure -----------------------------------------------------
@@ -768,6 +773,10 @@ inline llvm::StringRef rootName(const Expr &e) {
     cur = cur->args[0].get();
   return cur->kind == ExprKind::Ident ? llvm::StringRef(cur->name) : "";
 }
+
+/// Whether evaluating `e` may assign a variable (an assignment, ++/--, or
+/// a call, which may write its output arguments).
+bool mayHaveSideEffects(const Expr &e);
 
 /// The stdosl.h constants (M_PI, M_E...), or nullopt.
 std::optional<double> lookupFloatConstant(llvm::StringRef name);

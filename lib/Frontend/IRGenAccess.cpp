@@ -490,14 +490,22 @@ std::optional<RValue> IRGen::emitAssign(const Expr &e) {
     if (!value)
       return std::nullopt;
   } else {
-    RValue cur = loadLValue(*lv, e.loc);
+    // A variable is read where the operator runs, after the right-hand
+    // side (OSL's ops take the variable itself): x += f(x) adds to what f
+    // left in x. An element or component is read first, as OSL copies it.
+    bool readAfter = e.args[0]->kind == ExprKind::Ident;
+    std::optional<RValue> cur;
+    if (!readAfter)
+      cur = loadLValue(*lv, e.loc);
     bool arithmetic = e.name == "+=" || e.name == "-=" || e.name == "*=" || e.name == "/=";
     auto rhs = emitExpr(*e.args[1], arithmetic ? &lv->type : nullptr);
     if (!rhs)
       return std::nullopt;
+    if (readAfter)
+      cur = loadLValue(*lv, e.loc);
     llvm::StringRef op = llvm::StringRef(e.name).drop_back();
-    if (!tryOverloadedOperator(op, e, {cur, *rhs}, value))
-      value = emitBinaryOp(op, cur, *rhs, e.loc);
+    if (!tryOverloadedOperator(op, e, {*cur, *rhs}, value))
+      value = emitBinaryOp(op, *cur, *rhs, e.loc);
     if (!value)
       return std::nullopt;
   }

@@ -57,11 +57,15 @@ std::optional<RValue> IRGen::emitExpr(const Expr &e, const OslType *expected) {
     // arithmetic, so `color c = k * noise(p)` calls the color noise.
     bool arithmetic = e.name == "+" || e.name == "-" || e.name == "*" || e.name == "/";
     const OslType *operandExpected = arithmetic ? expected : nullptr;
-    auto l = emitExpr(*e.args[0], operandExpected);
-    if (!l)
+    // A variable operand is read where the operator runs (OSL's ops take
+    // the variable itself): in a + f(a), after f may have changed a.
+    bool readLeftAfter = isVariableRead(*e.args[0]) && mayHaveSideEffects(*e.args[1]);
+    std::optional<RValue> l, r;
+    if (readLeftAfter && !(r = emitExpr(*e.args[1], operandExpected)))
       return std::nullopt;
-    auto r = emitExpr(*e.args[1], operandExpected);
-    if (!r)
+    if (!(l = emitExpr(*e.args[0], operandExpected)))
+      return std::nullopt;
+    if (!r && !(r = emitExpr(*e.args[1], operandExpected)))
       return std::nullopt;
     std::optional<RValue> overloaded;
     if (tryOverloadedOperator(e.name, e, {*l, *r}, overloaded))
@@ -107,6 +111,13 @@ std::optional<RValue> IRGen::emitExpr(const Expr &e, const OslType *expected) {
   }
   }
   return std::nullopt;
+}
+
+bool ::osl::frontend::mayHaveSideEffects(const Expr &e) {
+  if (e.kind == ExprKind::Assign || e.kind == ExprKind::IncDec ||
+      (e.kind == ExprKind::Call && !e.isCtor))
+    return true;
+  return llvm::any_of(e.args, [](const ExprPtr &a) { return a && mayHaveSideEffects(*a); });
 }
 
 std::optional<RValue> IRGen::emitIdent(const Expr &e) {

@@ -216,12 +216,22 @@ bool StringCall::checkConstantOperands() {
 }
 
 bool StringCall::emitArgs() {
-  for (const auto &a : call.args) {
-    auto v = g.emitExpr(*a);
-    if (!v)
-      return false;
+  // A variable argument is read where the call runs (OSL passes the
+  // variable): printf("%d %d", n, f(n)) prints what f left in n.
+  bool effects = llvm::any_of(call.args, [](const ExprPtr &a) { return mayHaveSideEffects(*a); });
+  auto readLast = [&](const Expr &a) {
+    return effects && g.isVariableRead(a);
+  };
+  std::vector<std::optional<RValue>> values(call.args.size());
+  for (bool last : {false, true})
+    for (size_t k = 0; k < call.args.size(); ++k) {
+      if (readLast(*call.args[k]) != last)
+        continue;
+      if (!(values[k] = g.emitExpr(*call.args[k])))
+        return false;
+    }
+  for (auto &v : values)
     args.push_back(*v);
-  }
   return true;
 }
 
