@@ -90,7 +90,7 @@ std::optional<RValue> emitTypeConstructor(IRGen &g, OslType t,
     auto inSpace = [&](const std::string &space) -> std::optional<RValue> {
       if (t.base == BaseType::Color) {
         // OSL names the destination "RGB" in its report.
-        if (!knownColorTransform(g, space, "RGB", call.loc))
+        if (!knownColorTransform(g, space, "RGB", call.loc, /*constructor=*/true))
           return RValue::num(t, value);
         return RValue::num(t, g.builder().create<TransformcOp>(
                                   g.loc(call.loc), value.getType(), space, "rgb",

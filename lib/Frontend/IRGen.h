@@ -716,9 +716,11 @@ std::optional<RValue> emitTransformc(IRGen &gen, const Expr &call);
 /// destination; each unknown one is reported when the point runs
 /// (SpaceBuiltins.cpp).
 bool knownSpaces(IRGen &gen, llvm::StringRef from, llvm::StringRef to, SrcLoc l);
-/// Whether a color converts from space `from` to `to`; if not, the renderer
-/// reports it when the point runs (SpaceBuiltins.cpp).
-bool knownColorTransform(IRGen &gen, const std::string &from, const std::string &to, SrcLoc l);
+/// Whether a color converts from space `from` to `to` (in a constructor,
+/// color("space", ...), when OSL's own spaces name both); if not, the
+/// renderer reports it when the point runs (SpaceBuiltins.cpp).
+bool knownColorTransform(IRGen &gen, const std::string &from, const std::string &to, SrcLoc l,
+                         bool constructor = false);
 /// Dx, Dy or Dz of `v` (axis 'x', 'y' or 'z') (Builtins.cpp).
 mlir::Value derivOf(IRGen &gen, SrcLoc l, mlir::Value v, char axis);
 /// spline() and splineinverse() (SplineBuiltins.cpp).

@@ -30,8 +30,12 @@ bool knownSpaces(IRGen &g, llvm::StringRef from, llvm::StringRef to, SrcLoc l) {
 /// Whether transformc(from, to, ...) can convert; if not, the color stays as
 /// it is and the renderer reports it when the point runs, as OSL's does.
 bool knownColorTransform(IRGen &g, const std::string &from, const std::string &to,
-                         SrcLoc l) {
-  if (isColorSpaceName(from, g.workingColorSpace()) &&
+                         SrcLoc l, bool constructor) {
+  // A constructor, color("space", ...), knows OSL's own spaces only: the
+  // names OSL's transformc takes from OpenColorIO ("sRGB", "linear") are
+  // unknown there, as testshade reports them.
+  bool fromOcio = constructor && (from == "sRGB" || from == "linear");
+  if (!fromOcio && isColorSpaceName(from, g.workingColorSpace()) &&
       isColorSpaceName(to, g.workingColorSpace()))
     return true;
   g.reportAtRunTime("Unknown color space transformation \"" + from + "\" -> \"" + to + "\"",

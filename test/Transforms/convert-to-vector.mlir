@@ -531,9 +531,10 @@ func.func @closures() {
 
 // A float output stores one canonical NaN for every NaN (the widths must
 // agree bit for bit, and scalar and vector code may leave different
-// payloads); int outputs and closures need no such step.
+// payloads), negative as x86's default NaN; int outputs and closures need
+// no such step.
 // CHECK-LABEL: osl.shader_name = "canonical_nan"
-// CHECK: %[[NAN:.+]] = arith.constant dense<0x7FC00000> : vector<8xf32>
+// CHECK: %[[NAN:.+]] = arith.constant dense<0xFFC00000> : vector<8xf32>
 // CHECK: %[[ISNAN:.+]] = arith.cmpf uno, %[[V:.+]], %[[V]] : vector<8xf32>
 // CHECK: %[[OUT:.+]] = arith.select %[[ISNAN]], %[[NAN]], %[[V]] : vector<8xi1>, vector<8xf32>
 // CHECK: llvm.store %[[OUT]]

@@ -64,10 +64,12 @@ struct OutputLowering : public OslPattern<OutputOp> {
                             : lane::convert(rewriter, loc, row, rewriter.getF32Type());
       // One NaN for every NaN: scalar and vector code (and LLVM's folds at
       // each width) may leave different NaN payloads, and the widths must
-      // agree bit for bit. A NaN's payload is visible nowhere else.
+      // agree bit for bit. A NaN's payload is visible nowhere else; its
+      // sign is x86's default NaN's, negative, as testshade's outputs show
+      // (-nan from inf - inf).
       if (!closure && isa<FloatType>(getElementTypeOrSelf(row.getType()))) {
         Value nan = lane::constant(rewriter, loc, value.getType(),
-                                   std::numeric_limits<double>::quiet_NaN());
+                                   -std::numeric_limits<double>::quiet_NaN());
         Value isNan =
             rewriter.create<arith::CmpFOp>(loc, arith::CmpFPredicate::UNO, value, value);
         value = rewriter.create<arith::SelectOp>(loc, isNan, nan, value);
