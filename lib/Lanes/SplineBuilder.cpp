@@ -18,6 +18,7 @@
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/SCF/IR/SCF.h"
 #include "mlir/Dialect/Vector/IR/VectorOps.h"
+#include "mlir/IR/Matchers.h"
 
 #include <algorithm>
 
@@ -87,7 +88,11 @@ public:
     Value segs = b.create<arith::DivSIOp>(
         loc, b.create<arith::SubIOp>(loc, n, intConst(4)), intConst(basis.step));
     nsegs = b.create<arith::AddIOp>(loc, segs, intConst(1));
-    minSeg = (0 - 4) / basis.step; // the segment of a count of 0: nsegs - 1
+    // The segments a count below 4 selects (down to a count of 0's), unless
+    // the count is known to be 4 or more.
+    APInt known;
+    if (!matchPattern(count, m_ConstantInt(&known)) || known.getSExtValue() < 4)
+      minSeg = (0 - 4) / basis.step;
   }
 
   /// The value of component `c` of the spline at x.
