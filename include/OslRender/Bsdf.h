@@ -1,9 +1,11 @@
 //===- Bsdf.h - Scattering for each closure, and their mixture ---*- C++ -*-===//
 //
-// A shading point's flattened closure (OslRuntime/Closure.h) becomes a
-// ShadingResult: emitted radiance, background radiance, and a mixture of
-// lobes the integrator evaluates and samples. Directions point away from
-// the surface (wo toward the viewer, wi toward the light).
+// A shading point's closure becomes a ShadingResult: emitted radiance,
+// background radiance, and a mixture of up to eight lobes the integrator
+// evaluates and samples. Each lobe scatters as testrender's BSDF of the
+// same closure (the same formulas, warps and random-number use), so that
+// osl-run --scene's paths are testrender's. Directions point away from the
+// surface (wo toward the viewer, wi toward the light).
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLRENDER_BSDF_H
@@ -13,116 +15,132 @@
 #include "OslRuntime/Closure.h"
 
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 namespace osl::render {
 
+/// A lobe's evaluation or sample: the direction, the BSDF times cosine
+/// over the pdf ("weight"), the pdf (solid angle; infinite for a delta
+/// lobe) and a roughness (testrender's ray spread).
+struct BsdfSample {
+  Vec3 wi;
+  Vec3 weight;
+  float pdf = 0;
+  float roughness = 0;
+};
+
 /// One scattering lobe: a model with its parameters and closure weight.
 struct Lobe {
   enum Model : int32_t {
-    Diffuse,      // Lambert
-    OrenNayar,    // a = sigma (qualitative Oren-Nayar)
-    Translucent,  // Lambert through the surface
-    Phong,        // a = exponent
-    Ward,         // a, b = alpha x, y; t = tangent
-    Microfacet,   // a, b = alpha x, y; eta; dist 0 GGX, 1 Beckmann; refract 0/1/2;
-                  // fresnel: 0 dielectric(eta), 1 conductor(ior, k), 2 Schlick(f0, f90, e)
-    Reflection,   // eta (0: no Fresnel)
-    Refraction,   // eta
-    Transparent,  // straight through
-    Burley,       // a = roughness
-    Sheen,        // a = roughness
-    OrenNayarEnergy, // a = sigma, tintR = albedo: Fujii's Oren-Nayar with Portsmouth's
-                     // multiple-scattering term (energy_compensation)
+    Diffuse,         // n
+    Translucent,     // n (scatters to the other side)
+    OrenNayar,       // n, a = sigma (qualitative Oren-Nayar)
+    OrenNayarEnergy, // n, a = roughness, albedo: Fujii's with Portsmouth's multiple scattering
+    Phong,           // n, a = exponent
+    Ward,            // n, t, a, b = alpha x, y
+    Microfacet,      // n, t = U, a, b = alpha x, y, eta, dist, refract 0/1/2
+    MxDielectric,    // n, t = U, a, b = roughness x, y, tintR, tintT, eta = ior
+    MxConductor,     // n, t = U, a, b = roughness x, y, ior, kappa
+    MxSchlick,       // n, t = U, a, b = roughness x, y, tintR, tintT, f0, f90, exponent
+    Reflection,      // n, eta (0: no Fresnel)
+    Refraction,      // n, eta
+    Transparent,     // straight through
+    Burley,          // n, albedo, a = roughness
+    Sheen,           // n, albedo, a = roughness
   };
   Model model = Diffuse;
   Vec3 weight;
   Vec3 n, t;
   float a = 0, b = 0, eta = 0, exponent = 5;
-  int dist = 0, refract = 0, fresnel = 0;
-  Vec3 tintR{1, 1, 1}, tintT{1, 1, 1}; // microfacet reflection and transmission tints
-  Vec3 f0, f90, ior, kappa;      // Schlick and conductor Fresnel
-  float pick = 0;               // probability of sampling this lobe
-
-  bool isDelta() const {
-    return model == Reflection || model == Refraction || model == Transparent;
-  }
+  /// Microfacet: 0 GGX, 1 Beckmann.
+  int dist = 0;
+  /// Microfacet: 0 reflection, 1 refraction, 2 both. MaterialX
+  /// microfacets: 1 where the transmission lobe is on (a tinted
+  /// transmission).
+  int refract = 0;
+  Vec3 albedo{1, 1, 1};
+  Vec3 tintR{1, 1, 1}, tintT{1, 1, 1};
+  Vec3 f0, f90, ior, kappa;
+  /// MaterialX microfacets with transmission: the relative index of the
+  /// medium entered (ShadingResult::refractionIor: the last the closure's
+  /// medium pass found, anywhere in its tree).
+  float refractionIor = 1;
+  /// The probability of sampling this lobe (ShadingResult::prepare).
+  float pick = 0;
 };
 
-/// f * cos(theta_i) and the pdf (solid angle) of sampling wi.
-struct BsdfEval {
-  Vec3 value;
-  float pdf = 0;
-};
+/// testrender's BSDF of `l` alone (its weight not applied).
+BsdfSample evalLobe(const Lobe &l, Vec3 wo, Vec3 wi);
+BsdfSample sampleLobe(const Lobe &l, Vec3 wo, float rx, float ry, float rz);
+/// What the lobe reflects toward wo, as testrender estimates it to choose
+/// among lobes (1 for most).
+Vec3 lobeAlbedo(const Lobe &l, Vec3 wo);
 
-struct BsdfSample {
-  Vec3 wi;
-  Vec3 value;     // the lobe's own f * cos toward wi (not for a delta lobe)
-  Vec3 weight;    // f * cos / pdf, times the lobe's weight over its pick probability
-  float pdf = 0;  // infinity for a specular (delta) lobe
-  bool delta = false;
-  bool diffuse = false; // from a diffuse lobe (Lambert, Oren-Nayar, translucent, Burley)
-};
+/// The microfacet family and the MaterialX sheen and Burley lobes
+/// (MicrofacetLobes.cpp), which the three functions above call.
+BsdfSample evalMicrofacetLobe(const Lobe &l, Vec3 wo, Vec3 wi);
+BsdfSample sampleMicrofacetLobe(const Lobe &l, Vec3 wo, float rx, float ry, float rz);
+Vec3 microfacetLobeAlbedo(const Lobe &l, Vec3 wo);
+bool isMicrofacetLobe(Lobe::Model m);
 
 struct ShadingResult {
+  static constexpr size_t kMaxLobes = 8;
   Vec3 emission;
   Vec3 background;
   std::vector<Lobe> lobes;
+  /// The relative index of refraction the closure's medium declares (1:
+  /// none), for the MaterialX lobes with transmission made after it.
+  float refractionIor = 1;
   /// Primitives the renderer does not scatter with (volumes, holdout, debug).
   int ignored = 0;
 
   void clear() {
     emission = background = Vec3();
     lobes.clear();
+    refractionIor = 1;
     ignored = 0;
   }
-  /// Sets each lobe's pick probability (by weight luminance times its
-  /// albedo toward wo); false when nothing scatters.
-  bool prepare(Vec3 wo);
-  BsdfEval eval(Vec3 wo, Vec3 wi) const;
-  /// How many lobes eval() sums (non-delta, with a chance of being picked).
-  int evaluatedLobes() const;
-  /// Picks a lobe with `s`, then samples it with (`rx`, `ry`): pick(),
-  /// sampleLobe() and finish() in turn.
-  BsdfSample sample(Vec3 wo, float rx, float ry, float s) const;
-
-  /// A lobe chosen by its pick probability, and what is left of the
-  /// uniform number that chose it, rescaled (a fresh number for the lobe's
-  /// own choice). No lobe when none can be picked.
-  struct Pick {
-    const Lobe *lobe = nullptr;
-    float rz = 0;
-  };
-  Pick pick(float s) const;
-  /// The mixture's sample from `picked`'s own sample toward wi: its weight
-  /// is the mixture's f*cos over the mixture's pdf (one-sample MIS).
-  BsdfSample finish(Vec3 wo, const Pick &picked, BsdfSample lobeSample) const;
+  /// Adds a lobe; false when the mixture is full (as testrender's, which
+  /// drops the ninth lobe, or one its 1024-byte pool has no room for).
+  bool add(const Lobe &l);
+  /// Each lobe's pick probability: its weight times its albedo toward wo,
+  /// as a share of what the path carries. Unless `absorb`, they are
+  /// normalized; otherwise what they leave below 1 is the chance the path
+  /// ends (Russian roulette).
+  void prepare(Vec3 wo, Vec3 pathWeight, bool absorb);
+  Vec3 albedo(Vec3 wo) const;
+  /// The mixture toward wi: each lobe's weight combined by the balance
+  /// heuristic over the pick probabilities.
+  BsdfSample eval(Vec3 wo, Vec3 wi) const;
+  /// Picks a lobe with rx (rescaled for it), samples it with (rx, ry, rz),
+  /// and folds the other lobes' evaluations in. A zero pdf: no sample.
+  BsdfSample sample(Vec3 wo, float rx, float ry, float rz) const;
 };
 
-/// Where a closure is interpreted: toward the viewer (wo), the shading
-/// normal (for closures without one), and which side was hit (MaterialX
-/// dielectrics invert their index inside).
+/// Where a closure is interpreted: toward the viewer (wo) and which side
+/// was hit (MaterialX dielectrics invert their index inside).
 struct ShadingPoint {
-  Vec3 wo, n;
+  Vec3 wo;
   bool backfacing = false;
 };
 
-/// Appends the lobes and emission of closure `handle` (built in `arena`)
-/// scaled by `scale` to `result`. layer() weighs its base by what its top
-/// lets through toward wo.
+/// Adds the lobes and emission of closure `handle` (built in `arena`), as
+/// testrender's process_closure does; `lightOnly`: the emission alone.
 void addClosure(const ClosureArena &arena, int32_t handle, const ShadingPoint &at,
-                ShadingResult &result, Vec3 scale = Vec3(1, 1, 1));
+                ShadingResult &result, bool lightOnly = false);
+/// The background radiance of closure `handle`.
+Vec3 backgroundOf(const ClosureArena &arena, int32_t handle);
 
-/// One lobe on its own, for tests: value and pdf, and sampling.
-BsdfEval evalLobe(const Lobe &lobe, Vec3 wo, Vec3 wi);
-BsdfSample sampleLobe(const Lobe &lobe, Vec3 wo, float rx, float ry, float rz = 0.5f);
-/// A lobe's sample toward `wi` (world) with its evaluation there: weight
-/// f*cos/pdf, or no sample where the pdf vanishes.
-BsdfSample sampledDirection(Vec3 wi, const BsdfEval &e);
 /// Dielectric Fresnel reflectance for cos(theta) `cosi` and relative index
 /// `eta` (0: 1, no Fresnel term).
 float fresnelDielectric(float cosi, float eta);
+/// Fresnel reflectance of a conductor of index `n` and extinction `k`.
+Vec3 fresnelConductor(float cosTheta, Vec3 n, Vec3 k);
+/// Schlick's approximation generalized to an exponent.
+Vec3 fresnelGeneralizedSchlick(float cosTheta, Vec3 f0, Vec3 f90, float exponent);
+/// The direction refracted from incident `i` through normal `n` (either
+/// side) and the transmitted fraction (0 at total internal reflection).
+float fresnelRefraction(Vec3 i, Vec3 n, float eta, Vec3 &t);
 
 } // namespace osl::render
 

@@ -30,9 +30,10 @@ struct RenderOptions {
   int aa = 1;
   int threads = 0; // 0: all cores
   uint32_t seed = 0;
-  /// Longest path (bounces; the last one samples the lights, as
-  /// testrender's max_bounces); Russian roulette ends most paths earlier.
-  int maxBounces = 64;
+  /// Longest path (bounces; the last one adds emission only, as
+  /// testrender's max_bounces, whose default this is); Russian roulette
+  /// ends most paths far earlier.
+  int maxBounces = 1000000;
   bool progress = true;
   /// Time the kernel calls (RenderStats::shadingSeconds); two clock reads
   /// per batch.

@@ -24,7 +24,8 @@ namespace osl::render {
 
 struct Camera {
   Vec3 eye{0, 0, 0};
-  Vec3 lookAt{0, 0, -1};
+  /// The view direction: dir="...", or look_at minus eye (as testrender).
+  Vec3 dir{0, 0, -1};
   Vec3 up{0, 1, 0};
   float fovDegrees = 90;
 };
@@ -58,6 +59,10 @@ struct Scene {
   std::vector<SceneGroup> shaders;
   std::vector<Primitive> prims;
   int background = -1; // the shader escaping rays see
+  /// <Background resolution="N"/>: the side of the table that importance
+  /// samples the background (testrender's default 1024; 0: the background
+  /// is not sampled, only seen).
+  int backgroundResolution = 1024;
   /// <Option max_bounces="int N"/>, -1 when the scene does not say.
   int maxBounces = -1;
 };

@@ -1,14 +1,18 @@
-//===- ClosureLobes.cpp - From a flattened closure to lobes --------------===//
+//===- ClosureLobes.cpp - From a closure to lobes, as testrender reads it --===//
 //
-// Maps each closure of OSL's standard library to a lobe model with its
-// parameters, as testrender interprets them. Approximations, documented in
-// README.md ("Closures and the render mode"): subsurface closures scatter as Lambert times their
-// albedo; volumes (anisotropic_vdf, medium_vdf) are ignored, as are
-// holdout and debug; layer() weighs its base by one minus its top's
-// reflectance toward the viewer.
+// Each closure of OSL's standard library becomes the lobe testrender makes
+// of it, with the same parameters (normals as the shader gave them), so
+// that osl-run --scene scatters as testrender does. First the medium pass
+// (the index of refraction a transmissive MaterialX closure declares, which
+// the transmissive lobes made after it use), then the lobes; layer() weighs
+// its base by one minus its top's opacity toward the viewer. Closures
+// testrender lacks scatter as documented in README.md ("Closures and the
+// render mode"): subsurface as Lambert times its albedo; volumes, holdout
+// and debug are ignored.
 //
 //===----------------------------------------------------------------------===//
 #include "OslRender/Bsdf.h"
+#include "OslRender/Sampling.h"
 #include "OslRuntime/StringCall.h"
 
 #include <algorithm>
@@ -17,165 +21,284 @@
 namespace osl::render {
 namespace {
 
-/// 0 for GGX, 1 for Beckmann ("beckmann", "default", anything else).
-int distributionCode(int32_t handle) { return stringText(handle) == "ggx" ? 0 : 1; }
+bool isBlack(Vec3 c) { return c.x == 0 && c.y == 0 && c.z == 0; }
 
-float alpha(float a) { return std::max(std::fabs(a), 1e-4f); }
+/// A closure tree flattened into its primitives (weights multiplied down),
+/// in a per-thread list per nesting depth (layer() recurses while its
+/// parent's list is still being read).
+class Flattened {
+public:
+  Flattened(const ClosureArena &arena, int32_t handle, Vec3 scale) : d(++depth()) {
+    static thread_local std::deque<std::vector<ClosurePrimitive>> lists;
+    if (lists.size() < d)
+      lists.resize(d);
+    prims = &lists[d - 1];
+    prims->clear();
+    arena.flatten(handle, *prims);
+    for (ClosurePrimitive &p : *prims)
+      for (int c = 0; c < 3; ++c)
+        p.weight[c] = scale[c] * p.weight[c];
+  }
+  ~Flattened() { --depth(); }
+  const std::vector<ClosurePrimitive> &operator*() const { return *prims; }
 
-/// What fraction of light a top lobe reflects toward wo (layer's estimate).
-float topReflectance(const Lobe &l, Vec3 wo) {
-  float cosO = std::clamp(dot(l.n, wo), 0.0f, 1.0f);
-  switch (l.model) {
-  case Lobe::Microfacet:
-    if (l.fresnel == 0)
-      return luminance(l.weight * l.tintR) * fresnelDielectric(cosO, l.eta);
-    return luminance(l.weight * l.tintR);
-  case Lobe::Reflection: return luminance(l.weight) * fresnelDielectric(cosO, l.eta);
-  case Lobe::Transparent:
-  case Lobe::Refraction: return 0;
-  case Lobe::OrenNayarEnergy: return luminance(l.weight * l.tintR);
-  default: return luminance(l.weight);
+private:
+  static size_t &depth() {
+    static thread_local size_t value = 0;
+    return value;
+  }
+  size_t d;
+  std::vector<ClosurePrimitive> *prims;
+};
+
+Vec3 tripleOf(const ClosurePrimitive &p, int i) { return Vec3(p.tripleParam(i)); }
+
+/// The MaterialX microfacets' common parameters: N, U, roughness x and y
+/// at `roughnessAt` (testrender uses GGX whatever the distribution).
+Lobe mxMicrofacet(const ClosurePrimitive &p, Lobe::Model model, int roughnessAt) {
+  Lobe l;
+  l.model = model;
+  l.n = tripleOf(p, 0);
+  l.t = tripleOf(p, 1);
+  l.a = p.floatParam(roughnessAt);
+  l.b = p.floatParam(roughnessAt + 1);
+  return l;
+}
+
+/// The index of refraction generalized_schlick's f0 implies.
+float schlickIor(Vec3 f0) {
+  float avg = fast::clamp((f0.x + f0.y + f0.z) / 3.0f, 0.0f, 0.99f);
+  float root = std::sqrt(avg);
+  return (1 + root) / (1 - root);
+}
+
+/// How much of what is below a layer's top the top hides toward wo
+/// (testrender's evaluate_layer_opacity): a reflectance for the closures
+/// that let light through, 1 for the others.
+Vec3 layerOpacity(const ClosureArena &arena, int32_t handle, const ShadingPoint &at, Vec3 scale) {
+  Vec3 sum;
+  Flattened prims(arena, handle, scale);
+  for (const ClosurePrimitive &p : *prims) {
+    Vec3 w(p.weight);
+    switch (p.id) {
+    case kMxLayer:
+      sum += layerOpacity(arena, p.closureParam(0), at, w) +
+             layerOpacity(arena, p.closureParam(1), at, w);
+      break;
+    case kReflection: {
+      Lobe l;
+      l.model = Lobe::Reflection;
+      l.n = tripleOf(p, 0);
+      l.eta = p.floatParam(1);
+      sum += w * lobeAlbedo(l, at.wo);
+      break;
+    }
+    case kMxDielectric:
+    case kMxGeneralizedSchlick: {
+      bool dielectric = p.id == kMxDielectric;
+      Vec3 tintT = tripleOf(p, 3);
+      if (!isBlack(tintT)) {
+        sum += Vec3(1, 1, 1); // transmissive: opaque
+        break;
+      }
+      Lobe l = mxMicrofacet(p, dielectric ? Lobe::MxDielectric : Lobe::MxSchlick, 4);
+      l.tintR = tripleOf(p, 2);
+      l.tintT = tintT;
+      if (dielectric) {
+        l.eta = p.floatParam(6);
+      } else {
+        l.f0 = tripleOf(p, 6);
+        l.f90 = tripleOf(p, 7);
+        l.exponent = p.floatParam(8);
+      }
+      sum += w * lobeAlbedo(l, at.wo);
+      break;
+    }
+    case kMxSheen: {
+      Lobe l;
+      l.model = Lobe::Sheen;
+      l.n = tripleOf(p, 0);
+      l.albedo = tripleOf(p, 1);
+      l.a = p.floatParam(2);
+      sum += w * lobeAlbedo(l, at.wo);
+      break;
+    }
+    default: sum += Vec3(1, 1, 1); break;
+    }
+  }
+  return sum;
+}
+
+/// The base's weight under a layer whose top is `top`.
+Vec3 underLayer(const ClosureArena &arena, int32_t top, const ShadingPoint &at, Vec3 w) {
+  return w * (Vec3(1, 1, 1) - fast::clamp(layerOpacity(arena, top, at, Vec3(1, 1, 1)), 0.f, 1.f));
+}
+
+/// testrender's medium pass: the index of refraction the closure declares.
+void readMedium(const ClosureArena &arena, int32_t handle, const ShadingPoint &at, Vec3 scale,
+                ShadingResult &out) {
+  Flattened prims(arena, handle, scale);
+  for (const ClosurePrimitive &p : *prims) {
+    Vec3 w(p.weight);
+    switch (p.id) {
+    case kMxLayer:
+      readMedium(arena, p.closureParam(0), at, w, out);
+      readMedium(arena, p.closureParam(1), at, underLayer(arena, p.closureParam(0), at, w), out);
+      break;
+    case kMxMediumVdf: {
+      float ior = p.floatParam(4);
+      out.refractionIor = at.backfacing ? 1.0f / ior : ior;
+      break;
+    }
+    case kMxDielectric:
+      if (!isBlack(w * tripleOf(p, 3))) {
+        float ior = p.floatParam(6);
+        out.refractionIor = at.backfacing ? 1.0f / ior : ior;
+      }
+      break;
+    case kMxGeneralizedSchlick:
+      if (!isBlack(w * tripleOf(p, 3))) {
+        float ior = schlickIor(tripleOf(p, 6));
+        out.refractionIor = at.backfacing ? 1.0f / ior : ior;
+      }
+      break;
+    default: break;
+    }
   }
 }
 
-void addMicrofacet(ShadingResult &out, Vec3 w, Vec3 n, Vec3 u, int dist, float ax, float ay) {
+/// Appends primitive `p`'s lobe (weight `w`) to `out`.
+void addLobe(const ClosureArena &arena, const ClosurePrimitive &p, Vec3 w, const ShadingPoint &at,
+             ShadingResult &out);
+
+void addLobes(const ClosureArena &arena, int32_t handle, const ShadingPoint &at, Vec3 scale,
+              bool lightOnly, ShadingResult &out) {
+  Flattened prims(arena, handle, scale);
+  for (const ClosurePrimitive &p : *prims) {
+    Vec3 w(p.weight);
+    switch (p.id) {
+    case kEmission: out.emission += w; continue;
+    case kMxUniformEdf: out.emission += w * tripleOf(p, 0); continue;
+    case kBackground: out.background += w; continue;
+    default: break;
+    }
+    if (lightOnly)
+      continue;
+    if (p.id == kMxLayer) {
+      Vec3 base = underLayer(arena, p.closureParam(0), at, w);
+      addLobes(arena, p.closureParam(0), at, w, lightOnly, out);
+      if (!isBlack(base))
+        addLobes(arena, p.closureParam(1), at, base, lightOnly, out);
+      continue;
+    }
+    addLobe(arena, p, w, at, out);
+  }
+}
+
+void addLobe(const ClosureArena &, const ClosurePrimitive &p, Vec3 w, const ShadingPoint &,
+             ShadingResult &out) {
+  auto c = [&](int i) { return tripleOf(p, i); };
+  auto f = [&](int i) { return p.floatParam(i); };
   Lobe l;
-  l.model = Lobe::Microfacet;
   l.weight = w;
-  l.n = n;
-  l.t = u;
-  l.dist = dist;
-  l.a = alpha(ax);
-  l.b = alpha(ay);
-  out.lobes.push_back(l);
+  switch (p.id) {
+  case kDiffuse: l.model = Lobe::Diffuse; l.n = c(0); break;
+  case kTranslucent: l.model = Lobe::Translucent; l.n = c(0); break;
+  case kOrenNayar: l.model = Lobe::OrenNayar; l.n = c(0); l.a = f(1); break;
+  case kPhong: l.model = Lobe::Phong; l.n = c(0); l.a = f(1); break;
+  case kWard:
+    l.model = Lobe::Ward; l.n = c(0); l.t = c(1); l.a = f(2); l.b = f(3);
+    break;
+  case kMicrofacet: {
+    std::string dist = stringText(p.stringParam(0));
+    if (dist == "ggx")
+      l.dist = 0;
+    else if (dist == "beckmann" || dist == "default")
+      l.dist = 1;
+    else
+      return; // testrender makes no lobe of another distribution
+    l.model = Lobe::Microfacet;
+    l.n = c(1);
+    l.t = c(2);
+    l.a = f(3);
+    l.b = f(4);
+    l.eta = f(5);
+    l.refract = p.intParam(6);
+    if (l.refract < 0 || l.refract > 2)
+      return;
+    break;
+  }
+  case kReflection: l.model = Lobe::Reflection; l.n = c(0); l.eta = f(1); break;
+  case kRefraction: l.model = Lobe::Refraction; l.n = c(0); l.eta = f(1); break;
+  case kTransparent:
+  case kMxTransparent: l.model = Lobe::Transparent; break;
+  case kMxOrenNayarDiffuse:
+    l.n = c(0);
+    l.a = f(2);
+    if (p.intParam(4)) {
+      l.model = Lobe::OrenNayarEnergy;
+      l.albedo = c(1);
+    } else {
+      l.model = Lobe::OrenNayar;
+      l.weight = w * c(1);
+    }
+    break;
+  case kMxBurleyDiffuse: l.model = Lobe::Burley; l.n = c(0); l.albedo = c(1); l.a = f(2); break;
+  case kMxSheen: l.model = Lobe::Sheen; l.n = c(0); l.albedo = c(1); l.a = f(2); break;
+  case kMxTranslucent: l.model = Lobe::Translucent; l.n = c(0); l.weight = w * c(1); break;
+  case kMxSubsurface: l.model = Lobe::Diffuse; l.n = c(0); l.weight = w * c(1); break;
+  case kSubsurface: l.model = Lobe::Diffuse; l.n = c(0); l.weight = w * c(3); break;
+  case kMxDielectric:
+    l = mxMicrofacet(p, Lobe::MxDielectric, 4);
+    l.weight = w;
+    l.tintR = c(2);
+    l.tintT = c(3);
+    l.eta = f(6);
+    l.refract = isBlack(l.tintT) ? 0 : 1;
+    l.refractionIor = l.refract ? out.refractionIor : 1.0f;
+    break;
+  case kMxConductor:
+    l = mxMicrofacet(p, Lobe::MxConductor, 2);
+    l.weight = w;
+    l.ior = c(4);
+    l.kappa = c(5);
+    break;
+  case kMxGeneralizedSchlick:
+    l = mxMicrofacet(p, Lobe::MxSchlick, 4);
+    l.weight = w;
+    l.tintR = c(2);
+    l.tintT = c(3);
+    l.f0 = c(6);
+    l.f90 = c(7);
+    l.exponent = f(8);
+    l.refract = isBlack(l.tintT) ? 0 : 1;
+    l.refractionIor = l.refract ? out.refractionIor : 1.0f;
+    break;
+  case kMxAnisotropicVdf:
+  case kMxMediumVdf: return; // read by the medium pass
+  default: // holdout, debug
+    ++out.ignored;
+    return;
+  }
+  out.add(l);
 }
 
 } // namespace
 
 void addClosure(const ClosureArena &arena, int32_t handle, const ShadingPoint &at,
-                ShadingResult &out, Vec3 scale) {
-  bool backfacing = at.backfacing;
-  // Reused per thread (layer() nests, so each depth has its own list).
-  static thread_local std::deque<std::vector<ClosurePrimitive>> lists; // stable references
-  static thread_local size_t depth = 0;
-  if (lists.size() <= depth)
-    lists.resize(depth + 1);
-  std::vector<ClosurePrimitive> &prims = lists[depth];
-  prims.clear();
-  arena.flatten(handle, prims);
-  struct Nest {
-    size_t &d;
-    explicit Nest(size_t &d) : d(++d) {}
-    ~Nest() { --d; }
-  } nest(depth);
-  for (const ClosurePrimitive &p : prims) {
-    Vec3 w = Vec3(p.weight) * scale;
-    if (!(std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z)))
-      continue; // a NaN weight would poison the pixel; OSL's renderers skip it too
-    auto n = [&](int i) { return normalize(Vec3(p.tripleParam(i))); };
-    auto c = [&](int i) { return Vec3(p.tripleParam(i)); };
-    auto f = [&](int i) { return p.floatParam(i); };
-    Lobe l;
-    l.weight = w;
-    l.n = at.n;
-    switch (p.id) {
-    case kEmission: out.emission += w; continue;
-    case kMxUniformEdf: out.emission += w * c(0); continue;
-    case kBackground: out.background += w; continue;
-    case kDiffuse: l.model = Lobe::Diffuse; l.n = n(0); break;
-    case kOrenNayar: l.model = Lobe::OrenNayar; l.n = n(0); l.a = f(1); break;
-    case kTranslucent: l.model = Lobe::Translucent; l.n = n(0); break;
-    case kPhong: l.model = Lobe::Phong; l.n = n(0); l.a = std::max(0.0f, f(1)); break;
-    case kWard:
-      l.model = Lobe::Ward; l.n = n(0); l.t = Vec3(p.tripleParam(1));
-      l.a = alpha(f(2)); l.b = alpha(f(3));
-      break;
-    case kMicrofacet:
-      addMicrofacet(out, w, n(1), Vec3(p.tripleParam(2)), distributionCode(p.stringParam(0)),
-                    f(3), f(4));
-      out.lobes.back().eta = f(5);
-      out.lobes.back().refract = std::clamp(p.intParam(6), 0, 2);
-      continue;
-    case kReflection: l.model = Lobe::Reflection; l.n = n(0); l.eta = f(1); break;
-    case kRefraction: l.model = Lobe::Refraction; l.n = n(0); l.eta = f(1); break;
-    case kTransparent:
-    case kMxTransparent: l.model = Lobe::Transparent; break;
-    case kSubsurface: l.model = Lobe::Diffuse; l.weight = w * c(3); break;
-    case kMxSubsurface: l.model = Lobe::Diffuse; l.n = n(0); l.weight = w * c(1); break;
-    case kMxOrenNayarDiffuse:
-      // Keywords follow the positional N, albedo, roughness: label, then
-      // energy_compensation. Compensated, the albedo is inside the model
-      // (its multiple scattering saturates colors); otherwise a weight.
-      l.n = n(0);
-      l.a = f(2);
-      if (p.intParam(4)) {
-        l.model = Lobe::OrenNayarEnergy;
-        l.tintR = c(1);
-      } else {
-        l.model = Lobe::OrenNayar;
-        l.weight = w * c(1);
-      }
-      break;
-    case kMxBurleyDiffuse:
-      l.model = Lobe::Burley; l.n = n(0); l.weight = w * c(1); l.a = f(2);
-      break;
-    case kMxTranslucent: l.model = Lobe::Translucent; l.n = n(0); l.weight = w * c(1); break;
-    case kMxSheen: l.model = Lobe::Sheen; l.n = n(0); l.weight = w * c(1); l.a = f(2); break;
-    case kMxDielectric: {
-      Vec3 tintR = c(2), tintT = c(3);
-      addMicrofacet(out, w, n(0), Vec3(p.tripleParam(1)), distributionCode(p.stringParam(7)),
-                    f(4), f(5));
-      Lobe &m = out.lobes.back();
-      m.eta = backfacing ? 1 / std::max(f(6), 1e-4f) : f(6);
-      m.tintR = tintR;
-      m.tintT = tintT;
-      m.refract = tintT.isZero() ? 0 : tintR.isZero() ? 1 : 2;
-      continue;
-    }
-    case kMxConductor: {
-      addMicrofacet(out, w, n(0), Vec3(p.tripleParam(1)), distributionCode(p.stringParam(6)),
-                    f(2), f(3));
-      Lobe &m = out.lobes.back();
-      m.fresnel = 1;
-      m.ior = c(4);
-      m.kappa = c(5);
-      continue;
-    }
-    case kMxGeneralizedSchlick: {
-      Vec3 tintR = c(2), tintT = c(3), f0 = c(6);
-      addMicrofacet(out, w, n(0), Vec3(p.tripleParam(1)), distributionCode(p.stringParam(9)),
-                    f(4), f(5));
-      Lobe &m = out.lobes.back();
-      m.fresnel = 2;
-      m.f0 = f0;
-      m.f90 = c(7);
-      m.exponent = f(8);
-      m.tintR = tintR;
-      m.tintT = tintT;
-      // The index the reflectance at normal incidence implies, for refraction.
-      float r0 = std::sqrt(std::clamp(luminance(f0), 0.0f, 0.99f));
-      m.eta = (1 + r0) / (1 - r0);
-      if (backfacing)
-        m.eta = 1 / m.eta;
-      m.refract = tintT.isZero() ? 0 : 2;
-      continue;
-    }
-    case kMxLayer: {
-      size_t first = out.lobes.size();
-      addClosure(arena, p.closureParam(0), at, out, w);
-      float reflectance = 0;
-      for (size_t i = first; i < out.lobes.size(); ++i)
-        reflectance += topReflectance(out.lobes[i], at.wo) / std::max(1e-6f, luminance(w));
-      float through = std::clamp(1 - reflectance, 0.0f, 1.0f);
-      addClosure(arena, p.closureParam(1), at, out, w * through);
-      continue;
-    }
-    default: // volumes, holdout, debug
-      ++out.ignored;
-      continue;
-    }
-    out.lobes.push_back(l);
-  }
+                ShadingResult &out, bool lightOnly) {
+  if (!lightOnly)
+    readMedium(arena, handle, at, Vec3(1, 1, 1), out);
+  addLobes(arena, handle, at, Vec3(1, 1, 1), lightOnly, out);
+}
+
+Vec3 backgroundOf(const ClosureArena &arena, int32_t handle) {
+  Vec3 sum;
+  Flattened prims(arena, handle, Vec3(1, 1, 1));
+  for (const ClosurePrimitive &p : *prims)
+    if (p.id == kBackground)
+      sum += Vec3(p.weight);
+  return sum;
 }
 
 } // namespace osl::render

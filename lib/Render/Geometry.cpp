@@ -15,7 +15,7 @@ float surfaceArea(const Primitive &prim) {
   // an emitter dividing its power by pi * surfacearea() then has
   // testrender's brightness.
   if (prim.kind == Primitive::Sphere)
-    return kPi * prim.radius * prim.radius;
+    return kPi * (prim.radius * prim.radius);
   return length(cross(prim.edgeX, prim.edgeY));
 }
 

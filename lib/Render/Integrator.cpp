@@ -1,4 +1,5 @@
 //===- Integrator.cpp - Wavefront path tracing with batched shading -------===//
+#include "BackgroundMap.h"
 #include "LaneKernels.h"
 #include "OslAbi/GlobalsLayout.h"
 #include "OslFrontend/Frontend.h"
@@ -6,6 +7,7 @@
 #include "OslRender/Geometry.h"
 #include "OslRender/Renderer.h"
 #include "OslRender/Sampler.h"
+#include "OslRender/Sampling.h"
 #include "OslRuntime/Closure.h"
 #include "OslRuntime/Progress.h"
 #include "OslRuntime/ThreadPool.h"
@@ -26,22 +28,15 @@ namespace osl::render {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr float kPi = 3.14159265358979f;
 /// Paths per wave: enough to fill batches per shader, small enough to stay in cache.
 constexpr int kWavePaths = 1024;
 constexpr int kTileSize = 8;
-constexpr int kRouletteBounce = 5;
-
-float powerHeuristic(float a, float b) {
-  if (std::isinf(a))
-    return 1;
-  float a2 = a * a, b2 = b * b;
-  return a2 + b2 > 0 ? a2 / (a2 + b2) : 0;
-}
+/// testrender's rr_depth: from this bounce on, lobe choices may end a path.
+constexpr int kRouletteDepth = 5;
 
 struct Path {
-  Vec3 throughput{1, 1, 1}, radiance;
-  float bsdfPdf = kInf; // of the last bounce; infinite for the camera and specular lobes
+  Vec3 weight{1, 1, 1}, radiance;
+  float bsdfPdf = kInf; // of the last bounce; infinite for the camera and delta lobes
   /// What raytype() answers for the points the ray reaches (kRayTypes bits).
   int32_t rayType = rayTypeBit("camera");
   bool alive = true;
@@ -59,7 +54,7 @@ struct ShadeQueue {
   std::vector<Vec3> contrib;
   /// The ray type every point answers (-1: each its path's own).
   int32_t rayType = -1;
-  /// Escaped rays: P and I are the direction, and there is no surface.
+  /// Escaped rays: I is the direction, and there is no surface.
   bool background = false;
   void clear() {
     at.clear();
@@ -71,7 +66,9 @@ struct ShadeQueue {
 
 } // namespace
 
-/// One worker's paths and buffers, reused from wave to wave.
+/// One worker's paths and buffers, reused from wave to wave. Each path
+/// is testrender's: one sampler point per bounce, shared by the background
+/// sample, every light's sample and the BSDF's.
 class PathWave {
 public:
   PathWave(const Renderer &r)
@@ -90,11 +87,15 @@ public:
     misses.background = true;
     const RenderOptions &opt = r.options;
     const Camera &cam = scene.camera;
+    // testrender's camera: the image plane's axes from a fast tangent.
     camera.eye = cam.eye;
-    camera.dir = normalize(cam.lookAt - cam.eye);
-    float k = std::tan(cam.fovDegrees * kPi / 360);
-    camera.right = normalize(cross(camera.dir, cam.up)) * (float(opt.xres) * k / float(opt.yres));
-    camera.up = normalize(cross(camera.right, camera.dir)) * k;
+    camera.dir = normalize(cam.dir);
+    float k = fast::tan(cam.fovDegrees * float(M_PI / 360));
+    Vec3 right = normalize(cross(camera.dir, cam.up));
+    camera.cx = right * (float(opt.xres) * k / float(opt.yres));
+    camera.cy = normalize(cross(camera.cx, camera.dir)) * k;
+    camera.invw = 1.0f / float(opt.xres);
+    camera.invh = 1.0f / float(opt.yres);
     camera.xres = opt.xres;
     camera.yres = opt.yres;
   }
@@ -102,6 +103,10 @@ public:
   /// Traces samples [s0, s1) of every pixel in `pixels`, adding their
   /// radiance to `sum` (3 floats per pixel of the image).
   void run(const std::vector<int> &pixels, int s0, int s1, float *sum);
+  /// The background's radiance toward each of `dirs` (no ray type, as
+  /// testrender shades its background table).
+  void shadeBackground(const std::vector<Vec3> &dirs, std::vector<Vec3> &radiance);
+  void useBackgroundMap(const BackgroundMap *m) { map = m && !m->empty() ? m : nullptr; }
 
   long batches = 0, shaded = 0;
   double shadingSeconds = 0;
@@ -109,16 +114,8 @@ public:
 private:
   void startPaths(const std::vector<int> &pixels, int s0, int s1);
   bool intersectPaths();
-  void shadeMisses();
+  void shadeMisses(int bounce);
   void scatterAll(int bounce);
-  bool startScatter(const ShadeQueue &q, size_t i);
-  void scatter(const ShadeQueue &q, size_t i, int bounce, size_t firstDraw, size_t firstLight);
-  void continueScatter(const ShadeQueue &q, size_t i, int bounce, const BsdfSample &smp);
-  void sampleLights(const ShadeQueue &q, size_t i, Vec3 wo, size_t firstLight);
-  /// The lights a path at primitive `prim` samples (every light but itself).
-  int lightsSampledFrom(int prim) const {
-    return int(lights.size()) - int(llvm::is_contained(lights, prim));
-  }
   void traceShadowRays();
   void accumulate(float *sum);
   /// Shades `q`'s points with `shader`, `width` at a time, and calls
@@ -135,9 +132,10 @@ private:
                   const std::vector<float> &z, size_t start, int n) {
     copyRow(row, x, start, n), copyRow(row + 1, y, start, n), copyRow(row + 2, z, start, n);
   }
-  /// The shading normal and side a closure is interpreted with.
-  static ShadingPoint pointOf(const ShadeQueue &q, size_t i) {
-    return {-q.at.d(i), q.at.n(i), q.at.backfacing[i] != 0};
+  /// Queues a shadow ray from hit `i` of `q` toward `dir`.
+  void queueShadowRay(const ShadeQueue &q, size_t i, Vec3 dir, int light, Vec3 contrib) {
+    shadowRays.push_back({q.path[i], light, contrib});
+    rays.push(q.at.p(i), dir, paths[q.path[i]].hit.prim);
   }
 
   const Renderer &r;
@@ -145,6 +143,7 @@ private:
   PrimTable prims;
   int width;
   CameraSetup camera;
+  const BackgroundMap *map = nullptr;
   std::vector<float> globals, outputs;
   std::vector<Path> paths;
   /// Each path's next ray (origin, direction, the primitive it leaves).
@@ -156,29 +155,13 @@ private:
   ShadeQueue misses;
   /// The lights next-event estimation samples, in the scene's order.
   std::vector<int> lights;
-  /// Random points drawn a batch at a time (every path's numbers are its
-  /// own, whatever the batch): a bounce's scattering paths with the first
-  /// of their points, and the paths whose roulette draws.
+  /// Sampler points drawn a batch at a time (every path's numbers are its
+  /// own, whatever the batch).
   PointDraws draws;
-  struct Scattering {
-    const ShadeQueue *queue;
-    size_t index, firstDraw, firstLight;
-  };
-  /// Each scattering path's light samples, in its lights' order.
+  /// The bounce's scattering paths: queue and index of each.
+  std::vector<std::pair<const ShadeQueue *, size_t>> scattering;
+  /// Each scattering path's light samples, paths and lights in order.
   LightDraws lightDraws;
-  std::vector<Scattering> scattering;
-  /// The bounce's BSDF samples of cosine lobes, per model: the lanes' input
-  /// and output, and which path's point and lobe each is.
-  static constexpr size_t kCosineModels = size_t(CosineModel::EnergyOrenNayar) + 1;
-  struct CosinePick {
-    const ShadeQueue *queue;
-    size_t index;
-    ShadingResult::Pick picked;
-    bool alone; // the only lobe the mixture evaluates: the lanes finish it
-  };
-  std::array<CosineDraws, kCosineModels> cosineDraws;
-  std::array<std::vector<CosinePick>, kCosineModels> cosinePicks;
-  std::vector<std::pair<int, float>> roulette;
   /// The bounce's shadow rays, traced together a batch of `width` lanes at
   /// a time.
   RayBatch rays;
@@ -186,8 +169,8 @@ private:
   std::vector<int> rayPaths;
   /// Each path's pixel (for the camera's lanes and the image).
   std::vector<int> pathPixels;
-  /// A light sample whose shadow ray is traced with the others: what its
-  /// light query gets if the ray reaches the light.
+  /// A shadow ray traced with the others: toward `light` (-1: the
+  /// background), and what reaching it adds (times the light's emission).
   struct ShadowRay {
     int path, light;
     Vec3 contrib;
@@ -212,9 +195,7 @@ template <typename Use> void PathWave::shade(int shader, const ShadeQueue &q, Us
     if (n < width || q.background)
       std::fill(globals.begin(), globals.end(), 0.0f);
     // The globals' rows are the queue's own columns.
-    if (q.background) {
-      copyTriple(rowP, h.dx, h.dy, h.dz, start, n);
-    } else {
+    if (!q.background) {
       copyTriple(rowP, h.px, h.py, h.pz, start, n);
       copyTriple(rowN, h.nx, h.ny, h.nz, start, n);
       copyTriple(rowNg, h.nx, h.ny, h.nz, start, n);
@@ -248,17 +229,37 @@ template <typename Use> void PathWave::shade(int shader, const ShadeQueue &q, Us
   }
 }
 
+void PathWave::shadeBackground(const std::vector<Vec3> &dirs, std::vector<Vec3> &radiance) {
+  ShadeQueue q;
+  q.background = true;
+  q.rayType = 0;
+  HitPoints &h = q.at;
+  for (size_t i = 0; i < dirs.size(); ++i) {
+    h.push(-1, int(i), 0);
+    q.path.push_back(-1);
+  }
+  h.dx.resize(dirs.size()), h.dy.resize(dirs.size()), h.dz.resize(dirs.size());
+  for (size_t i = 0; i < dirs.size(); ++i)
+    h.dx[i] = dirs[i].x, h.dy[i] = dirs[i].y, h.dz[i] = dirs[i].z;
+  radiance.assign(dirs.size(), Vec3());
+  shade(scene.background, q, [&](size_t i, int32_t handle) {
+    radiance[i] = backgroundOf(threadClosureArena(), handle);
+  });
+}
+
 void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
   startPaths(pixels, s0, s1);
   results.resize(paths.size());
   for (int bounce = 0; intersectPaths(); ++bounce) {
-    shadeMisses();
+    shadeMisses(bounce);
+    bool lastBounce = bounce >= r.options.maxBounces;
     for (size_t s = 0; s < queues.size(); ++s) {
       const ShadeQueue &q = queues[s];
       shade(int(s), q, [&](size_t i, int32_t handle) {
         ShadingResult &res = results[q.path[i]];
         res.clear();
-        addClosure(threadClosureArena(), handle, pointOf(q, i), res);
+        addClosure(threadClosureArena(), handle, {-q.at.d(i), q.at.backfacing[i] != 0}, res,
+                   lastBounce);
       });
     }
     scatterAll(bounce);
@@ -267,7 +268,8 @@ void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
       const ShadeQueue &q = lightQueries[s];
       shade(int(s), q, [&](size_t i, int32_t handle) {
         ShadingResult light;
-        addClosure(threadClosureArena(), handle, pointOf(q, i), light);
+        addClosure(threadClosureArena(), handle, {-q.at.d(i), q.at.backfacing[i] != 0}, light,
+                   true);
         paths[q.path[i]].radiance += q.contrib[i] * light.emission;
       });
     }
@@ -275,8 +277,9 @@ void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
   accumulate(sum);
 }
 
-/// One path per pixel and sample, from testrender's camera, its first ray
-/// computed in lanes.
+/// One path per pixel and sample, from testrender's camera through a
+/// tent-filtered point of the pixel (the sampler's first point), its first
+/// ray computed in lanes.
 void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   const RenderOptions &opt = r.options;
   paths.clear();
@@ -285,8 +288,8 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   for (int pixel : pixels)
     for (int s = s0; s < s1; ++s) {
       Path p;
-      p.rng = Sampler(uint32_t(pixel), uint32_t(s), opt.seed);
-      draws.push(p.rng.pathKey(), p.rng.sampleIndex(), p.rng.reserve(1));
+      p.rng = Sampler(pixel % opt.xres, pixel / opt.xres, uint32_t(s), opt.seed);
+      draws.push(p.rng.reserve(1), p.rng.sampleIndex());
       paths.push_back(p);
       pathPixels.push_back(pixel);
     }
@@ -336,9 +339,10 @@ bool PathWave::intersectPaths() {
   return !rayPaths.empty();
 }
 
-/// Escaped paths see the background (not importance sampled, so the
-/// BSDF's sample takes it whole): its P and I are the ray's direction.
-void PathWave::shadeMisses() {
+/// Escaped paths see the background: after the first bounce, from the
+/// importance table (weighted against the table's own sampling), else from
+/// the shader (P and I the ray's direction).
+void PathWave::shadeMisses(int bounce) {
   if (scene.background < 0)
     return;
   HitPoints &h = misses.at;
@@ -348,18 +352,26 @@ void PathWave::shadeMisses() {
     int ray = h.ray[i];
     h.dx[i] = pathRays.dx[ray], h.dy[i] = pathRays.dy[ray], h.dz[i] = pathRays.dz[ray];
   }
+  if (bounce > 0 && map) {
+    for (size_t i = 0; i < h.size(); ++i) {
+      Path &p = paths[misses.path[i]];
+      float pdf = 0;
+      Vec3 bg = map->eval(h.d(i), pdf);
+      p.radiance += p.weight * bg * powerHeuristic<MisMode::WeightWeight>(p.bsdfPdf, pdf);
+    }
+    return;
+  }
+  misses.rayType = rayTypeBit(bounce > 0 ? "diffuse" : "camera");
   shade(scene.background, misses, [&](size_t i, int32_t handle) {
-    ShadingResult bg;
-    addClosure(threadClosureArena(), handle, {-h.d(i), Vec3(), false}, bg);
     Path &p = paths[misses.path[i]];
-    p.radiance += p.throughput * bg.background;
+    p.radiance += p.weight * backgroundOf(threadClosureArena(), handle);
   });
 }
 
-/// Every shaded hit scatters: its emission, a light sample per light
-/// (queued for the light's shader), then the BSDF's sample continues the
-/// path. Each path draws its random numbers in this order, a batch of
-/// paths at a time.
+/// Every shaded hit scatters: its emission (weighted against the light
+/// sampling that could have found it), one sampler point, then with it a
+/// background sample, a sample of every other light, and the BSDF's sample
+/// that continues the path.
 void PathWave::scatterAll(int bounce) {
   for (ShadeQueue &q : lightQueries)
     q.clear();
@@ -367,182 +379,93 @@ void PathWave::scatterAll(int bounce) {
   rays.clear();
   scattering.clear();
   draws.clear();
+  bool lastBounce = bounce >= r.options.maxBounces;
   for (const ShadeQueue &q : queues)
-    for (size_t i = 0; i < q.size(); ++i)
-      if (startScatter(q, i)) {
-        // The BSDF's point, then one per light.
-        Path &p = paths[q.path[i]];
-        uint32_t n = 1 + lightsSampledFrom(p.hit.prim);
-        scattering.push_back({&q, i, draws.size(), 0});
-        for (uint32_t call = p.rng.reserve(n), k = 0; k < n; ++k)
-          draws.push(p.rng.pathKey(), p.rng.sampleIndex(), call + k);
-      }
-  laneKernels().drawPoints(draws, width);
-  // The lights' samples, every path's together: each light with a point of
-  // its own (after the BSDF's).
-  lightDraws.clear();
-  for (Scattering &s : scattering) {
-    s.firstLight = lightDraws.size();
-    Vec3 at = s.queue->at.p(s.index);
-    int self = paths[s.queue->path[s.index]].hit.prim;
-    size_t draw = s.firstDraw + 1;
-    for (int l : lights)
-      if (l != self) {
-        lightDraws.push(l, at, draws.x[draw], draws.y[draw]);
-        ++draw;
-      }
-  }
-  laneKernels().sampleLights(prims, lightDraws, width);
-  roulette.clear();
-  for (CosineDraws &d : cosineDraws)
-    d.clear();
-  for (auto &picks : cosinePicks)
-    picks.clear();
-  for (const Scattering &s : scattering)
-    scatter(*s.queue, s.index, bounce, s.firstDraw, s.firstLight);
-  // The cosine lobes' samples, a model at a time.
-  for (size_t m = 0; m < kCosineModels; ++m) {
-    if (cosinePicks[m].empty())
-      continue;
-    laneKernels().sampleCosineLobes(CosineModel(m), cosineDraws[m], width);
-    for (size_t k = 0; k < cosinePicks[m].size(); ++k) {
-      const CosinePick &c = cosinePicks[m][k];
-      if (c.alone) {
-        continueScatter(*c.queue, c.index, bounce, cosineDraws[m].alone(k));
+    for (size_t i = 0; i < q.size(); ++i) {
+      Path &p = paths[q.path[i]];
+      ShadingResult &res = results[q.path[i]];
+      float k = 1;
+      if (scene.prims[p.hit.prim].isLight)
+        k = powerHeuristic<MisMode::WeightEval>(
+            p.bsdfPdf, lightPdf(prims, p.hit.prim, q.at.o(i), q.at.p(i)));
+      p.radiance += p.weight * k * res.emission;
+      if (lastBounce) {
+        p.alive = false;
         continue;
       }
-      // Other lobes are evaluated toward the sample too.
-      CosineSample lanes = cosineDraws[m].sample(k);
-      BsdfSample smp = sampledDirection(lanes.wi, {lanes.eval.value, lanes.eval.pdf});
-      const ShadingResult &res = results[c.queue->path[c.index]];
-      continueScatter(*c.queue, c.index, bounce,
-                      res.finish(-c.queue->at.d(c.index), c.picked, smp));
+      res.prepare(-q.at.d(i), p.weight, bounce >= kRouletteDepth);
+      scattering.push_back({&q, i});
+      draws.push(p.rng.reserve(1), p.rng.sampleIndex());
     }
-  }
-  // Russian roulette, past kRouletteBounce: the survivors are scaled up.
-  PointDraws &survival = draws;
-  survival.clear();
-  for (auto [path, survive] : roulette) {
-    Path &p = paths[path];
-    survival.push(p.rng.pathKey(), p.rng.sampleIndex(), p.rng.reserve(1));
-  }
-  laneKernels().drawPoints(survival, width);
-  for (size_t k = 0; k < roulette.size(); ++k) {
-    auto [path, survive] = roulette[k];
-    Path &p = paths[path];
-    if (survival.x[k] >= survive)
-      p.alive = false;
-    else
-      p.throughput = p.throughput / survive;
-  }
-}
-
-/// A hit's emission (weighted against the light sampling that could have
-/// found it) and its lobes' pick probabilities: false when nothing
-/// scatters, and the path ends.
-bool PathWave::startScatter(const ShadeQueue &q, size_t i) {
-  int pathIndex = q.path[i];
-  Path &p = paths[pathIndex];
-  ShadingResult &res = results[pathIndex];
-  float k = 1;
-  if (scene.prims[p.hit.prim].isLight && !std::isinf(p.bsdfPdf))
-    k = powerHeuristic(p.bsdfPdf, lightPdf(prims, p.hit.prim, q.at.o(i), q.at.p(i)));
-  p.radiance += p.throughput * res.emission * k;
-  if (!res.prepare(-q.at.d(i))) {
-    p.alive = false;
-    return false;
-  }
-  return true;
-}
-
-/// The lights' samples (from `firstLight` in lightDraws) and the BSDF's
-/// (with the path's point `firstDraw`).
-void PathWave::scatter(const ShadeQueue &q, size_t i, int bounce, size_t firstDraw,
-                       size_t firstLight) {
-  int pathIndex = q.path[i];
-  Path &p = paths[pathIndex];
-  ShadingResult &res = results[pathIndex];
-  Vec3 wo = -q.at.d(i);
-  Vec3 bsdfRandom(draws.x[firstDraw], draws.y[firstDraw], draws.z[firstDraw]);
-  sampleLights(q, i, wo, firstLight);
-  // The last bounce still samples the lights (as testrender's max_bounces
-  // does) but traces no further.
-  if (bounce >= r.options.maxBounces) {
-    p.alive = false;
-    return;
-  }
-  // A cosine lobe is sampled with the bounce's others of its model, in
-  // lanes (continueScatter follows); any other now.
-  ShadingResult::Pick picked = res.pick(bsdfRandom.z);
-  if (picked.lobe)
-    if (std::optional<CosineModel> m = cosineModelOf(*picked.lobe)) {
-      cosineDraws[size_t(*m)].push(cosineLobeOf(*picked.lobe), picked.lobe->weight,
-                                   picked.lobe->pick, wo, bsdfRandom.x, bsdfRandom.y);
-      cosinePicks[size_t(*m)].push_back({&q, i, picked, res.evaluatedLobes() == 1});
-      return;
+  laneKernels().drawPoints(draws, width);
+  // The background's samples, and the lights' (every path's together).
+  lightDraws.clear();
+  for (size_t s = 0; s < scattering.size(); ++s) {
+    auto [q, i] = scattering[s];
+    int self = paths[q->path[i]].hit.prim;
+    if (map) {
+      Path &p = paths[q->path[i]];
+      Vec3 dir;
+      float pdf = 0;
+      Vec3 bg = map->sample(draws.x[s], draws.y[s], dir, pdf);
+      BsdfSample e = results[q->path[i]].eval(-q->at.d(i), dir);
+      Vec3 contrib =
+          p.weight * e.weight * bg * powerHeuristic<MisMode::WeightWeight>(pdf, e.pdf);
+      if (contrib.sum() > 0)
+        queueShadowRay(*q, i, dir, -1, contrib);
     }
-  BsdfSample smp = picked.lobe ? res.finish(wo, picked,
-                                            sampleLobe(*picked.lobe, wo, bsdfRandom.x,
-                                                       bsdfRandom.y, picked.rz))
-                               : BsdfSample();
-  continueScatter(q, i, bounce, smp);
-}
-
-/// A scattering path's BSDF sample `smp`: its throughput, next ray and ray
-/// type; the path ends where nothing goes on.
-void PathWave::continueScatter(const ShadeQueue &q, size_t i, int bounce, const BsdfSample &smp) {
-  int pathIndex = q.path[i];
-  Path &p = paths[pathIndex];
-  Vec3 wo = -q.at.d(i), at = q.at.p(i), ng = q.at.n(i);
-  p.throughput *= smp.weight;
-  p.bsdfPdf = smp.pdf;
-  pathRays.ox[pathIndex] = at.x, pathRays.oy[pathIndex] = at.y, pathRays.oz[pathIndex] = at.z;
-  pathRays.dx[pathIndex] = smp.wi.x, pathRays.dy[pathIndex] = smp.wi.y;
-  pathRays.dz[pathIndex] = smp.wi.z;
-  pathRays.self[pathIndex] = p.hit.prim;
-  // The next ray: diffuse or glossy (sharp lobes are glossy), reflected to
-  // the side the light left by or refracted through.
-  bool reflected = dot(smp.wi, ng) * dot(wo, ng) > 0;
-  p.rayType = rayTypeBit(smp.diffuse ? "diffuse" : "glossy") |
-              rayTypeBit(reflected ? "reflection" : "refraction");
-  if (!(p.throughput.x > 0) && !(p.throughput.y > 0) && !(p.throughput.z > 0)) {
-    p.alive = false;
-    return;
+    for (int l : lights)
+      if (l != self)
+        lightDraws.push(l, q->at.p(i), draws.x[s], draws.y[s]);
   }
-  if (bounce + 1 >= kRouletteBounce)
-    roulette.push_back({pathIndex, std::min(1.0f, p.throughput.max())});
-}
-
-/// Next-event estimation: one sample of each light the hit point sees,
-/// weighted against the BSDF's pdf; its shadow ray is traced with the
-/// bounce's others.
-void PathWave::sampleLights(const ShadeQueue &q, size_t i, Vec3 wo, size_t firstLight) {
-  int pathIndex = q.path[i];
-  Path &p = paths[pathIndex];
-  ShadingResult &res = results[pathIndex];
-  Vec3 at = q.at.p(i);
-  size_t end = firstLight + size_t(lightsSampledFrom(p.hit.prim));
-  for (size_t k = firstLight; k < end; ++k) {
-    float pdf = lightDraws.pdf[k];
-    if (!(pdf > 0))
+  laneKernels().sampleLights(prims, lightDraws, width);
+  size_t light = 0;
+  for (size_t s = 0; s < scattering.size(); ++s) {
+    auto [q, i] = scattering[s];
+    Path &p = paths[q->path[i]];
+    const ShadingResult &res = results[q->path[i]];
+    Vec3 wo = -q->at.d(i);
+    for (int l : lights) {
+      if (l == p.hit.prim)
+        continue;
+      Vec3 dir = lightDraws.dir(light);
+      float pdf = lightDraws.pdf[light++];
+      BsdfSample e = res.eval(wo, dir);
+      Vec3 contrib = p.weight * e.weight * powerHeuristic<MisMode::EvalWeight>(pdf, e.pdf);
+      if (contrib.sum() > 0)
+        queueShadowRay(*q, i, dir, l, contrib);
+    }
+    // The BSDF's sample continues the path (testrender calls every
+    // bounce's rays diffuse).
+    BsdfSample smp = res.sample(wo, draws.x[s], draws.y[s], draws.z[s]);
+    p.weight *= smp.weight;
+    p.bsdfPdf = smp.pdf;
+    p.rayType = rayTypeBit("diffuse");
+    if (!(p.weight.x > 0) && !(p.weight.y > 0) && !(p.weight.z > 0)) {
+      p.alive = false; // all zero, or NaN
       continue;
-    Vec3 dir = lightDraws.dir(k);
-    BsdfEval e = res.eval(wo, dir);
-    Vec3 contrib = p.throughput * e.value * (powerHeuristic(pdf, e.pdf) / pdf);
-    if (!(contrib.sum() > 0))
-      continue;
-    shadowRays.push_back({pathIndex, lightDraws.light[k], contrib});
-    rays.push(at, dir, p.hit.prim);
+    }
+    int pathIndex = q->path[i];
+    Vec3 at = q->at.p(i);
+    pathRays.ox[pathIndex] = at.x, pathRays.oy[pathIndex] = at.y, pathRays.oz[pathIndex] = at.z;
+    pathRays.dx[pathIndex] = smp.wi.x, pathRays.dy[pathIndex] = smp.wi.y;
+    pathRays.dz[pathIndex] = smp.wi.z;
+    pathRays.self[pathIndex] = p.hit.prim;
   }
 }
 
-/// The bounce's shadow rays, traced together: each that reaches its light
-/// queues a query for the light's shader, in the order they were sampled
-/// (a path adds its lights' radiance in that order).
+/// The bounce's shadow rays, traced together: one toward the background
+/// that escapes adds its contribution; one that reaches its light queues a
+/// query for the light's shader.
 void PathWave::traceShadowRays() {
   intersectBatch(scene, rays, width, hits);
   for (size_t k = 0; k < shadowRays.size(); ++k) {
     const ShadowRay &s = shadowRays[k];
+    if (s.light < 0) {
+      if (hits[k].prim < 0)
+        paths[s.path].radiance += s.contrib;
+      continue;
+    }
     if (hits[k].prim != s.light)
       continue;
     ShadeQueue &q = lightQueries[scene.prims[s.light].shader];
@@ -656,6 +579,15 @@ void Renderer::render(std::vector<float> &rgb, RenderStats &stats) {
   std::vector<std::unique_ptr<PathWave>> waves;
   for (int i = 0; i < pool.size(); ++i)
     waves.push_back(std::make_unique<PathWave>(*this));
+  // The background's importance table, shaded before the paths start.
+  BackgroundMap map;
+  if (scene.background >= 0 && scene.backgroundResolution > 0)
+    map.prepare(scene.backgroundResolution,
+                [&](const std::vector<Vec3> &dirs, std::vector<Vec3> &radiance) {
+                  waves[0]->shadeBackground(dirs, radiance);
+                });
+  for (auto &w : waves)
+    w->useBackgroundMap(&map);
   Progress progress(opt.progress, long(tiles), "rendering");
   auto start = std::chrono::steady_clock::now();
   pool.parallelForWithWorker(tiles, [&](int tile, int worker) {

@@ -11,7 +11,6 @@
 #ifndef OSLRENDER_LANEKERNELS_H
 #define OSLRENDER_LANEKERNELS_H
 
-#include "CosineLobes.h"
 #include "OslRender/Geometry.h"
 
 #include <cstddef>
@@ -20,25 +19,37 @@
 
 namespace osl::render {
 
-/// Sampler points to draw, as structure of arrays: lane i gets point
-/// `call[i]` of the path seeded (`key[i]`, `index[i]`) into x, y, z.
+/// Sampler points to draw, as structure of arrays: lane i gets
+/// samplerPoint(seed[i], index[i]) into x, y, z (Sampler::reserve gives a
+/// path's seed, Sampler::sampleIndex its index).
 struct PointDraws {
-  std::vector<uint32_t> key, index, call;
+  std::vector<uint32_t> seed, index;
   std::vector<float> x, y, z;
   void clear();
-  void push(uint32_t key, uint32_t index, uint32_t call);
-  size_t size() const { return call.size(); }
+  void push(uint32_t seed, uint32_t index);
+  size_t size() const { return seed.size(); }
+};
+
+/// A quad's unit normal and its edges' inverse squared lengths, as
+/// testrender keeps them.
+struct QuadFrame {
+  Vec3 n;
+  float eu = 1, ev = 1;
+  QuadFrame() = default;
+  explicit QuadFrame(const Primitive &q)
+      : n(normalize(cross(q.edgeX, q.edgeY))), eu(1 / dot(q.edgeX, q.edgeX)),
+        ev(1 / dot(q.edgeY, q.edgeY)) {}
 };
 
 /// The scene's primitives as structure of arrays, for lanes that each hit
 /// another primitive.
 struct PrimTable {
-  std::vector<int> kind;                         // Primitive::Kind
-  std::vector<float> cx, cy, cz, radius;         // spheres
-  std::vector<float> qx, qy, qz;                 // quads: corner,
-  std::vector<float> ex, ey, ez, fx, fy, fz;     // edges (x and y),
-  std::vector<float> nx, ny, nz, edgeX2, edgeY2; // unit normal, edges' squared lengths
-  std::vector<float> area;                       // what surfacearea() answers
+  std::vector<int> kind;                     // Primitive::Kind
+  std::vector<float> cx, cy, cz, radius, r2; // spheres
+  std::vector<float> qx, qy, qz;             // quads: corner,
+  std::vector<float> ex, ey, ez, fx, fy, fz; // edges (x and y),
+  std::vector<float> nx, ny, nz, eu, ev;     // QuadFrame
+  std::vector<float> area;                   // what surfacearea() answers
   explicit PrimTable(const Scene &scene);
 };
 
@@ -91,33 +102,12 @@ struct LightDraws {
   Vec3 dir(size_t i) const { return {dx[i], dy[i], dz[i]}; }
 };
 
-/// testrender's camera, set up once: rays leave `eye` through the image
-/// plane at distance 1 along `dir`, spanned by `right` and `up`.
+/// testrender's camera, set up once: rays leave `eye` toward
+/// dir + cx * (x / xres - 0.5) + cy * (0.5 - y / yres).
 struct CameraSetup {
-  Vec3 eye, dir, right, up;
+  Vec3 eye, dir, cx, cy;
+  float invw = 1, invh = 1;
   int xres = 1, yres = 1;
-};
-
-/// Sampled lobes of one cosine model (CosineLobes.h), as structure of
-/// arrays: each lane's lobe with its closure weight and pick probability,
-/// the direction toward the viewer and two uniform numbers in; the sampled
-/// direction, the lobe's f*cos and pdf, and what a mixture of this lobe
-/// alone makes of them (ShadingResult::finish) out.
-struct CosineDraws {
-  std::vector<float> nx, ny, nz, a, rhoX, rhoY, rhoZ, through, weightX, weightY, weightZ, pick;
-  std::vector<float> wox, woy, woz, rx, ry;
-  std::vector<float> wix, wiy, wiz, valueX, valueY, valueZ, pdf;
-  /// The one-lobe mixture's sample weight and pdf (0: no sample).
-  std::vector<float> aloneX, aloneY, aloneZ, alonePdf;
-  void clear();
-  void push(const CosineLobe &l, Vec3 weight, float pickProbability, Vec3 wo, float r0,
-            float r1);
-  size_t size() const { return nx.size(); }
-  CosineSample sample(size_t i) const {
-    return {{wix[i], wiy[i], wiz[i]}, {{valueX[i], valueY[i], valueZ[i]}, pdf[i]}};
-  }
-  /// The sample of a mixture whose only evaluated lobe this is.
-  BsdfSample alone(size_t i) const;
 };
 
 struct LaneKernels {
@@ -134,11 +124,10 @@ struct LaneKernels {
                      size_t n, float *dx, float *dy, float *dz, int width);
   /// The outputs of every lane of `hits` (sized by it), its rays in `rays`.
   void (*hitGeometry)(const PrimTable &prims, const RayBatch &rays, HitPoints &hits, int width);
-  /// The outputs of every lane of `draws` (sized by it): a sphere light's
-  /// cone is sampled uniformly in solid angle, a quad uniformly by area.
+  /// The outputs of every lane of `draws` (sized by it): as testrender
+  /// samples lights: a sphere's cone uniformly in solid angle, a quad
+  /// uniformly by area.
   void (*sampleLights)(const PrimTable &prims, LightDraws &draws, int width);
-  /// The outputs of every lane of `draws` (sized by it), all of `model`.
-  void (*sampleCosineLobes)(CosineModel model, CosineDraws &draws, int width);
 };
 
 /// The kernels of the widest instruction set this CPU runs, or those the

@@ -14,6 +14,7 @@
 #include "LaneKernels.h"
 #include "OslRender/RenderMath.h"
 #include "OslRender/Sampler.h"
+#include "OslRender/Sampling.h"
 
 #include <algorithm>
 #include <cmath>
@@ -44,45 +45,46 @@ template <int W> struct RayLanes {
   int self[W];
 };
 
-/// Distance along each lane's ray to sphere `s` (primitive `index`), or -1;
-/// a ray leaving the sphere (self) keeps only the far root.
+/// Distance along each lane's ray to sphere `s` (primitive `index`), or 0,
+/// as testrender computes it: a ray leaving the sphere (self) takes the
+/// root farther from its origin.
 template <int W>
 OSL_LANE_TARGET void sphereLanes(const Primitive &s, int index, const RayLanes<W> &r,
                                  float *__restrict t) {
-  const double radius = s.radius, eps = 1e-4 * radius;
+  const float r2 = s.radius * s.radius;
   for (int l = 0; l < W; ++l) {
     float ocx = s.center.x - r.ox[l], ocy = s.center.y - r.oy[l], ocz = s.center.z - r.oz[l];
-    double b = ocx * r.dx[l] + ocy * r.dy[l] + ocz * r.dz[l];
-    double det = b * b - double(ocx * ocx + ocy * ocy + ocz * ocz) + radius * radius;
-    double root = std::sqrt(det < 0 ? 0.0 : det);
-    double near = b - root, far = b + root;
-    // Leaving the surface, the near root is ~0 (or the far one, going out):
-    // a hit must be a real distance away.
-    float leaving = far > eps && b > 0 ? float(far) : -1.0f;
-    float arriving = near > eps ? float(near) : far > eps ? float(far) : -1.0f;
+    float b = ocx * r.dx[l] + ocy * r.dy[l] + ocz * r.dz[l];
+    float det = b * b - (ocx * ocx + ocy * ocy + ocz * ocz) + r2;
+    float root = std::sqrt(det >= 0 ? det : 0.0f);
+    float near = b - root, far = b + root;
+    float leaving = std::fabs(near) > std::fabs(far) ? (near > 0 ? near : 0.0f)
+                                                      : (far > 0 ? far : 0.0f);
+    float arriving = near > 0 ? near : far > 0 ? far : 0.0f;
     float hit = r.self[l] == index ? leaving : arriving;
-    t[l] = det < 0 ? -1.0f : hit;
+    t[l] = det >= 0 ? hit : 0.0f;
   }
 }
 
-/// Distance along each lane's ray to quad `q`, or -1 (never its own).
+/// Distance along each lane's ray to quad `q` (primitive `index`), or 0
+/// (never its own), as testrender computes it.
 template <int W>
-OSL_LANE_TARGET void quadLanes(const Primitive &q, int index, const RayLanes<W> &r,
-                               float *__restrict t) {
-  const Vec3 n = cross(q.edgeX, q.edgeY);
-  const float ex2 = dot(q.edgeX, q.edgeX), ey2 = dot(q.edgeY, q.edgeY);
+OSL_LANE_TARGET void quadLanes(const Primitive &q, int index, const QuadFrame &f,
+                               const RayLanes<W> &r, float *__restrict t) {
+  const Vec3 n = f.n;
   for (int l = 0; l < W; ++l) {
     float dn = r.dx[l] * n.x + r.dy[l] * n.y + r.dz[l] * n.z;
     float cx = q.corner.x - r.ox[l], cy = q.corner.y - r.oy[l], cz = q.corner.z - r.oz[l];
-    float along = (cx * n.x + cy * n.y + cz * n.z) / dn;
-    float hx = r.ox[l] + r.dx[l] * along - q.corner.x;
-    float hy = r.oy[l] + r.dy[l] * along - q.corner.y;
-    float hz = r.oz[l] + r.dz[l] * along - q.corner.z;
-    float u = (hx * q.edgeX.x + hy * q.edgeX.y + hz * q.edgeX.z) / ex2;
-    float v = (hx * q.edgeY.x + hy * q.edgeY.y + hz * q.edgeY.z) / ey2;
-    bool inside = u >= 0 && u <= 1 && v >= 0 && v <= 1;
-    bool hit = dn != 0 && along > 0 && inside && r.self[l] != index;
-    t[l] = hit ? along : -1.0f;
+    float en = cx * n.x + cy * n.y + cz * n.z;
+    float along = en / (dn * en > 0 ? dn : 1.0f);
+    float hx = (r.ox[l] + r.dx[l] * along) - q.corner.x;
+    float hy = (r.oy[l] + r.dy[l] * along) - q.corner.y;
+    float hz = (r.oz[l] + r.dz[l] * along) - q.corner.z;
+    float u = (hx * q.edgeX.x + hy * q.edgeX.y + hz * q.edgeX.z) * f.eu;
+    float v = (hx * q.edgeY.x + hy * q.edgeY.y + hz * q.edgeY.z) * f.ev;
+    bool inside = u >= 0 && u < 1 && v >= 0 && v < 1;
+    bool hit = dn * en > 0 && inside && r.self[l] != index;
+    t[l] = hit ? along : 0.0f;
   }
 }
 
@@ -99,7 +101,7 @@ OSL_LANE_TARGET void intersectLanes(const Scene &scene, const RayLanes<W> &r,
     if (p.kind == Primitive::Sphere)
       sphereLanes<W>(p, i, r, t);
     else
-      quadLanes<W>(p, i, r, t);
+      quadLanes<W>(p, i, QuadFrame(p), r, t);
     for (int l = 0; l < W; ++l) {
       bool closer = t[l] > 0 && t[l] < bestT[l];
       bestT[l] = closer ? t[l] : bestT[l];
@@ -164,7 +166,6 @@ OSL_LANE_TARGET void cameraRaysAt(const CameraSetup &c, const int *__restrict pi
                                   const float *__restrict jx, const float *__restrict jy, size_t n,
                                   float *__restrict dx, float *__restrict dy,
                                   float *__restrict dz) {
-  const float xres = float(c.xres), yres = float(c.yres);
   forLanes<W>(
       n, [&](size_t i) __attribute__((always_inline)) {
         // The pixel's row and column, exactly for any int index (a quotient
@@ -173,11 +174,11 @@ OSL_LANE_TARGET void cameraRaysAt(const CameraSetup &c, const int *__restrict pi
         int row = int(double(p) / double(c.xres));
         row = row * c.xres > p ? row - 1 : row;
         int col = p - row * c.xres;
-        float sx = (float(col) + 0.5f + tent(jx[i])) / xres - 0.5f;
-        float sy = 0.5f - (float(row) + 0.5f + tent(jy[i])) / yres;
-        float x = c.right.x * sx + c.up.x * sy + c.dir.x;
-        float y = c.right.y * sx + c.up.y * sy + c.dir.y;
-        float z = c.right.z * sx + c.up.z * sy + c.dir.z;
+        float sx = (float(col) + 0.5f + tent(jx[i])) * c.invw - 0.5f;
+        float sy = 0.5f - (float(row) + 0.5f + tent(jy[i])) * c.invh;
+        float x = (c.cx.x * sx + c.cy.x * sy) + c.dir.x;
+        float y = (c.cx.y * sx + c.cy.y * sy) + c.dir.y;
+        float z = (c.cx.z * sx + c.cy.z * sy) + c.dir.z;
         float len = std::sqrt(x * x + y * y + z * z);
         dx[i] = x / len, dy[i] = y / len, dz[i] = z / len;
       });
@@ -189,54 +190,53 @@ void cameraRays(const CameraSetup &camera, const int *pixel, const float *jx, co
           [&](auto w) { cameraRaysAt<decltype(w)::value>(camera, pixel, jx, jy, n, dx, dy, dz); });
 }
 
-/// Each lane's point, normal and parametric frame on its primitive: a
-/// sphere's and a quad's both computed, the lane's kind selected.
+/// Each lane's point, normal and parametric frame on its primitive, as
+/// testrender computes them (a sphere's u and v with libm's atan2 and
+/// acos, as its dual numbers do): a sphere's and a quad's both computed,
+/// the lane's kind selected.
 template <int W>
 OSL_LANE_TARGET void hitGeometryAt(const PrimTable &T, const RayBatch &rays, HitPoints &h) {
-  constexpr float twoPi = 2 * kRenderPi;
-  forLanes<W>(
-      h.size(), [&](size_t i) __attribute__((always_inline)) {
-        int k = h.prim[i], ray = h.ray[i];
-        float ox = rays.ox[ray], oy = rays.oy[ray], oz = rays.oz[ray];
-        float dx = rays.dx[ray], dy = rays.dy[ray], dz = rays.dz[ray];
-        h.ox[i] = ox, h.oy[i] = oy, h.oz[i] = oz, h.dx[i] = dx, h.dy[i] = dy, h.dz[i] = dz;
-        float px = ox + dx * h.t[i];
-        float py = oy + dy * h.t[i];
-        float pz = oz + dz * h.t[i];
-        // Sphere: the outward normal; u around y from +x, v from +y down.
-        float r = T.radius[k];
-        float sx = px - T.cx[k], sy = py - T.cy[k], sz = pz - T.cz[k];
-        float sl = std::sqrt(sx * sx + sy * sy + sz * sz);
-        float div = sl > 0 ? sl : 1.0f; // as normalize() divides
-        sx /= div, sy /= div, sz /= div;
-        float phi = polyAtan2(sz, sx);
-        float su = phi / twoPi + (phi < 0 ? 1.0f : 0.0f);
-        float sv = polyAcos(sy) / kRenderPi;
-        float sux = -sz * (twoPi * r), suz = sx * (twoPi * r);
-        // dPdv: cross(dPdu, n) scaled to length pi r.
-        float vx = -suz * sy, vy = suz * sx - sux * sz, vz = sux * sy;
-        float vl = std::sqrt(vx * vx + vy * vy + vz * vz);
-        float vs = vl > 0 ? kRenderPi * r / vl : 0.0f;
-        // Quad: its plane's normal; u and v along its edges.
-        float hx = px - T.qx[k], hy = py - T.qy[k], hz = pz - T.qz[k];
-        float qu = (hx * T.ex[k] + hy * T.ey[k] + hz * T.ez[k]) / T.edgeX2[k];
-        float qv = (hx * T.fx[k] + hy * T.fy[k] + hz * T.fz[k]) / T.edgeY2[k];
-        bool sphere = T.kind[k] == Primitive::Sphere;
-        float nx = sphere ? sx : T.nx[k], ny = sphere ? sy : T.ny[k], nz = sphere ? sz : T.nz[k];
-        bool back = dx * nx + dy * ny + dz * nz > 0;
-        h.px[i] = px, h.py[i] = py, h.pz[i] = pz;
-        h.nx[i] = back ? -nx : nx, h.ny[i] = back ? -ny : ny, h.nz[i] = back ? -nz : nz;
-        h.dPdux[i] = sphere ? sux : T.ex[k];
-        h.dPduy[i] = sphere ? 0.0f : T.ey[k];
-        h.dPduz[i] = sphere ? suz : T.ez[k];
-        h.dPdvx[i] = sphere ? vx * vs : T.fx[k];
-        h.dPdvy[i] = sphere ? vy * vs : T.fy[k];
-        h.dPdvz[i] = sphere ? vz * vs : T.fz[k];
-        h.u[i] = sphere ? su : qu;
-        h.v[i] = sphere ? sv : qv;
-        h.backfacing[i] = back ? 1.0f : 0.0f;
-        h.area[i] = T.area[k];
-      });
+  const float pi = float(M_PI);
+  for (size_t i = 0; i < h.size(); ++i) {
+    int k = h.prim[i], ray = h.ray[i];
+    float ox = rays.ox[ray], oy = rays.oy[ray], oz = rays.oz[ray];
+    float dx = rays.dx[ray], dy = rays.dy[ray], dz = rays.dz[ray];
+    h.ox[i] = ox, h.oy[i] = oy, h.oz[i] = oz, h.dx[i] = dx, h.dy[i] = dy, h.dz[i] = dz;
+    float t = h.t[i];
+    float px = ox + dx * t, py = oy + dy * t, pz = oz + dz * t;
+    h.px[i] = px, h.py[i] = py, h.pz[i] = pz;
+    float nx, ny, nz;
+    if (T.kind[k] == Primitive::Sphere) {
+      float sx = px - T.cx[k], sy = py - T.cy[k], sz = pz - T.cz[k];
+      float len = std::sqrt(sx * sx + sy * sy + sz * sz);
+      float inv = len > 0 ? 1 / len : 0.0f;
+      nx = sx * inv, ny = sy * inv, nz = sz * inv;
+      float u = (std::atan2(nx, nz) + pi) * 0.5f * float(M_1_PI);
+      float acosY = ny >= 1 ? 0.0f : ny <= -1 ? pi : std::acos(ny);
+      float v = acosY * float(M_1_PI);
+      float sin2piu = std::sin(2.0f * pi * u), cos2piu = std::cos(2.0f * pi * u);
+      float sinpiv = std::sin(pi * v), cospiv = std::cos(pi * v);
+      float pir = pi * T.radius[k];
+      h.dPdux[i] = -2.0f * pir * sinpiv * cos2piu;
+      h.dPduy[i] = 0.0f;
+      h.dPduz[i] = 2.0f * pir * sinpiv * sin2piu;
+      h.dPdvx[i] = -pir * cospiv * sin2piu;
+      h.dPdvy[i] = -pir * sinpiv;
+      h.dPdvz[i] = -pir * cospiv * cos2piu;
+      h.u[i] = u, h.v[i] = v;
+    } else {
+      nx = T.nx[k], ny = T.ny[k], nz = T.nz[k];
+      float hx = px - T.qx[k], hy = py - T.qy[k], hz = pz - T.qz[k];
+      h.u[i] = (hx * T.ex[k] + hy * T.ey[k] + hz * T.ez[k]) * T.eu[k];
+      h.v[i] = (hx * T.fx[k] + hy * T.fy[k] + hz * T.fz[k]) * T.ev[k];
+      h.dPdux[i] = T.ex[k], h.dPduy[i] = T.ey[k], h.dPduz[i] = T.ez[k];
+      h.dPdvx[i] = T.fx[k], h.dPdvy[i] = T.fy[k], h.dPdvz[i] = T.fz[k];
+    }
+    bool back = nx * dx + ny * dy + nz * dz > 0;
+    h.nx[i] = back ? -nx : nx, h.ny[i] = back ? -ny : ny, h.nz[i] = back ? -nz : nz;
+    h.backfacing[i] = back ? 1.0f : 0.0f;
+    h.area[i] = T.area[k];
+  }
 }
 
 void hitGeometry(const PrimTable &prims, const RayBatch &rays, HitPoints &hits, int width) {
@@ -251,27 +251,30 @@ template <int W> OSL_LANE_TARGET void sampleLightsAt(const PrimTable &T, LightDr
         Vec3 x(s.ox[i], s.oy[i], s.oz[i]);
         float rx = s.rx[i], ry = s.ry[i];
         // Sphere: a direction in the cone the light subtends, about its center.
+        constexpr float twoPi = float(2 * M_PI);
         Vec3 toC = Vec3(T.cx[k], T.cy[k], T.cz[k]) - x;
-        float d2 = dot(toC, toC), r2 = T.radius[k] * T.radius[k];
-        float cosMax = std::sqrt(std::fmax(0.0f, 1 - r2 / d2));
-        float cosT = 1 - rx * (1 - cosMax), sinT = std::sqrt(std::fmax(0.0f, 1 - cosT * cosT));
-        float sinPhi, cosPhi;
-        polySinCos(2 * kRenderPi * ry, sinPhi, cosPhi);
-        Frame f(toC / std::sqrt(d2));
-        Vec3 cone = f.toWorld(Vec3(sinT * cosPhi, sinT * sinPhi, cosT));
-        float conePdf = sphereLightPdf(d2, r2);
-        // Quad: a point on it, uniformly.
-        Vec3 p = Vec3(T.qx[k], T.qy[k], T.qz[k]) + Vec3(T.ex[k], T.ey[k], T.ez[k]) * rx +
-                 Vec3(T.fx[k], T.fy[k], T.fz[k]) * ry;
-        Vec3 d = p - x;
-        float q2 = dot(d, d);
-        Vec3 toP = d / std::sqrt(q2);
-        float areaPdf = quadLightPdf(Vec3(T.nx[k], T.ny[k], T.nz[k]), T.area[k], toP, q2);
+        float cmax2 = 1 - T.r2[k] / dot(toC, toC);
+        float cmax = cmax2 > 0 ? std::sqrt(cmax2 > 0 ? cmax2 : 0.0f) : 0.0f;
+        float cosA = 1 - rx + rx * cmax;
+        float sinA = std::sqrt(1 - cosA * cosA);
+        float sp, cp;
+        fast::sincos(twoPi * ry, sp, cp);
+        Vec3 sw = normalize(toC), su, sv;
+        orthoBasis(sw, su, sv);
+        Vec3 cone = normalize(su * (cp * sinA) + sv * (sp * sinA) + sw * cosA);
+        float conePdf = 1 / (twoPi * (1 - cmax));
+        // Quad: a point on it, uniformly by area.
+        Vec3 l = (Vec3(T.qx[k], T.qy[k], T.qz[k]) + rx * Vec3(T.ex[k], T.ey[k], T.ez[k]) +
+                  ry * Vec3(T.fx[k], T.fy[k], T.fz[k])) -
+                 x;
+        float d2 = dot(l, l);
+        Vec3 toP = normalize(l);
+        float areaPdf = d2 / (T.area[k] * std::fabs(dot(toP, Vec3(T.nx[k], T.ny[k], T.nz[k]))));
         bool sphere = T.kind[k] == Primitive::Sphere;
         s.dx[i] = sphere ? cone.x : toP.x;
         s.dy[i] = sphere ? cone.y : toP.y;
         s.dz[i] = sphere ? cone.z : toP.z;
-        s.pdf[i] = sphere ? conePdf : q2 > 0 ? areaPdf : 0.0f;
+        s.pdf[i] = sphere ? conePdf : areaPdf;
       });
 }
 
@@ -281,50 +284,12 @@ void sampleLights(const PrimTable &prims, LightDraws &draws, int width) {
   atWidth(width, [&](auto w) { sampleLightsAt<decltype(w)::value>(prims, draws); });
 }
 
-template <int W, CosineModel M> OSL_LANE_TARGET void sampleCosineAt(CosineDraws &d) {
-  forLanes<W>(
-      d.size(), [&](size_t i) __attribute__((always_inline)) {
-        CosineLobe l;
-        l.n = Vec3(d.nx[i], d.ny[i], d.nz[i]);
-        l.a = d.a[i];
-        l.rho = Vec3(d.rhoX[i], d.rhoY[i], d.rhoZ[i]);
-        l.through = d.through[i] != 0;
-        CosineSample s =
-            sampleCosineLobe<M>(l, Vec3(d.wox[i], d.woy[i], d.woz[i]), d.rx[i], d.ry[i]);
-        d.wix[i] = s.wi.x, d.wiy[i] = s.wi.y, d.wiz[i] = s.wi.z;
-        d.valueX[i] = s.eval.value.x, d.valueY[i] = s.eval.value.y;
-        d.valueZ[i] = s.eval.value.z, d.pdf[i] = s.eval.pdf;
-        // ShadingResult::finish for a mixture of this lobe alone: its
-        // weighted f*cos over its pick-weighted pdf (sums from 0, as there).
-        float mixturePdf = 0.0f + d.pick[i] * s.eval.pdf;
-        bool sampled = s.eval.pdf > 0 && mixturePdf > 0;
-        float divisor = sampled ? mixturePdf : 1.0f;
-        d.aloneX[i] = (0.0f + d.weightX[i] * s.eval.value.x) / divisor;
-        d.aloneY[i] = (0.0f + d.weightY[i] * s.eval.value.y) / divisor;
-        d.aloneZ[i] = (0.0f + d.weightZ[i] * s.eval.value.z) / divisor;
-        d.alonePdf[i] = sampled ? mixturePdf : 0.0f;
-      });
-}
-
-void sampleCosineLobes(CosineModel model, CosineDraws &draws, int width) {
-  for (std::vector<float> *v : {&draws.wix, &draws.wiy, &draws.wiz, &draws.valueX, &draws.valueY,
-                                &draws.valueZ, &draws.pdf, &draws.aloneX, &draws.aloneY,
-                                &draws.aloneZ, &draws.alonePdf})
-    v->resize(draws.size());
-  atCosineModel(model, [&](auto m) {
-    atWidth(width, [&](auto w) {
-      sampleCosineAt<decltype(w)::value, decltype(m)::value>(draws);
-    });
-  });
-}
-
 /// W sampler points, one per lane.
 template <int W>
-OSL_LANE_TARGET void drawLanes(const uint32_t *__restrict key, const uint32_t *__restrict index,
-                               const uint32_t *__restrict call, float *__restrict x,
-                               float *__restrict y, float *__restrict z) {
+OSL_LANE_TARGET void drawLanes(const uint32_t *__restrict seed, const uint32_t *__restrict index,
+                               float *__restrict x, float *__restrict y, float *__restrict z) {
   for (int l = 0; l < W; ++l) {
-    Vec3 p = samplerPoint(key[l], index[l], call[l]);
+    Vec3 p = samplerPoint(seed[l], index[l]);
     x[l] = p.x, y[l] = p.y, z[l] = p.z;
   }
 }
@@ -332,18 +297,17 @@ OSL_LANE_TARGET void drawLanes(const uint32_t *__restrict key, const uint32_t *_
 template <int W> OSL_LANE_TARGET void drawPointsAt(PointDraws &d) {
   size_t n = d.size(), full = n / W * W;
   for (size_t start = 0; start < full; start += W)
-    drawLanes<W>(&d.key[start], &d.index[start], &d.call[start], &d.x[start], &d.y[start],
-                 &d.z[start]);
+    drawLanes<W>(&d.seed[start], &d.index[start], &d.x[start], &d.y[start], &d.z[start]);
   if (full == n)
     return;
   // The last, partial batch: padded with copies of its last draw.
-  uint32_t key[W], index[W], call[W];
+  uint32_t seed[W], index[W];
   float x[W], y[W], z[W];
   for (int l = 0; l < W; ++l) {
     size_t k = std::min(full + size_t(l), n - 1);
-    key[l] = d.key[k], index[l] = d.index[k], call[l] = d.call[k];
+    seed[l] = d.seed[k], index[l] = d.index[k];
   }
-  drawLanes<W>(key, index, call, x, y, z);
+  drawLanes<W>(seed, index, x, y, z);
   for (size_t k = full; k < n; ++k)
     d.x[k] = x[k - full], d.y[k] = y[k - full], d.z[k] = z[k - full];
 }
@@ -358,9 +322,8 @@ void drawPoints(PointDraws &draws, int width) {
 } // namespace
 
 const LaneKernels &OSL_LANE_KERNELS() {
-  static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect,    drawPoints,
-                                   cameraRays,        hitGeometry,  sampleLights,
-                                   sampleCosineLobes};
+  static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect,   drawPoints,
+                                   cameraRays,        hitGeometry, sampleLights};
   return kernels;
 }
 

@@ -275,20 +275,20 @@ bool loadScene(const std::string &path, Scene &scene, std::string &error) {
     std::string name = node.name();
     if (name == "Camera") {
       // look_at="x,y,z", or dir="x,y,z" (the view direction).
-      Vec3 dir(0, 0, 0);
-      bool hasDir = bool(node.attribute("dir"));
+      Vec3 dir = scene.camera.dir, lookAt;
+      bool hasDir = bool(node.attribute("dir")), hasLookAt = bool(node.attribute("look_at"));
       ok = parseVec3(r, node, "eye", scene.camera.eye, false) &&
-           parseVec3(r, node, "look_at", scene.camera.lookAt, false) &&
+           parseVec3(r, node, "look_at", lookAt, false) &&
            parseVec3(r, node, "dir", dir, false) &&
            parseVec3(r, node, "up", scene.camera.up, false) &&
            parseScalar(r, node, "fov", scene.camera.fovDegrees, false);
       if (ok && !(scene.camera.fovDegrees > 0 && scene.camera.fovDegrees < 180))
         ok = r.fail(node, "fov must be between 0 and 180 degrees");
-      if (ok && hasDir) {
-        if (!(length(dir) > 0))
-          ok = r.fail(node, "dir must not be zero");
-        scene.camera.lookAt = scene.camera.eye + dir;
-      }
+      if (ok && !hasDir && hasLookAt)
+        dir = lookAt - scene.camera.eye;
+      if (ok && !(length(dir) > 0))
+        ok = r.fail(node, hasDir ? "dir must not be zero" : "look_at must not be the eye");
+      scene.camera.dir = dir;
     } else if (name == "Option") {
       ok = parseOption(r, node, scene);
     } else if (name == "ShaderGroup") {
@@ -300,6 +300,9 @@ bool loadScene(const std::string &path, Scene &scene, std::string &error) {
       if (currentShader < 0)
         ok = r.fail(node, "<Background> needs a <ShaderGroup> before it");
       scene.background = currentShader;
+      float resolution = float(scene.backgroundResolution);
+      ok = ok && parseScalar(r, node, "resolution", resolution, false);
+      scene.backgroundResolution = int(resolution);
     } else if (name == "Sphere" || name == "Quad") {
       Primitive p;
       p.shader = currentShader;

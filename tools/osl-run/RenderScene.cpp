@@ -61,8 +61,10 @@ int osl::renderScene(const RunOptions &options) {
   stats.add("rendering", rstats.seconds);
   {
     ScopedTimer timer(statsPtr, "write image");
+    // Half floats unless -d says otherwise, as testrender writes them.
+    std::string type = options.dataType.empty() ? "half" : options.dataType;
     if (!writeImage(options.sceneOutput, ropt.windowWidth(), ropt.windowHeight(), 3,
-                    rgb.data(), error)) {
+                    rgb.data(), error, type)) {
       llvm::errs() << "osl-run: error: cannot write '" << options.sceneOutput << "': " << error
                    << "\n";
       return 1;

@@ -20,14 +20,15 @@ TEST(LaneKernels, SamplerPointsMatchOnePathsOwn) {
   PointDraws draws;
   std::vector<Vec3> alone;
   for (uint32_t i = 0; i < 203; ++i) {
-    Sampler path(i % 17, i, 5);
-    uint32_t call = path.reserve(1 + i % 9) + i % 9;
-    draws.push(path.pathKey(), path.sampleIndex(), call);
-    alone.push_back(samplerPoint(path.pathKey(), path.sampleIndex(), call));
+    Sampler path(int(i % 17), int(i % 5), i);
+    path.reserve(i % 9);
+    uint32_t seed = path.reserve(1);
+    draws.push(seed, path.sampleIndex());
+    alone.push_back(samplerPoint(seed, path.sampleIndex()));
   }
   // The same as get() gives one call at a time.
-  Sampler path(3, 9, 5);
-  EXPECT_TRUE(sameBits(path.get().y, samplerPoint(path.pathKey(), 9, 1).y));
+  Sampler path(3, 9, 5), copy = path;
+  EXPECT_TRUE(sameBits(path.get().y, samplerPoint(copy.reserve(1), copy.sampleIndex()).y));
   for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
     for (int width : {1, 4, 8, 16}) {
       SCOPED_TRACE(std::string(kernels->isa) + " width " + std::to_string(width));
@@ -121,9 +122,10 @@ TEST(LaneKernels, CameraRaysMatchAtEveryWidth) {
   CameraSetup camera;
   camera.eye = Vec3(0, 1, 5);
   camera.dir = Vec3(0, 0, -1);
-  camera.right = Vec3(0.7f, 0, 0);
-  camera.up = Vec3(0, 0.5f, 0);
+  camera.cx = Vec3(0.7f, 0, 0);
+  camera.cy = Vec3(0, 0.5f, 0);
   camera.xres = 37, camera.yres = 23;
+  camera.invw = 1.0f / 37, camera.invh = 1.0f / 23;
   std::vector<int> pixels;
   std::vector<float> jx, jy;
   Sampler rng(2, 2, 2);
@@ -161,9 +163,10 @@ TEST(LaneKernels, CameraRaysFindTheirPixelPastTwoToThe24) {
   // further right than the one before it (a float index would merge them).
   CameraSetup camera;
   camera.dir = Vec3(0, 0, -1);
-  camera.right = Vec3(1, 0, 0);
-  camera.up = Vec3(0, 1, 0);
+  camera.cx = Vec3(1, 0, 0);
+  camera.cy = Vec3(0, 1, 0);
   camera.xres = 4097, camera.yres = 4500;
+  camera.invw = 1.0f / 4097, camera.invh = 1.0f / 4500;
   std::vector<int> pixels;
   for (int k = 0; k < 40; ++k)
     pixels.push_back((1 << 24) + k);
@@ -181,7 +184,8 @@ TEST(LaneKernels, CameraRaysFindTheirPixelPastTwoToThe24) {
 
 TEST(LaneKernels, LightSamplesMatchAtEveryWidth) {
   // Sphere and quad lights seen from 203 points (no width divides it),
-  // some inside the first sphere, where it cannot be sampled.
+  // some inside the first sphere (testrender then samples the whole
+  // sphere of directions about its centre).
   Scene scene = boxWithSpheres();
   PrimTable prims(scene);
   LightDraws reference;
@@ -193,12 +197,10 @@ TEST(LaneKernels, LightSamplesMatchAtEveryWidth) {
     reference.push(i % 4, from, r.x, r.y);
   }
   genericLaneKernels().sampleLights(prims, reference, 1);
-  int inside = 0;
   for (size_t i = 0; i < reference.size(); ++i) {
-    if (!(reference.pdf[i] > 0)) {
-      inside += reference.light[i] == 0;
+    EXPECT_GT(reference.pdf[i], 0.0f) << "sample " << i;
+    if (i % 7 == 0)
       continue;
-    }
     EXPECT_NEAR(length(reference.dir(i)), 1.0f, 1e-5f) << "sample " << i;
     // The direction reaches the light it sampled (nothing is in the way
     // of a light as its own only primitive).
@@ -207,7 +209,6 @@ TEST(LaneKernels, LightSamplesMatchAtEveryWidth) {
     Vec3 from(reference.ox[i], reference.oy[i], reference.oz[i]);
     EXPECT_EQ(intersect(alone, from, reference.dir(i), -1).prim, 0) << "sample " << i;
   }
-  EXPECT_GT(inside, 3);
   for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
     for (int width : {1, 4, 8, 16}) {
       SCOPED_TRACE(std::string(kernels->isa) + " width " + std::to_string(width));
@@ -218,85 +219,10 @@ TEST(LaneKernels, LightSamplesMatchAtEveryWidth) {
       kernels->sampleLights(prims, draws, width);
       for (size_t i = 0; i < draws.size(); ++i) {
         EXPECT_TRUE(sameBits(draws.pdf[i], reference.pdf[i])) << "sample " << i;
-        if (reference.pdf[i] > 0)
-          EXPECT_TRUE(sameBits(draws.dx[i], reference.dx[i]) &&
+        EXPECT_TRUE(sameBits(draws.dx[i], reference.dx[i]) &&
                       sameBits(draws.dy[i], reference.dy[i]) &&
                       sameBits(draws.dz[i], reference.dz[i]))
               << "sample " << i;
       }
     }
-}
-
-TEST(LaneKernels, CosineLobeSamplesMatchOneLobesOwn) {
-  // 203 lobes of every cosine model (translucent ones too), some seen from
-  // below, each sampled in lanes and alone by sampleLobe; a mixture of the
-  // lobe alone (ShadingResult::sample) gives the lanes' `alone` sample.
-  const Lobe::Model models[] = {Lobe::Diffuse, Lobe::Translucent, Lobe::OrenNayar, Lobe::Burley,
-                                Lobe::OrenNayarEnergy};
-  Sampler rng(5, 8, 2);
-  std::vector<Lobe> lobes;
-  std::vector<Vec3> wos, randoms;
-  // Pick probabilities below 1 too (a cosine lobe beside a delta lobe).
-  std::vector<float> picks;
-  for (int i = 0; i < 203; ++i) {
-    Vec3 a = rng.get(), b = rng.get(), r = rng.get();
-    Lobe l;
-    l.model = models[i % 5];
-    l.n = normalize(Vec3(2 * a.x - 1, 2 * a.y - 1, 2 * a.z - 1));
-    l.a = b.x;
-    l.tintR = Vec3(b.y, b.z, 0.5f);
-    l.weight = Vec3(0.25f + b.z, 0.5f, 1);
-    lobes.push_back(l);
-    Vec3 wo = normalize(Vec3(2 * b.y - 1, 2 * b.x - 1, 2 * r.z - 1));
-    wos.push_back(i % 11 == 0 ? -l.n : wo);
-    randoms.push_back(r);
-    picks.push_back(i % 3 == 0 ? 0.375f : 1.0f);
-  }
-  int sampled = 0;
-  for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
-    for (int width : {1, 4, 8, 16}) {
-      SCOPED_TRACE(std::string(kernels->isa) + " width " + std::to_string(width));
-      for (Lobe::Model model : models) {
-        Lobe probe;
-        probe.model = model;
-        CosineModel m = *cosineModelOf(probe);
-        CosineDraws draws;
-        std::vector<size_t> which;
-        for (size_t i = 0; i < lobes.size(); ++i)
-          if (lobes[i].model == model) {
-            draws.push(cosineLobeOf(lobes[i]), lobes[i].weight, picks[i], wos[i], randoms[i].x,
-                       randoms[i].y);
-            which.push_back(i);
-          }
-        kernels->sampleCosineLobes(m, draws, width);
-        for (size_t k = 0; k < which.size(); ++k) {
-          size_t i = which[k];
-          BsdfSample alone = sampleLobe(lobes[i], wos[i], randoms[i].x, randoms[i].y);
-          CosineSample lanes = draws.sample(k);
-          EXPECT_TRUE(sameBits(lanes.eval.pdf, alone.pdf)) << "lobe " << i;
-          if (!(alone.pdf > 0))
-            continue;
-          ++sampled;
-          EXPECT_TRUE(sameBits(lanes.wi.x, alone.wi.x) && sameBits(lanes.wi.y, alone.wi.y) &&
-                      sameBits(lanes.wi.z, alone.wi.z))
-              << "lobe " << i;
-          EXPECT_TRUE(sameBits(lanes.eval.value.x, alone.value.x) &&
-                      sameBits(lanes.eval.value.y, alone.value.y) &&
-                      sameBits(lanes.eval.value.z, alone.value.z))
-              << "lobe " << i;
-          ShadingResult mixture;
-          mixture.lobes.push_back(lobes[i]);
-          mixture.lobes[0].pick = picks[i];
-          BsdfSample whole = mixture.sample(wos[i], randoms[i].x, randoms[i].y, 0.5f);
-          BsdfSample fromLanes = draws.alone(k);
-          EXPECT_TRUE(sameBits(fromLanes.pdf, whole.pdf) &&
-                      sameBits(fromLanes.weight.x, whole.weight.x) &&
-                      sameBits(fromLanes.weight.y, whole.weight.y) &&
-                      sameBits(fromLanes.weight.z, whole.weight.z) &&
-                      fromLanes.diffuse == whole.diffuse)
-              << "lobe " << i;
-        }
-      }
-    }
-  EXPECT_GT(sampled, 4 * 100);
 }

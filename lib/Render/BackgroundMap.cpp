@@ -1,0 +1,90 @@
+//===- BackgroundMap.cpp - Importance sampling of the background ----------===//
+#include "BackgroundMap.h"
+#include "OslRender/Sampling.h"
+
+#include <algorithm>
+
+namespace osl::render {
+namespace {
+
+/// Index of the first entry of the cumulative `cdf` above `x`, the chosen
+/// entry's probability, and x rescaled within it to [0, 1).
+float sampleCdf(const float *cdf, int n, float x, int &index, float &pdf) {
+  index = int(std::upper_bound(cdf, cdf + n, x) - cdf);
+  index = std::min(index, n - 1); // x below 1: only a table of zeros gets here
+  float below = index > 0 ? cdf[index - 1] : 0.0f;
+  pdf = index > 0 ? cdf[index] - below : cdf[0];
+  float scaled = index > 0 ? (x - below) / (cdf[index] - below) : x / cdf[0];
+  return std::min(scaled, 0.99999994f);
+}
+
+} // namespace
+
+Vec3 BackgroundMap::direction(float x, float y) const {
+  float u = x * invres, v = y * invres;
+  float st, ct;
+  fast::sincos(u * float(2 * M_PI), st, ct);
+  float cosPhi = 1.0f - 2.0f * v;
+  float sinPhi = std::sqrt(1.0f - cosPhi * cosPhi);
+  return {sinPhi * ct, sinPhi * st, cosPhi};
+}
+
+void BackgroundMap::prepare(
+    int resolution,
+    const std::function<void(const std::vector<Vec3> &, std::vector<Vec3> &)> &shade) {
+  res = std::max(resolution, 32);
+  invres = 1.0f / float(res);
+  invjacobian = float(res * res) / float(4 * M_PI);
+  std::vector<Vec3> dirs;
+  dirs.reserve(size_t(res) * res);
+  for (int y = 0; y < res; ++y)
+    for (int x = 0; x < res; ++x)
+      dirs.push_back(direction(float(x) + 0.5f, float(y) + 0.5f));
+  shade(dirs, values);
+  rows.assign(res, 0.0f);
+  cols.assign(size_t(res) * res, 0.0f);
+  for (int y = 0, i = 0; y < res; ++y) {
+    for (int x = 0; x < res; ++x, ++i)
+      cols[i] = std::max(std::max(values[i].x, values[i].y), values[i].z) +
+                (x > 0 ? cols[i - 1] : 0.0f);
+    rows[y] = cols[i - 1] + (y > 0 ? rows[y - 1] : 0.0f);
+    if (cols[i - 1] > 0)
+      for (int x = 0; x < res; ++x)
+        cols[i - res + x] /= cols[i - 1];
+  }
+  for (int y = 0; y < res; ++y)
+    rows[y] /= rows[res - 1];
+  for (int y = 0, i = 0; y < res; ++y) {
+    float rowPdf = rows[y] - (y > 0 ? rows[y - 1] : 0.0f);
+    for (int x = 0; x < res; ++x, ++i) {
+      float colPdf = cols[i] - (x > 0 ? cols[i - 1] : 0.0f);
+      values[i] = values[i] / (rowPdf * colPdf * invjacobian);
+    }
+  }
+}
+
+Vec3 BackgroundMap::eval(Vec3 dir, float &pdf) const {
+  float u = fast::atan2(dir.y, dir.x) * float(M_1_PI * 0.5f);
+  if (u < 0)
+    u++;
+  float v = (1 - dir.z) * 0.5f;
+  int x = std::clamp(int(u * float(res)), 0, res - 1);
+  int y = std::clamp(int(v * float(res)), 0, res - 1);
+  int i = y * res + x;
+  float rowPdf = rows[y] - (y > 0 ? rows[y - 1] : 0.0f);
+  float colPdf = cols[i] - (x > 0 ? cols[i - 1] : 0.0f);
+  pdf = rowPdf * colPdf * invjacobian;
+  return values[i];
+}
+
+Vec3 BackgroundMap::sample(float rx, float ry, Vec3 &dir, float &pdf) const {
+  int x, y;
+  float rowPdf, colPdf;
+  ry = sampleCdf(rows.data(), res, ry, y, rowPdf);
+  rx = sampleCdf(cols.data() + size_t(y) * res, res, rx, x, colPdf);
+  dir = direction(float(x) + rx, float(y) + ry);
+  pdf = rowPdf * colPdf * invjacobian;
+  return values[size_t(y) * res + x];
+}
+
+} // namespace osl::render
