@@ -36,10 +36,13 @@ inline constexpr GlobalSlot kGlobalSlots[] = {
     // Nonzero where the renderer's transform flips handedness:
     // calculatenormal() then crosses its derivatives the other way round.
     {"flipHandedness", 44, 1},
+    // The derivatives of I: not OSL globals, but what Dx(I) and Dy(I) read
+    // (a renderer's ray differentials; 0 on a grid, as testshade's).
+    {"dIdx", 45, 3},   {"dIdy", 48, 3},
 };
 
 /// Number of float rows in one batch of globals (multiply by the width).
-inline constexpr int32_t kGlobalRows = 45;
+inline constexpr int32_t kGlobalRows = 51;
 
 /// The ray types raytype() names, as bits of the "raytype" row. A renderer
 /// (osl-run --scene) sets them per point; osl-run on a grid shades one ray

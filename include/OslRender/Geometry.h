@@ -23,10 +23,13 @@ Hit intersect(const Scene &scene, Vec3 o, Vec3 d, int self);
 
 /// Rays as structure of arrays: origins, directions and the primitive each
 /// leaves (-1: none).
+/// Rays as structure of arrays: origin, unit direction, the primitive each
+/// leaves (-1: none), and testrender's differentials: the footprint's
+/// radius at the origin and its spread per unit of distance.
 struct RayBatch {
-  std::vector<float> ox, oy, oz, dx, dy, dz;
+  std::vector<float> ox, oy, oz, dx, dy, dz, radius, spread;
   std::vector<int> self;
-  void push(Vec3 o, Vec3 d, int leaving);
+  void push(Vec3 o, Vec3 d, int leaving, float radius = 0, float spread = 0);
   void clear();
   size_t size() const { return self.size(); }
 };

@@ -20,22 +20,22 @@ float sampleCdf(const float *cdf, int n, float x, int &index, float &pdf) {
 
 } // namespace
 
-Vec3 BackgroundMap::direction(float x, float y) const {
-  float u = x * invres, v = y * invres;
-  float st, ct;
-  fast::sincos(u * float(2 * M_PI), st, ct);
-  float cosPhi = 1.0f - 2.0f * v;
-  float sinPhi = std::sqrt(1.0f - cosPhi * cosPhi);
-  return {sinPhi * ct, sinPhi * st, cosPhi};
+Dual3 BackgroundMap::direction(float x, float y) const {
+  Dual u = Dual(x, 1, 0) * invres, v = Dual(y, 0, 1) * invres;
+  Dual st, ct;
+  fastSinCos(u * float(2 * M_PI), st, ct);
+  Dual cosPhi = 1.0f - 2.0f * v;
+  Dual sinPhi = sqrt(1.0f - cosPhi * cosPhi);
+  return Dual3::of(sinPhi * ct, sinPhi * st, cosPhi);
 }
 
 void BackgroundMap::prepare(
     int resolution,
-    const std::function<void(const std::vector<Vec3> &, std::vector<Vec3> &)> &shade) {
+    const std::function<void(const std::vector<Dual3> &, std::vector<Vec3> &)> &shade) {
   res = std::max(resolution, 32);
   invres = 1.0f / float(res);
   invjacobian = float(res * res) / float(4 * M_PI);
-  std::vector<Vec3> dirs;
+  std::vector<Dual3> dirs;
   dirs.reserve(size_t(res) * res);
   for (int y = 0; y < res; ++y)
     for (int x = 0; x < res; ++x)
@@ -82,7 +82,7 @@ Vec3 BackgroundMap::sample(float rx, float ry, Vec3 &dir, float &pdf) const {
   float rowPdf, colPdf;
   ry = sampleCdf(rows.data(), res, ry, y, rowPdf);
   rx = sampleCdf(cols.data() + size_t(y) * res, res, rx, x, colPdf);
-  dir = direction(float(x) + rx, float(y) + ry);
+  dir = direction(float(x) + rx, float(y) + ry).v;
   pdf = rowPdf * colPdf * invjacobian;
   return values[size_t(y) * res + x];
 }

@@ -11,6 +11,7 @@
 #ifndef OSLRENDER_BACKGROUNDMAP_H
 #define OSLRENDER_BACKGROUNDMAP_H
 
+#include "Dual.h"
 #include "OslRender/Vec3.h"
 
 #include <functional>
@@ -20,10 +21,11 @@ namespace osl::render {
 
 class BackgroundMap {
 public:
-  /// Shades the grid's directions with `shade` (directions in, radiance
-  /// out, as many as given) and builds the distributions.
+  /// Shades the grid's directions with `shade` (directions with their
+  /// derivatives along the grid in, radiance out, as many as given) and
+  /// builds the distributions.
   void prepare(int resolution,
-               const std::function<void(const std::vector<Vec3> &, std::vector<Vec3> &)> &shade);
+               const std::function<void(const std::vector<Dual3> &, std::vector<Vec3> &)> &shade);
   bool empty() const { return res == 0; }
   /// The radiance over the pdf of direction `dir`, and that pdf.
   Vec3 eval(Vec3 dir, float &pdf) const;
@@ -31,7 +33,9 @@ public:
   Vec3 sample(float rx, float ry, Vec3 &dir, float &pdf) const;
 
 private:
-  Vec3 direction(float x, float y) const;
+  /// The direction at grid coordinates (x, y), with its derivatives along
+  /// them.
+  Dual3 direction(float x, float y) const;
   int res = 0;
   float invres = 0, invjacobian = 0;
   std::vector<Vec3> values;

@@ -1,5 +1,6 @@
 //===- Integrator.cpp - Wavefront path tracing with batched shading -------===//
 #include "BackgroundMap.h"
+#include "Dual.h"
 #include "LaneKernels.h"
 #include "OslAbi/GlobalsLayout.h"
 #include "OslFrontend/Frontend.h"
@@ -105,7 +106,7 @@ public:
   void run(const std::vector<int> &pixels, int s0, int s1, float *sum);
   /// The background's radiance toward each of `dirs` (no ray type, as
   /// testrender shades its background table).
-  void shadeBackground(const std::vector<Vec3> &dirs, std::vector<Vec3> &radiance);
+  void shadeBackground(const std::vector<Dual3> &dirs, std::vector<Vec3> &radiance);
   void useBackgroundMap(const BackgroundMap *m) { map = m && !m->empty() ? m : nullptr; }
 
   long batches = 0, shaded = 0;
@@ -135,7 +136,7 @@ private:
   /// Queues a shadow ray from hit `i` of `q` toward `dir`.
   void queueShadowRay(const ShadeQueue &q, size_t i, Vec3 dir, int light, Vec3 contrib) {
     shadowRays.push_back({q.path[i], light, contrib});
-    rays.push(q.at.p(i), dir, paths[q.path[i]].hit.prim);
+    rays.push(q.at.p(i), dir, paths[q.path[i]].hit.prim, q.at.radius[i], 0.0f);
   }
 
   const Renderer &r;
@@ -182,7 +183,11 @@ private:
             rowDPdv = findGlobal("dPdv")->row, rowU = findGlobal("u")->row,
             rowV = findGlobal("v")->row, rowBackfacing = findGlobal("backfacing")->row,
             rowRayType = findGlobal("raytype")->row,
-            rowSurfaceArea = findGlobal("surfacearea")->row;
+            rowSurfaceArea = findGlobal("surfacearea")->row, rowDPdx = findGlobal("dPdx")->row,
+            rowDPdy = findGlobal("dPdy")->row, rowDudx = findGlobal("dudx")->row,
+            rowDudy = findGlobal("dudy")->row, rowDvdx = findGlobal("dvdx")->row,
+            rowDvdy = findGlobal("dvdy")->row, rowDIdx = findGlobal("dIdx")->row,
+            rowDIdy = findGlobal("dIdy")->row, rowFlip = findGlobal("flipHandedness")->row;
 };
 
 template <typename Use> void PathWave::shade(int shader, const ShadeQueue &q, Use use) {
@@ -204,8 +209,15 @@ template <typename Use> void PathWave::shade(int shader, const ShadeQueue &q, Us
       copyRow(rowU, h.u, start, n), copyRow(rowV, h.v, start, n);
       copyRow(rowBackfacing, h.backfacing, start, n);
       copyRow(rowSurfaceArea, h.area, start, n);
+      copyTriple(rowDPdx, h.dPdxX, h.dPdxY, h.dPdxZ, start, n);
+      copyTriple(rowDPdy, h.dPdyX, h.dPdyY, h.dPdyZ, start, n);
+      copyRow(rowDudx, h.dudx, start, n), copyRow(rowDudy, h.dudy, start, n);
+      copyRow(rowDvdx, h.dvdx, start, n), copyRow(rowDvdy, h.dvdy, start, n);
+      copyRow(rowFlip, h.flip, start, n);
     }
     copyTriple(rowI, h.dx, h.dy, h.dz, start, n);
+    copyTriple(rowDIdx, h.dIdxX, h.dIdxY, h.dIdxZ, start, n);
+    copyTriple(rowDIdy, h.dIdyX, h.dIdyY, h.dIdyZ, start, n);
     float *types = &globals[size_t(rowRayType) * width];
     for (int lane = 0; lane < n; ++lane)
       types[lane] = float(q.rayType >= 0 ? q.rayType : paths[q.path[start + lane]].rayType);
@@ -229,7 +241,7 @@ template <typename Use> void PathWave::shade(int shader, const ShadeQueue &q, Us
   }
 }
 
-void PathWave::shadeBackground(const std::vector<Vec3> &dirs, std::vector<Vec3> &radiance) {
+void PathWave::shadeBackground(const std::vector<Dual3> &dirs, std::vector<Vec3> &radiance) {
   ShadeQueue q;
   q.background = true;
   q.rayType = 0;
@@ -238,9 +250,9 @@ void PathWave::shadeBackground(const std::vector<Vec3> &dirs, std::vector<Vec3> 
     h.push(-1, int(i), 0);
     q.path.push_back(-1);
   }
-  h.dx.resize(dirs.size()), h.dy.resize(dirs.size()), h.dz.resize(dirs.size());
+  h.sizeOutputs();
   for (size_t i = 0; i < dirs.size(); ++i)
-    h.dx[i] = dirs[i].x, h.dy[i] = dirs[i].y, h.dz[i] = dirs[i].z;
+    h.setDirection(i, dirs[i]);
   radiance.assign(dirs.size(), Vec3());
   shade(scene.background, q, [&](size_t i, int32_t handle) {
     radiance[i] = backgroundOf(threadClosureArena(), handle);
@@ -301,6 +313,15 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   pr.self.assign(n, -1);
   laneKernels().cameraRays(camera, pathPixels.data(), draws.x.data(), draws.y.data(), n,
                            pr.dx.data(), pr.dy.data(), pr.dz.data(), width);
+  // testrender's camera ray differentials: no radius, a spread of about a
+  // pixel's angle.
+  pr.radius.assign(n, 0.0f);
+  pr.spread.resize(n);
+  float pixelArea = camera.invw * camera.invh * length(camera.cx) * length(camera.cy);
+  for (size_t i = 0; i < n; ++i) {
+    float cosA = dot(camera.dir, Vec3(pr.dx[i], pr.dy[i], pr.dz[i]));
+    pr.spread[i] = std::sqrt(pixelArea * cosA) * cosA;
+  }
 }
 
 /// Intersects every live path: hits queue on their shader, escaped paths
@@ -346,11 +367,14 @@ void PathWave::shadeMisses(int bounce) {
   if (scene.background < 0)
     return;
   HitPoints &h = misses.at;
-  for (std::vector<float> *v : {&h.dx, &h.dy, &h.dz})
-    v->resize(h.size());
+  h.sizeOutputs();
   for (size_t i = 0; i < h.size(); ++i) {
+    // The ray's direction, with its differentials (testrender's
+    // dual_direction: the footprint's directions by the spread).
     int ray = h.ray[i];
-    h.dx[i] = pathRays.dx[ray], h.dy[i] = pathRays.dy[ray], h.dz[i] = pathRays.dz[ray];
+    Vec3 d(pathRays.dx[ray], pathRays.dy[ray], pathRays.dz[ray]), ex, ey;
+    orthoBasis(d, ex, ey);
+    h.setDirection(i, {d, ex * pathRays.spread[ray], ey * pathRays.spread[ray]});
   }
   if (bounce > 0 && map) {
     for (size_t i = 0; i < h.size(); ++i) {
@@ -451,6 +475,10 @@ void PathWave::scatterAll(int bounce) {
     pathRays.dx[pathIndex] = smp.wi.x, pathRays.dy[pathIndex] = smp.wi.y;
     pathRays.dz[pathIndex] = smp.wi.z;
     pathRays.self[pathIndex] = p.hit.prim;
+    // The footprint grows with the distance, and spreads at least as much
+    // as the lobe is rough (testrender's rule).
+    pathRays.radius[pathIndex] = q->at.radius[i];
+    pathRays.spread[pathIndex] = std::max(pathRays.spread[pathIndex], smp.roughness);
   }
 }
 
@@ -583,7 +611,7 @@ void Renderer::render(std::vector<float> &rgb, RenderStats &stats) {
   BackgroundMap map;
   if (scene.background >= 0 && scene.backgroundResolution > 0)
     map.prepare(scene.backgroundResolution,
-                [&](const std::vector<Vec3> &dirs, std::vector<Vec3> &radiance) {
+                [&](const std::vector<Dual3> &dirs, std::vector<Vec3> &radiance) {
                   waves[0]->shadeBackground(dirs, radiance);
                 });
   for (auto &w : waves)

@@ -46,8 +46,11 @@ float lightPdf(const PrimTable &T, int k, Vec3 x, Vec3 p) {
 
 void HitPoints::sizeOutputs() {
   for (std::vector<float> *v :
-       {&ox, &oy,    &oz,    &dx,    &dy,    &dz,    &px,    &py, &pz, &nx,         &ny,
-        &nz, &dPdux, &dPduy, &dPduz, &dPdvx, &dPdvy, &dPdvz, &u,  &v,  &backfacing, &area})
+       {&ox,    &oy,    &oz,    &dx,    &dy,    &dz,    &px,         &py,   &pz,    &nx,
+        &ny,    &nz,    &dPdux, &dPduy, &dPduz, &dPdvx, &dPdvy,      &dPdvz, &u,    &v,
+        &backfacing,    &area,  &dPdxX, &dPdxY, &dPdxZ, &dPdyX,      &dPdyY, &dPdyZ, &dIdxX,
+        &dIdxY, &dIdxZ, &dIdyX, &dIdyY, &dIdyZ, &dudx,  &dudy,       &dvdx,  &dvdy,  &flip,
+        &radius})
     v->resize(size());
 }
 

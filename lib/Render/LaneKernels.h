@@ -11,6 +11,7 @@
 #ifndef OSLRENDER_LANEKERNELS_H
 #define OSLRENDER_LANEKERNELS_H
 
+#include "Dual.h"
 #include "OslRender/Geometry.h"
 
 #include <cstddef>
@@ -67,6 +68,11 @@ struct HitPoints {
   std::vector<float> ox, oy, oz, dx, dy, dz;
   std::vector<float> px, py, pz, nx, ny, nz, dPdux, dPduy, dPduz, dPdvx, dPdvy, dPdvz;
   std::vector<float> u, v, backfacing, area;
+  /// testrender's ray differentials: of P, I, u and v; whether dPdx x dPdy
+  /// turns against N; the footprint's radius at the hit.
+  std::vector<float> dPdxX, dPdxY, dPdxZ, dPdyX, dPdyY, dPdyZ;
+  std::vector<float> dIdxX, dIdxY, dIdxZ, dIdyX, dIdyY, dIdyZ;
+  std::vector<float> dudx, dudy, dvdx, dvdy, flip, radius;
   /// Forgets the lanes (the outputs stay stale until hitGeometry runs).
   void clear() { prim.clear(), ray.clear(), t.clear(); }
   void push(int k, int r, float distance) {
@@ -79,6 +85,12 @@ struct HitPoints {
   Vec3 d(size_t i) const { return {dx[i], dy[i], dz[i]}; }
   Vec3 p(size_t i) const { return {px[i], py[i], pz[i]}; }
   Vec3 n(size_t i) const { return {nx[i], ny[i], nz[i]}; }
+  /// A lane without a surface (the background): I and its differentials.
+  void setDirection(size_t i, const Dual3 &dir) {
+    dx[i] = dir.v.x, dy[i] = dir.v.y, dz[i] = dir.v.z;
+    dIdxX[i] = dir.dx.x, dIdxY[i] = dir.dx.y, dIdxZ[i] = dir.dx.z;
+    dIdyX[i] = dir.dy.x, dIdyY[i] = dir.dy.y, dIdyZ[i] = dir.dy.z;
+  }
 };
 
 /// Light samples, as structure of arrays: each lane's light, the point it

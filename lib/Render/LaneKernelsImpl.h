@@ -15,6 +15,7 @@
 #include "OslRender/RenderMath.h"
 #include "OslRender/Sampler.h"
 #include "OslRender/Sampling.h"
+#include "Dual.h"
 
 #include <algorithm>
 #include <cmath>
@@ -190,52 +191,67 @@ void cameraRays(const CameraSetup &camera, const int *pixel, const float *jx, co
           [&](auto w) { cameraRaysAt<decltype(w)::value>(camera, pixel, jx, jy, n, dx, dy, dz); });
 }
 
-/// Each lane's point, normal and parametric frame on its primitive, as
-/// testrender computes them (a sphere's u and v with libm's atan2 and
-/// acos, as its dual numbers do): a sphere's and a quad's both computed,
-/// the lane's kind selected.
+/// Each lane's point, normal, parametric frame and ray differentials on
+/// its primitive, as testrender's globals_from_hit computes them (a
+/// sphere's u and v with libm's atan2 and acos, through dual numbers).
+/// One lane at a time: the libm calls would not vectorize.
 template <int W>
 OSL_LANE_TARGET void hitGeometryAt(const PrimTable &T, const RayBatch &rays, HitPoints &h) {
   const float pi = float(M_PI);
+  auto set3 = [](std::vector<float> &x, std::vector<float> &y, std::vector<float> &z, size_t i,
+                 Vec3 v) { x[i] = v.x, y[i] = v.y, z[i] = v.z; };
   for (size_t i = 0; i < h.size(); ++i) {
     int k = h.prim[i], ray = h.ray[i];
-    float ox = rays.ox[ray], oy = rays.oy[ray], oz = rays.oz[ray];
-    float dx = rays.dx[ray], dy = rays.dy[ray], dz = rays.dz[ray];
-    h.ox[i] = ox, h.oy[i] = oy, h.oz[i] = oz, h.dx[i] = dx, h.dy[i] = dy, h.dz[i] = dz;
+    Vec3 o(rays.ox[ray], rays.oy[ray], rays.oz[ray]);
+    Vec3 d(rays.dx[ray], rays.dy[ray], rays.dz[ray]);
+    set3(h.ox, h.oy, h.oz, i, o);
+    set3(h.dx, h.dy, h.dz, i, d);
     float t = h.t[i];
-    float px = ox + dx * t, py = oy + dy * t, pz = oz + dz * t;
-    h.px[i] = px, h.py[i] = py, h.pz[i] = pz;
-    float nx, ny, nz;
+    // The footprint: the ray's radius grown by its spread over t, across
+    // two directions orthogonal to it.
+    float radius = rays.radius[ray] + rays.spread[ray] * t;
+    Vec3 ex, ey;
+    orthoBasis(d, ex, ey);
+    Dual3 p{o + d * t, ex * radius, ey * radius};
+    Vec3 dPdu, dPdv;
+    Dual3 n;
+    Dual u, v;
     if (T.kind[k] == Primitive::Sphere) {
-      float sx = px - T.cx[k], sy = py - T.cy[k], sz = pz - T.cz[k];
-      float len = std::sqrt(sx * sx + sy * sy + sz * sz);
-      float inv = len > 0 ? 1 / len : 0.0f;
-      nx = sx * inv, ny = sy * inv, nz = sz * inv;
-      float u = (std::atan2(nx, nz) + pi) * 0.5f * float(M_1_PI);
-      float acosY = ny >= 1 ? 0.0f : ny <= -1 ? pi : std::acos(ny);
-      float v = acosY * float(M_1_PI);
-      float sin2piu = std::sin(2.0f * pi * u), cos2piu = std::cos(2.0f * pi * u);
-      float sinpiv = std::sin(pi * v), cospiv = std::cos(pi * v);
+      Vec3 c(T.cx[k], T.cy[k], T.cz[k]);
+      n = normalize(Dual3{p.v - c, p.dx, p.dy});
+      u = (atan2(n.x(), n.z()) + Dual(pi)) * 0.5f * float(M_1_PI);
+      v = safeAcos(n.y()) * float(M_1_PI);
+      float sin2piu = std::sin(2.0f * pi * u.v), cos2piu = std::cos(2.0f * pi * u.v);
+      float sinpiv = std::sin(pi * v.v), cospiv = std::cos(pi * v.v);
       float pir = pi * T.radius[k];
-      h.dPdux[i] = -2.0f * pir * sinpiv * cos2piu;
-      h.dPduy[i] = 0.0f;
-      h.dPduz[i] = 2.0f * pir * sinpiv * sin2piu;
-      h.dPdvx[i] = -pir * cospiv * sin2piu;
-      h.dPdvy[i] = -pir * sinpiv;
-      h.dPdvz[i] = -pir * cospiv * cos2piu;
-      h.u[i] = u, h.v[i] = v;
+      dPdu = Vec3(-2.0f * pir * sinpiv * cos2piu, 0.0f, 2.0f * pir * sinpiv * sin2piu);
+      dPdv = Vec3(-pir * cospiv * sin2piu, -pir * sinpiv, -pir * cospiv * cos2piu);
     } else {
-      nx = T.nx[k], ny = T.ny[k], nz = T.nz[k];
-      float hx = px - T.qx[k], hy = py - T.qy[k], hz = pz - T.qz[k];
-      h.u[i] = (hx * T.ex[k] + hy * T.ey[k] + hz * T.ez[k]) * T.eu[k];
-      h.v[i] = (hx * T.fx[k] + hy * T.fy[k] + hz * T.fz[k]) * T.ev[k];
-      h.dPdux[i] = T.ex[k], h.dPduy[i] = T.ey[k], h.dPduz[i] = T.ez[k];
-      h.dPdvx[i] = T.fx[k], h.dPdvy[i] = T.fy[k], h.dPdvz[i] = T.fz[k];
+      n = Dual3{Vec3(T.nx[k], T.ny[k], T.nz[k]), Vec3(), Vec3()};
+      Dual3 rel{p.v - Vec3(T.qx[k], T.qy[k], T.qz[k]), p.dx, p.dy};
+      dPdu = Vec3(T.ex[k], T.ey[k], T.ez[k]);
+      dPdv = Vec3(T.fx[k], T.fy[k], T.fz[k]);
+      u = dot(rel, dPdu) * T.eu[k];
+      v = dot(rel, dPdv) * T.ev[k];
     }
-    bool back = nx * dx + ny * dy + nz * dz > 0;
-    h.nx[i] = back ? -nx : nx, h.ny[i] = back ? -ny : ny, h.nz[i] = back ? -nz : nz;
+    bool back = dot(n.v, d) > 0;
+    Vec3 normal = back ? -n.v : n.v;
+    set3(h.px, h.py, h.pz, i, p.v);
+    set3(h.nx, h.ny, h.nz, i, normal);
+    set3(h.dPdux, h.dPduy, h.dPduz, i, dPdu);
+    set3(h.dPdvx, h.dPdvy, h.dPdvz, i, dPdv);
+    set3(h.dPdxX, h.dPdxY, h.dPdxZ, i, p.dx);
+    set3(h.dPdyX, h.dPdyY, h.dPdyZ, i, p.dy);
+    // I's differentials: the same directions, by the spread alone.
+    float spread = rays.spread[ray];
+    set3(h.dIdxX, h.dIdxY, h.dIdxZ, i, ex * spread);
+    set3(h.dIdyX, h.dIdyY, h.dIdyZ, i, ey * spread);
+    h.u[i] = u.v, h.v[i] = v.v;
+    h.dudx[i] = u.dx, h.dudy[i] = u.dy, h.dvdx[i] = v.dx, h.dvdy[i] = v.dy;
     h.backfacing[i] = back ? 1.0f : 0.0f;
+    h.flip[i] = dot(cross(p.dx, p.dy), normal) < 0 ? 1.0f : 0.0f;
     h.area[i] = T.area[k];
+    h.radius[i] = radius;
   }
 }
 

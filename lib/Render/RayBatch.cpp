@@ -8,14 +8,15 @@
 
 namespace osl::render {
 
-void RayBatch::push(Vec3 o, Vec3 d, int leaving) {
+void RayBatch::push(Vec3 o, Vec3 d, int leaving, float r, float s) {
   ox.push_back(o.x), oy.push_back(o.y), oz.push_back(o.z);
   dx.push_back(d.x), dy.push_back(d.y), dz.push_back(d.z);
+  radius.push_back(r), spread.push_back(s);
   self.push_back(leaving);
 }
 
 void RayBatch::clear() {
-  for (std::vector<float> *v : {&ox, &oy, &oz, &dx, &dy, &dz})
+  for (std::vector<float> *v : {&ox, &oy, &oz, &dx, &dy, &dz, &radius, &spread})
     v->clear();
   self.clear();
 }
