@@ -47,12 +47,11 @@ struct Path {
 
 /// Points to shade with one shader: where each is (its geometry computed
 /// in lanes; `at.ray` indexes the wave's pathRays for hits and misses, its
-/// shadow rays for light queries), the path it belongs to, and for light
-/// queries what the light's emission is multiplied by.
+/// shadow rays for light queries) and the path it belongs to (for light
+/// queries, the shadow ray).
 struct ShadeQueue {
   HitPoints at;
   std::vector<int> path;
-  std::vector<Vec3> contrib;
   /// The ray type every point answers (-1: each its path's own).
   int32_t rayType = -1;
   /// Escaped rays: I is the direction, and there is no surface.
@@ -60,7 +59,6 @@ struct ShadeQueue {
   void clear() {
     at.clear();
     path.clear();
-    contrib.clear();
   }
   size_t size() const { return path.size(); }
 };
@@ -76,9 +74,12 @@ public:
       : r(r), scene(r.scene), prims(r.scene), width(r.laneWidth),
         globals(size_t(kGlobalRows) * r.laneWidth), queues(scene.shaders.size()),
         lightQueries(scene.shaders.size()) {
-    for (int l = 0; l < int(scene.prims.size()); ++l)
-      if (scene.prims[l].isLight && scene.prims[l].shader >= 0)
-        lights.push_back(l);
+    // testrender numbers spheres before quads, and samples lights in that
+    // order.
+    for (auto kind : {Primitive::Sphere, Primitive::Quad})
+      for (int l = 0; l < int(scene.prims.size()); ++l)
+        if (scene.prims[l].kind == kind && scene.prims[l].isLight && scene.prims[l].shader >= 0)
+          lights.push_back(l);
     int rows = 1;
     for (const Renderer::Kernel &k : r.kernels)
       rows = std::max(rows, k.outputRows);
@@ -101,9 +102,9 @@ public:
     camera.yres = opt.yres;
   }
 
-  /// Traces samples [s0, s1) of every pixel in `pixels`, adding their
-  /// radiance to `sum` (3 floats per pixel of the image).
-  void run(const std::vector<int> &pixels, int s0, int s1, float *sum);
+  /// Traces samples [s0, s1) of every pixel in `pixels`, mixing their
+  /// radiance into `mean` (3 floats per pixel of the window).
+  void run(const std::vector<int> &pixels, int s0, int s1, float *mean);
   /// The background's radiance toward each of `dirs` (no ray type, as
   /// testrender shades its background table).
   void shadeBackground(const std::vector<Dual3> &dirs, std::vector<Vec3> &radiance);
@@ -118,7 +119,7 @@ private:
   void shadeMisses(int bounce);
   void scatterAll(int bounce);
   void traceShadowRays();
-  void accumulate(float *sum);
+  void accumulate(float *mean);
   /// Shades `q`'s points with `shader`, `width` at a time, and calls
   /// use(index in q, closure handle) for each.
   template <typename Use> void shade(int shader, const ShadeQueue &q, Use use);
@@ -154,7 +155,7 @@ private:
   /// Escaped paths: primitive -1, never given to hitGeometry (shadeMisses
   /// copies their directions).
   ShadeQueue misses;
-  /// The lights next-event estimation samples, in the scene's order.
+  /// The lights next-event estimation samples, in testrender's order.
   std::vector<int> lights;
   /// Sampler points drawn a batch at a time (every path's numbers are its
   /// own, whatever the batch).
@@ -168,13 +169,18 @@ private:
   RayBatch rays;
   std::vector<Hit> hits;
   std::vector<int> rayPaths;
-  /// Each path's pixel (for the camera's lanes and the image).
-  std::vector<int> pathPixels;
+  /// Each path's pixel (for the camera's lanes and the image) and sample
+  /// index (its pixel's samples are mixed in in order).
+  std::vector<int> pathPixels, pathSamples;
   /// A shadow ray traced with the others: toward `light` (-1: the
-  /// background), and what reaching it adds (times the light's emission).
+  /// background), what reaching it adds (times the light's emission), and
+  /// once traced and shaded, what it adds. A path adds them in the order it
+  /// sampled them, as testrender does.
   struct ShadowRay {
     int path, light;
     Vec3 contrib;
+    bool reached = false;
+    Vec3 adds;
   };
   std::vector<ShadowRay> shadowRays;
   /// Rows of the globals the renderer sets.
@@ -259,7 +265,7 @@ void PathWave::shadeBackground(const std::vector<Dual3> &dirs, std::vector<Vec3>
   });
 }
 
-void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
+void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *mean) {
   startPaths(pixels, s0, s1);
   results.resize(paths.size());
   for (int bounce = 0; intersectPaths(); ++bounce) {
@@ -282,11 +288,15 @@ void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *sum) {
         ShadingResult light;
         addClosure(threadClosureArena(), handle, {-q.at.d(i), q.at.backfacing[i] != 0}, light,
                    true);
-        paths[q.path[i]].radiance += q.contrib[i] * light.emission;
+        ShadowRay &ray = shadowRays[q.path[i]];
+        ray.adds = ray.contrib * light.emission;
       });
     }
+    for (const ShadowRay &ray : shadowRays)
+      if (ray.reached)
+        paths[ray.path].radiance += ray.adds;
   }
-  accumulate(sum);
+  accumulate(mean);
 }
 
 /// One path per pixel and sample, from testrender's camera through a
@@ -297,6 +307,7 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   paths.clear();
   draws.clear();
   pathPixels.clear();
+  pathSamples.clear();
   for (int pixel : pixels)
     for (int s = s0; s < s1; ++s) {
       Path p;
@@ -304,6 +315,7 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
       draws.push(p.rng.reserve(1), p.rng.sampleIndex());
       paths.push_back(p);
       pathPixels.push_back(pixel);
+      pathSamples.push_back(s);
     }
   laneKernels().drawPoints(draws, width);
   size_t n = paths.size();
@@ -484,38 +496,40 @@ void PathWave::scatterAll(int bounce) {
 
 /// The bounce's shadow rays, traced together: one toward the background
 /// that escapes adds its contribution; one that reaches its light queues a
-/// query for the light's shader.
+/// query for the light's shader (the query's `path` is the shadow ray).
 void PathWave::traceShadowRays() {
   intersectBatch(scene, rays, width, hits);
   for (size_t k = 0; k < shadowRays.size(); ++k) {
-    const ShadowRay &s = shadowRays[k];
+    ShadowRay &s = shadowRays[k];
     if (s.light < 0) {
-      if (hits[k].prim < 0)
-        paths[s.path].radiance += s.contrib;
+      s.reached = hits[k].prim < 0;
+      s.adds = s.contrib;
       continue;
     }
     if (hits[k].prim != s.light)
       continue;
+    s.reached = true;
     ShadeQueue &q = lightQueries[scene.prims[s.light].shader];
     q.at.push(s.light, int(k), hits[k].t);
-    q.path.push_back(s.path);
-    q.contrib.push_back(s.contrib);
+    q.path.push_back(int(k));
   }
   for (ShadeQueue &q : lightQueries)
     laneKernels().hitGeometry(prims, rays, q.at, width);
 }
 
-/// Adds each path's radiance to its pixel.
-void PathWave::accumulate(float *sum) {
+/// Mixes each path's radiance into its pixel, a sample at a time in order
+/// (testrender's running mean: mean += (c - mean) / (s + 1) as a lerp).
+void PathWave::accumulate(float *mean) {
   const RenderOptions &opt = r.options;
   for (size_t i = 0; i < paths.size(); ++i) {
     Vec3 c = paths[i].radiance;
     if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)))
-      continue; // one bad sample must not turn a pixel into NaN
-    size_t at = 3 * opt.windowIndex(pathPixels[i]);
-    sum[at] += c.x;
-    sum[at + 1] += c.y;
-    sum[at + 2] += c.z;
+      c = Vec3(); // one bad sample must not turn a pixel into NaN
+    float t = 1.0f / float(pathSamples[i] + 1);
+    float *m = &mean[3 * opt.windowIndex(pathPixels[i])];
+    m[0] = fast::lerp(m[0], c.x, t);
+    m[1] = fast::lerp(m[1], c.y, t);
+    m[2] = fast::lerp(m[2], c.z, t);
   }
 }
 
@@ -631,8 +645,6 @@ void Renderer::render(std::vector<float> &rgb, RenderStats &stats) {
   });
   progress.finish();
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  for (float &v : rgb)
-    v /= float(spp);
   stats.paths = long(opt.windowWidth()) * opt.windowHeight() * spp;
   for (auto &w : waves) {
     stats.batches += w->batches;

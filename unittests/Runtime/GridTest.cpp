@@ -227,7 +227,7 @@ TEST(Grid, MultipleOutputsAreSeparateImages) {
   // Channels of consecutive outputs follow each other in the kernel's rows.
   GridOptions o = grid(13, 9);
   ShadeResult r = shadeGrid(copyGlobals<4>, 4,
-                            {{"P", 3}, {"I", 3}, {"N", 3}, {"rest", 34}}, o);
+                            {{"P", 3}, {"I", 3}, {"N", 3}, {"rest", kGlobalRows - 9}}, o);
   ASSERT_EQ(r.images.size(), 4u);
   for (int y = 0; y < o.yres; ++y)
     for (int x = 0; x < o.xres; ++x) {
@@ -238,7 +238,7 @@ TEST(Grid, MultipleOutputsAreSeparateImages) {
         EXPECT_EQ(r.images[1][p * 3 + c], want[3 + c]);
         EXPECT_EQ(r.images[2][p * 3 + c], want[6 + c]);
       }
-      EXPECT_EQ(r.images[3][p * 34 + 0], want[9]);
+      EXPECT_EQ(r.images[3][p * (kGlobalRows - 9) + 0], want[9]);
     }
 }
 
