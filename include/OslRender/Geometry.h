@@ -2,7 +2,6 @@
 #ifndef OSLRENDER_GEOMETRY_H
 #define OSLRENDER_GEOMETRY_H
 
-#include "OslRender/RenderMath.h"
 #include "OslRender/Scene.h"
 
 #include <cmath>
@@ -45,18 +44,6 @@ void intersectBatch(const Scene &scene, const RayBatch &rays, const std::vector<
 /// testrender answers: a quad's area, a sphere's silhouette (pi r^2).
 float surfaceArea(const Primitive &prim);
 
-/// The solid-angle pdf of sampling a sphere light's cone from a point at
-/// squared distance `d2` from its center (0 inside it).
-[[gnu::always_inline]] inline float sphereLightPdf(float d2, float r2) {
-  float cosMax = std::sqrt(std::fmax(0.0f, 1 - r2 / d2));
-  return d2 <= r2 ? 0.0f : 1 / (2 * kRenderPi * (1 - cosMax));
-}
-/// The solid-angle pdf of sampling a quad light uniformly by area, seen
-/// along unit `dir` at squared distance `d2` (0 edge on).
-[[gnu::always_inline]] inline float quadLightPdf(Vec3 unitNormal, float area, Vec3 dir, float d2) {
-  float cosL = std::fabs(dot(unitNormal, dir));
-  return cosL > 1e-6f ? d2 / (area * cosL) : 0.0f;
-}
 } // namespace osl::render
 
 #endif // OSLRENDER_GEOMETRY_H

@@ -12,7 +12,6 @@
 //
 //===----------------------------------------------------------------------===//
 #include "LaneKernels.h"
-#include "OslRender/RenderMath.h"
 #include "OslRender/Sampler.h"
 #include "OslRender/Sampling.h"
 #include "Dual.h"
