@@ -1,15 +1,18 @@
 //===- Renderer.h - A batched path tracer for OSL closures ------*- C++ -*-===//
 //
-// osl-run --scene: path traces a testrender scene. Paths advance in waves:
-// every path of a tile's wave is traced to its next hit (rays intersected
-// W at a time, one SIMD lane each: Geometry.h's intersectBatch), the hits are
-// grouped by shader and shaded in full batches of W lanes (so SIMD lanes
-// stay busy however the paths scatter), then each path takes next-event
-// estimation toward every light (multiple importance sampling with the
-// BSDF; the bounce's shadow rays are intersected together) and samples its
-// BSDF. Light and background shaders are batched the same way. Random
-// numbers depend only on (pixel, sample, bounce), and a pixel's samples are
-// summed in order, so an image is the same at every width and thread count.
+// osl-run --scene: path traces a testrender scene, along testrender's own
+// paths (its sampler, camera, geometry, lobes, mixture, background table and
+// ray differentials), so that its images match testrender's pixel for
+// pixel. Paths advance in waves: every path of a tile's wave is traced to
+// its next hit (rays intersected W at a time, one SIMD lane each:
+// Geometry.h's intersectBatch), the hits are grouped by shader and shaded in
+// full batches of W lanes (so SIMD lanes stay busy however the paths
+// scatter), then each path draws one sampler point and with it samples the
+// background table, every light (multiple importance sampling with the
+// BSDF; the bounce's shadow rays are intersected together) and its BSDF.
+// Light and background shaders are batched the same way. Random numbers
+// depend only on (pixel, sample, bounce), and a pixel's samples are mixed
+// in in order, so an image is the same at every width and thread count.
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLRENDER_RENDERER_H
