@@ -91,14 +91,11 @@ struct ShadingResult {
   /// The relative index of refraction the closure's medium declares (1:
   /// none), for the MaterialX lobes with transmission made after it.
   float refractionIor = 1;
-  /// Primitives the renderer does not scatter with (volumes, holdout, debug).
-  int ignored = 0;
 
   void clear() {
     emission = background = Vec3();
     lobes.clear();
     refractionIor = 1;
-    ignored = 0;
   }
   /// Adds a lobe; false when the mixture is full (as testrender's, which
   /// drops the ninth lobe, or one its 1024-byte pool has no room for).

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <deque>
+#include <optional>
 
 namespace osl::render {
 namespace {
@@ -72,6 +73,8 @@ float schlickIor(Vec3 f0) {
   return (1 + root) / (1 - root);
 }
 
+std::optional<Lobe> lobeOf(const ClosurePrimitive &p, Vec3 w, float refractionIor);
+
 /// How much of what is below a layer's top the top hides toward wo
 /// (testrender's evaluate_layer_opacity): a reflectance for the closures
 /// that let light through, 1 for the others.
@@ -85,44 +88,15 @@ Vec3 layerOpacity(const ClosureArena &arena, int32_t handle, const ShadingPoint 
       sum += layerOpacity(arena, p.closureParam(0), at, w) +
              layerOpacity(arena, p.closureParam(1), at, w);
       break;
-    case kReflection: {
-      Lobe l;
-      l.model = Lobe::Reflection;
-      l.n = tripleOf(p, 0);
-      l.eta = p.floatParam(1);
-      sum += w * lobeAlbedo(l, at.wo);
-      break;
-    }
     case kMxDielectric:
-    case kMxGeneralizedSchlick: {
-      bool dielectric = p.id == kMxDielectric;
-      Vec3 tintT = tripleOf(p, 3);
-      if (!isBlack(tintT)) {
+    case kMxGeneralizedSchlick:
+      if (!isBlack(tripleOf(p, 3))) {
         sum += Vec3(1, 1, 1); // transmissive: opaque
         break;
       }
-      Lobe l = mxMicrofacet(p, dielectric ? Lobe::MxDielectric : Lobe::MxSchlick, 4);
-      l.tintR = tripleOf(p, 2);
-      l.tintT = tintT;
-      if (dielectric) {
-        l.eta = p.floatParam(6);
-      } else {
-        l.f0 = tripleOf(p, 6);
-        l.f90 = tripleOf(p, 7);
-        l.exponent = p.floatParam(8);
-      }
-      sum += w * lobeAlbedo(l, at.wo);
-      break;
-    }
-    case kMxSheen: {
-      Lobe l;
-      l.model = Lobe::Sheen;
-      l.n = tripleOf(p, 0);
-      l.albedo = tripleOf(p, 1);
-      l.a = p.floatParam(2);
-      sum += w * lobeAlbedo(l, at.wo);
-      break;
-    }
+      [[fallthrough]];
+    case kReflection:
+    case kMxSheen: sum += w * lobeAlbedo(*lobeOf(p, w, 1.0f), at.wo); break;
     default: sum += Vec3(1, 1, 1); break;
     }
   }
@@ -137,6 +111,8 @@ Vec3 underLayer(const ClosureArena &arena, int32_t top, const ShadingPoint &at, 
 /// testrender's medium pass: the index of refraction the closure declares.
 void readMedium(const ClosureArena &arena, int32_t handle, const ShadingPoint &at, Vec3 scale,
                 ShadingResult &out) {
+  // Seen from inside, the index is inverted.
+  auto setIor = [&](float ior) { out.refractionIor = at.backfacing ? 1.0f / ior : ior; };
   Flattened prims(arena, handle, scale);
   for (const ClosurePrimitive &p : *prims) {
     Vec3 w(p.weight);
@@ -145,31 +121,19 @@ void readMedium(const ClosureArena &arena, int32_t handle, const ShadingPoint &a
       readMedium(arena, p.closureParam(0), at, w, out);
       readMedium(arena, p.closureParam(1), at, underLayer(arena, p.closureParam(0), at, w), out);
       break;
-    case kMxMediumVdf: {
-      float ior = p.floatParam(4);
-      out.refractionIor = at.backfacing ? 1.0f / ior : ior;
-      break;
-    }
+    case kMxMediumVdf: setIor(p.floatParam(4)); break;
     case kMxDielectric:
-      if (!isBlack(w * tripleOf(p, 3))) {
-        float ior = p.floatParam(6);
-        out.refractionIor = at.backfacing ? 1.0f / ior : ior;
-      }
+      if (!isBlack(w * tripleOf(p, 3)))
+        setIor(p.floatParam(6));
       break;
     case kMxGeneralizedSchlick:
-      if (!isBlack(w * tripleOf(p, 3))) {
-        float ior = schlickIor(tripleOf(p, 6));
-        out.refractionIor = at.backfacing ? 1.0f / ior : ior;
-      }
+      if (!isBlack(w * tripleOf(p, 3)))
+        setIor(schlickIor(tripleOf(p, 6)));
       break;
     default: break;
     }
   }
 }
-
-/// Appends primitive `p`'s lobe (weight `w`) to `out`.
-void addLobe(const ClosureArena &arena, const ClosurePrimitive &p, Vec3 w, const ShadingPoint &at,
-             ShadingResult &out);
 
 void addLobes(const ClosureArena &arena, int32_t handle, const ShadingPoint &at, Vec3 scale,
               bool lightOnly, ShadingResult &out) {
@@ -191,16 +155,30 @@ void addLobes(const ClosureArena &arena, int32_t handle, const ShadingPoint &at,
         addLobes(arena, p.closureParam(1), at, base, lightOnly, out);
       continue;
     }
-    addLobe(arena, p, w, at, out);
+    if (std::optional<Lobe> l = lobeOf(p, w, out.refractionIor))
+      out.add(*l);
   }
 }
 
-void addLobe(const ClosureArena &, const ClosurePrimitive &p, Vec3 w, const ShadingPoint &,
-             ShadingResult &out) {
+/// The MaterialX dielectric's and generalized Schlick's common part: the
+/// tints, and the transmission lobe (with the medium's index) where the
+/// transmission tint is not black.
+Lobe mxTinted(const ClosurePrimitive &p, Lobe::Model model, float refractionIor) {
+  Lobe l = mxMicrofacet(p, model, 4);
+  l.tintR = tripleOf(p, 2);
+  l.tintT = tripleOf(p, 3);
+  l.refract = isBlack(l.tintT) ? 0 : 1;
+  l.refractionIor = l.refract ? refractionIor : 1.0f;
+  return l;
+}
+
+/// The lobe testrender makes of primitive `p` with weight `w`
+/// (`refractionIor`: the medium pass's index); none for what does not
+/// scatter (volumes, holdout, debug, a microfacet of unknown distribution).
+std::optional<Lobe> lobeOf(const ClosurePrimitive &p, Vec3 w, float refractionIor) {
   auto c = [&](int i) { return tripleOf(p, i); };
   auto f = [&](int i) { return p.floatParam(i); };
   Lobe l;
-  l.weight = w;
   switch (p.id) {
   case kDiffuse: l.model = Lobe::Diffuse; l.n = c(0); break;
   case kTranslucent: l.model = Lobe::Translucent; l.n = c(0); break;
@@ -216,7 +194,7 @@ void addLobe(const ClosureArena &, const ClosurePrimitive &p, Vec3 w, const Shad
     else if (dist == "beckmann" || dist == "default")
       l.dist = 1;
     else
-      return; // testrender makes no lobe of another distribution
+      return std::nullopt; // testrender makes no lobe of another distribution
     l.model = Lobe::Microfacet;
     l.n = c(1);
     l.t = c(2);
@@ -225,7 +203,7 @@ void addLobe(const ClosureArena &, const ClosurePrimitive &p, Vec3 w, const Shad
     l.eta = f(5);
     l.refract = p.intParam(6);
     if (l.refract < 0 || l.refract > 2)
-      return;
+      return std::nullopt;
     break;
   }
   case kReflection: l.model = Lobe::Reflection; l.n = c(0); l.eta = f(1); break;
@@ -240,47 +218,33 @@ void addLobe(const ClosureArena &, const ClosurePrimitive &p, Vec3 w, const Shad
       l.albedo = c(1);
     } else {
       l.model = Lobe::OrenNayar;
-      l.weight = w * c(1);
+      w = w * c(1);
     }
     break;
   case kMxBurleyDiffuse: l.model = Lobe::Burley; l.n = c(0); l.albedo = c(1); l.a = f(2); break;
   case kMxSheen: l.model = Lobe::Sheen; l.n = c(0); l.albedo = c(1); l.a = f(2); break;
-  case kMxTranslucent: l.model = Lobe::Translucent; l.n = c(0); l.weight = w * c(1); break;
-  case kMxSubsurface: l.model = Lobe::Diffuse; l.n = c(0); l.weight = w * c(1); break;
-  case kSubsurface: l.model = Lobe::Diffuse; l.n = c(0); l.weight = w * c(3); break;
+  case kMxTranslucent: l.model = Lobe::Translucent; l.n = c(0); w = w * c(1); break;
+  case kMxSubsurface: l.model = Lobe::Diffuse; l.n = c(0); w = w * c(1); break;
+  case kSubsurface: l.model = Lobe::Diffuse; l.n = c(0); w = w * c(3); break;
   case kMxDielectric:
-    l = mxMicrofacet(p, Lobe::MxDielectric, 4);
-    l.weight = w;
-    l.tintR = c(2);
-    l.tintT = c(3);
+    l = mxTinted(p, Lobe::MxDielectric, refractionIor);
     l.eta = f(6);
-    l.refract = isBlack(l.tintT) ? 0 : 1;
-    l.refractionIor = l.refract ? out.refractionIor : 1.0f;
     break;
   case kMxConductor:
     l = mxMicrofacet(p, Lobe::MxConductor, 2);
-    l.weight = w;
     l.ior = c(4);
     l.kappa = c(5);
     break;
   case kMxGeneralizedSchlick:
-    l = mxMicrofacet(p, Lobe::MxSchlick, 4);
-    l.weight = w;
-    l.tintR = c(2);
-    l.tintT = c(3);
+    l = mxTinted(p, Lobe::MxSchlick, refractionIor);
     l.f0 = c(6);
     l.f90 = c(7);
     l.exponent = f(8);
-    l.refract = isBlack(l.tintT) ? 0 : 1;
-    l.refractionIor = l.refract ? out.refractionIor : 1.0f;
     break;
-  case kMxAnisotropicVdf:
-  case kMxMediumVdf: return; // read by the medium pass
-  default: // holdout, debug
-    ++out.ignored;
-    return;
+  default: return std::nullopt; // volumes (read by the medium pass), holdout, debug
   }
-  out.add(l);
+  l.weight = w;
+  return l;
 }
 
 } // namespace

@@ -136,7 +136,7 @@ private:
   }
   /// Queues a shadow ray from hit `i` of `q` toward `dir`.
   void queueShadowRay(const ShadeQueue &q, size_t i, Vec3 dir, int light, Vec3 contrib) {
-    shadowRays.push_back({q.path[i], light, contrib});
+    shadowRays.push_back({q.path[i], light, contrib, false, Vec3()});
     rays.push(q.at.p(i), dir, paths[q.path[i]].hit.prim, q.at.radius[i], 0.0f);
   }
 

@@ -193,8 +193,7 @@ void cameraRays(const CameraSetup &camera, const int *pixel, const float *jx, co
 /// Each lane's point, normal, parametric frame and ray differentials on
 /// its primitive, as testrender's globals_from_hit computes them (a
 /// sphere's u and v with libm's atan2 and acos, through dual numbers).
-/// One lane at a time: the libm calls would not vectorize.
-template <int W>
+/// One lane at a time, at every width: the libm calls would not vectorize.
 OSL_LANE_TARGET void hitGeometryAt(const PrimTable &T, const RayBatch &rays, HitPoints &h) {
   const float pi = float(M_PI);
   auto set3 = [](std::vector<float> &x, std::vector<float> &y, std::vector<float> &z, size_t i,
@@ -256,47 +255,48 @@ OSL_LANE_TARGET void hitGeometryAt(const PrimTable &T, const RayBatch &rays, Hit
 
 void hitGeometry(const PrimTable &prims, const RayBatch &rays, HitPoints &hits, int width) {
   hits.sizeOutputs();
-  atWidth(width, [&](auto w) { hitGeometryAt<decltype(w)::value>(prims, rays, hits); });
+  hitGeometryAt(prims, rays, hits);
 }
 
-template <int W> OSL_LANE_TARGET void sampleLightsAt(const PrimTable &T, LightDraws &s) {
-  forLanes<W>(
-      s.size(), [&](size_t i) __attribute__((always_inline)) {
-        int k = s.light[i];
-        Vec3 x(s.ox[i], s.oy[i], s.oz[i]);
-        float rx = s.rx[i], ry = s.ry[i];
-        // Sphere: a direction in the cone the light subtends, about its center.
-        constexpr float twoPi = float(2 * M_PI);
-        Vec3 toC = Vec3(T.cx[k], T.cy[k], T.cz[k]) - x;
-        float cmax2 = 1 - T.r2[k] / dot(toC, toC);
-        float cmax = cmax2 > 0 ? std::sqrt(cmax2 > 0 ? cmax2 : 0.0f) : 0.0f;
-        float cosA = 1 - rx + rx * cmax;
-        float sinA = std::sqrt(1 - cosA * cosA);
-        float sp, cp;
-        fast::sincos(twoPi * ry, sp, cp);
-        Vec3 sw = normalize(toC), su, sv;
-        orthoBasis(sw, su, sv);
-        Vec3 cone = normalize(su * (cp * sinA) + sv * (sp * sinA) + sw * cosA);
-        float conePdf = 1 / (twoPi * (1 - cmax));
-        // Quad: a point on it, uniformly by area.
-        Vec3 l = (Vec3(T.qx[k], T.qy[k], T.qz[k]) + rx * Vec3(T.ex[k], T.ey[k], T.ez[k]) +
-                  ry * Vec3(T.fx[k], T.fy[k], T.fz[k])) -
-                 x;
-        float d2 = dot(l, l);
-        Vec3 toP = normalize(l);
-        float areaPdf = d2 / (T.area[k] * std::fabs(dot(toP, Vec3(T.nx[k], T.ny[k], T.nz[k]))));
-        bool sphere = T.kind[k] == Primitive::Sphere;
-        s.dx[i] = sphere ? cone.x : toP.x;
-        s.dy[i] = sphere ? cone.y : toP.y;
-        s.dz[i] = sphere ? cone.z : toP.z;
-        s.pdf[i] = sphere ? conePdf : areaPdf;
-      });
+/// testrender's light samples, one lane at a time at every width (its
+/// frame's branch and OpenImageIO's sincos keep the loop from vectorizing).
+OSL_LANE_TARGET void sampleLightsAt(const PrimTable &T, LightDraws &s) {
+  for (size_t i = 0; i < s.size(); ++i) {
+    int k = s.light[i];
+    Vec3 x(s.ox[i], s.oy[i], s.oz[i]);
+    float rx = s.rx[i], ry = s.ry[i];
+    // Sphere: a direction in the cone the light subtends, about its center.
+    constexpr float twoPi = float(2 * M_PI);
+    Vec3 toC = Vec3(T.cx[k], T.cy[k], T.cz[k]) - x;
+    float cmax2 = 1 - T.r2[k] / dot(toC, toC);
+    float cmax = cmax2 > 0 ? std::sqrt(cmax2) : 0.0f;
+    float cosA = 1 - rx + rx * cmax;
+    float sinA = std::sqrt(1 - cosA * cosA);
+    float sp, cp;
+    fast::sincos(twoPi * ry, sp, cp);
+    Vec3 sw = normalize(toC), su, sv;
+    orthoBasis(sw, su, sv);
+    Vec3 cone = normalize(su * (cp * sinA) + sv * (sp * sinA) + sw * cosA);
+    float conePdf = 1 / (twoPi * (1 - cmax));
+    // Quad: a point on it, uniformly by area.
+    Vec3 l = (Vec3(T.qx[k], T.qy[k], T.qz[k]) + rx * Vec3(T.ex[k], T.ey[k], T.ez[k]) +
+              ry * Vec3(T.fx[k], T.fy[k], T.fz[k])) -
+             x;
+    float d2 = dot(l, l);
+    Vec3 toP = normalize(l);
+    float areaPdf = d2 / (T.area[k] * std::fabs(dot(toP, Vec3(T.nx[k], T.ny[k], T.nz[k]))));
+    bool sphere = T.kind[k] == Primitive::Sphere;
+    s.dx[i] = sphere ? cone.x : toP.x;
+    s.dy[i] = sphere ? cone.y : toP.y;
+    s.dz[i] = sphere ? cone.z : toP.z;
+    s.pdf[i] = sphere ? conePdf : areaPdf;
+  }
 }
 
 void sampleLights(const PrimTable &prims, LightDraws &draws, int width) {
   for (std::vector<float> *v : {&draws.dx, &draws.dy, &draws.dz, &draws.pdf})
     v->resize(draws.size());
-  atWidth(width, [&](auto w) { sampleLightsAt<decltype(w)::value>(prims, draws); });
+  sampleLightsAt(prims, draws);
 }
 
 /// W sampler points, one per lane.
