@@ -208,7 +208,10 @@ def OutlineLibrary : Pass<"osl-outline-library", "::mlir::ModuleOp"> {
     place while the copies made, cheapest function first, fit in
     `inline-budget` for the kernel: a call clobbers every vector register,
     so the caller spills its live values around it, which costs more than
-    such a body (and inlined constant arguments fold); the bounds keep
+    such a body (and inlined constant arguments fold). A body of more than
+    `inline-always-ops` ops goes back only where a call passes it a
+    constant or runs in a loop: copies of it that do not fold cost codegen
+    time and gain little over a call made once. The bounds keep
     unrolled loops of calls, or many different routines called once each
     (a noise name chosen per point), from growing the kernel.
   }];
@@ -219,7 +222,10 @@ def OutlineLibrary : Pass<"osl-outline-library", "::mlir::ModuleOp"> {
                         "is at most this">,
                  Option<"inlineBudget", "inline-budget", "unsigned", "1500",
                         "inline such functions while their copies' ops add up "
-                        "to at most this">];
+                        "to at most this">,
+                 Option<"inlineAlwaysOps", "inline-always-ops", "unsigned", "100",
+                        "a function of more ops is inlined only where a call "
+                        "passes it a constant or runs in a loop">];
   let dependentDialects = ["::mlir::func::FuncDialect"];
 }
 

@@ -3,6 +3,8 @@
 // RUN: osl-opt %s -split-input-file --osl-outline-library="inline-ops=3 inline-budget=4" \
 // RUN:   | FileCheck %s --check-prefix=BUDGET
 // RUN: osl-opt %s -split-input-file --osl-outline-library=outline=false | FileCheck %s --check-prefix=INLINE
+// RUN: osl-opt %s -split-input-file --osl-outline-library="inline-ops=100 inline-always-ops=1" \
+// RUN:   | FileCheck %s --check-prefix=FOLDS
 
 // Two calls of one routine with one signature share one private function
 // taking the outside values the region read; its body is the region's code.
@@ -217,4 +219,47 @@ func.func @one_budget_per_kernel(%x: f32) -> (f32, f32) {
     scf.yield %m : f32
   } {osl.library = "noise_hash"}
   return %a, %b : f32, f32
+}
+
+// -----
+
+// Past inline-always-ops, a body goes back only where a copy gains: a call
+// passing a constant (it folds) or a call in a loop (its spills repeat).
+// A call made once with varying operands stays a call.
+// FOLDS-LABEL: func.func @bigger_bodies_inline_where_they_gain
+// FOLDS: %[[ONCE:.+]] = call @osl.lib.noise_perlin.{{[0-9a-f]+}}(%arg0)
+// FOLDS: %[[C:.+]] = arith.mulf %arg0, %cst
+// FOLDS: arith.addf %[[C]], %cst
+// FOLDS: scf.for
+// FOLDS-NOT: call
+// FOLDS: arith.mulf %arg1, %arg1
+// FOLDS: arith.addf
+// FOLDS: scf.yield
+// FOLDS-NOT: noise_simplex
+// FOLDS-NOT: noise_cell
+func.func @bigger_bodies_inline_where_they_gain(%x: f32, %y: f32) -> (f32, f32, f32) {
+  %once = scf.execute_region -> f32 {
+    %m = arith.mulf %x, %x : f32
+    %a = arith.subf %m, %x : f32
+    scf.yield %a : f32
+  } {osl.library = "noise_perlin"}
+  %two = arith.constant 2.0 : f32
+  %constant = scf.execute_region -> f32 {
+    %m = arith.mulf %x, %two : f32
+    %a = arith.addf %m, %two : f32
+    scf.yield %a : f32
+  } {osl.library = "noise_simplex"}
+  %c0 = arith.constant 0 : index
+  %c1 = arith.constant 1 : index
+  %c4 = arith.constant 4 : index
+  %looped = scf.for %i = %c0 to %c4 step %c1 iter_args(%acc = %y) -> (f32) {
+    %n = scf.execute_region -> f32 {
+      %m = arith.mulf %y, %y : f32
+      %a = arith.addf %m, %y : f32
+      scf.yield %a : f32
+    } {osl.library = "noise_cell"}
+    %s = arith.addf %acc, %n : f32
+    scf.yield %s : f32
+  }
+  return %once, %constant, %looped : f32, f32, f32
 }
