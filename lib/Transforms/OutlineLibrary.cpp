@@ -10,6 +10,7 @@
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Dialect/Func/IR/FuncOps.h"
+#include "mlir/Dialect/Vector/IR/VectorOps.h"
 #include "mlir/IR/IRMapping.h"
 #include "mlir/IR/Matchers.h"
 #include "mlir/Interfaces/LoopLikeInterface.h"
@@ -96,10 +97,14 @@ std::optional<unsigned> straightLineOps(func::FuncOp func) {
   return ops;
 }
 
-/// Whether `call` passes a constant: a copy of the callee would fold it.
+/// Whether `call` passes a constant (or lanes of one): a copy of the
+/// callee would fold it.
 bool passesConstant(func::CallOp call) {
-  return llvm::any_of(call.getOperands(),
-                      [](Value v) { return matchPattern(v, m_Constant()); });
+  return llvm::any_of(call.getOperands(), [](Value v) {
+    if (auto broadcast = v.getDefiningOp<vector::BroadcastOp>())
+      v = broadcast.getSource();
+    return matchPattern(v, m_Constant());
+  });
 }
 
 /// Whether `call` runs in a loop, where the spills around it repeat.

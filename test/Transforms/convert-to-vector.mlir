@@ -110,6 +110,24 @@ func.func @noise_is_inlined() {
 
 // -----
 
+// A varying noise's uniform coordinate (a constant here) is broadcast before the library
+// region, so that the region reads varying values only (the prebuilt
+// library's signature): nothing scalar is broadcast inside it.
+// CHECK-LABEL: osl.shader_name = "uniform_coordinate_broadcast_before_region"
+// CHECK: %[[Y:.+]] = vector.broadcast %{{.+}} : f32 to vector<8xf32>
+// CHECK: scf.execute_region -> vector<8xf32>
+// CHECK-NOT: vector.broadcast %{{.+}} : f32 to vector<8xf32>
+// CHECK: osl.library = "noise_cell"
+func.func @uniform_coordinate_broadcast_before_region() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %y = arith.constant 0.5 : f32
+  %n = osl.noise cell(%u, %y) : (!osl.varying<f32>, f32) -> !osl.varying<f32>
+  osl.output "n" = %n : !osl.varying<f32>
+  return
+}
+
+// -----
+
 // Int outputs are stored as float values, like the conformance images.
 // CHECK-LABEL: osl.shader_name = "int_output_as_float"
 // CHECK: arith.fptosi %{{.+}} : vector<8xf32> to vector<8xi32>

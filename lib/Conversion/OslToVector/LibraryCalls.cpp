@@ -106,19 +106,26 @@ struct GeometryLowering : public OslPattern<OpTy> {
   }
 };
 
+/// A noise op's coordinates (and periods) as converted values, with the
+/// osl types they have.
+struct NoiseCoords {
+  SmallVector<Value> values;
+  SmallVector<Type> types;
+};
+
 /// Gabor noise: the point (and its derivatives and period) made 3D, the
 /// options read as scalars (osl-lane-group-filter made them uniform).
-Value lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes, Type resultType,
-                 OpBuilder &rewriter) {
+Value lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, const NoiseCoords &coords,
+                 Components &lanes, Type resultType, OpBuilder &rewriter) {
   Location loc = op.getLoc();
   bool varying = isVarying(op.getType());
   SmallVector<Value> flat;
-  for (auto &c : lanes.unpackAll(adaptor.getCoords(), op.getCoords(), varying))
-    llvm::append_range(flat, c);
+  for (auto [value, type] : llvm::zip(coords.values, coords.types))
+    llvm::append_range(flat, lanes.unpack(value, type, varying));
   // A triple point has 3 values, a float domain 1 or 2 (a 4th coordinate
   // and its period are ignored, as OSL does).
-  size_t ncoords = op.getPeriodic() ? op.getCoords().size() / 2 : op.getCoords().size();
-  bool triple = isTriple(getUniformType(op.getCoords()[0].getType()));
+  size_t ncoords = op.getPeriodic() ? coords.values.size() / 2 : coords.values.size();
+  bool triple = isTriple(getUniformType(coords.types[0]));
   size_t pointSize = triple ? 3 : ncoords;
   size_t domainSize = triple ? (ncoords == 2 ? 4 : 3) : ncoords;
   Type laneType = flat[0].getType();
@@ -159,13 +166,13 @@ Value lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes, Type r
 
 /// The noise of a non-Gabor kind; null for a periodic kind OSL does not
 /// define.
-Value lowerNoise(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes, Type resultType,
-                 OpBuilder &b) {
+Value lowerNoise(NoiseOp op, const NoiseCoords &noiseCoords, Components &lanes,
+                 Type resultType, OpBuilder &b) {
   NoiseKind kind = op.getKind();
   Location loc = op.getLoc();
   SmallVector<Value> coords;
-  for (auto &c : lanes.unpackAll(adaptor.getCoords(), op.getCoords(), isVarying(op.getType())))
-    llvm::append_range(coords, c);
+  for (auto [value, type] : llvm::zip(noiseCoords.values, noiseCoords.types))
+    llvm::append_range(coords, lanes.unpack(value, type, isVarying(op.getType())));
   bool triple = isTriple(getUniformType(op.getType()));
   if (op.getPeriodic()) {
     ArrayRef<Value> all(coords);
@@ -226,12 +233,29 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
     std::string name = ("noise_" + stringifyNoiseKind(kind)).str();
     if (op.getPeriodic())
       name += "_periodic";
+    // A varying noise's uniform coordinates are broadcast before its
+    // region, which broadcast them first thing anyway: its function then
+    // takes varying operands only, as the prebuilt library's do, and a call
+    // with a uniform or constant coordinate links one instead of compiling
+    // its own (constants still inline and fold where that pays:
+    // osl-outline-library).
+    NoiseCoords coords{SmallVector<Value>(adaptor.getCoords()),
+                       SmallVector<Type>(op.getCoords().getTypes())};
+    if (isVarying(op.getType())) {
+      Components outer{rewriter, op.getLoc(), width};
+      for (auto [value, type] : llvm::zip(coords.values, coords.types))
+        if (!isVarying(type)) {
+          Type varyingType = withUniformity(type, true);
+          value = outer.pack(outer.unpack(value, type, true), convert(varyingType));
+          type = varyingType;
+        }
+    }
     SmallVector<Value> r = buildLibraryRegion(
         rewriter, op.getLoc(), name, resultType, [&](OpBuilder &b) -> SmallVector<Value> {
           Components inner{b, op.getLoc(), width};
           if (kind == NoiseKind::gabor)
-            return {lowerGabor(op, adaptor, inner, resultType, b)};
-          return {lowerNoise(op, adaptor, inner, resultType, b)};
+            return {lowerGabor(op, adaptor, coords, inner, resultType, b)};
+          return {lowerNoise(op, coords, inner, resultType, b)};
         });
     rewriter.replaceOp(op, r);
     return success();
