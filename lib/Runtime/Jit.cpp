@@ -319,15 +319,21 @@ int Jit::hostMaxWidth() {
 }
 
 std::string Jit::hostDescription() {
-  std::string text = llvm::sys::getProcessTriple() + " " + llvm::sys::getHostCPUName().str();
-  // StringMap iterates in hash order; sort so equal hosts give equal text.
-  std::vector<std::string> features;
-  for (const auto &f : llvm::sys::getHostCPUFeatures())
-    features.push_back((f.getValue() ? "+" : "-") + f.getKey().str());
-  std::sort(features.begin(), features.end());
-  for (const std::string &f : features)
-    text += " " + f;
-  return text;
+  // Once per process: every cached object's key has it, and the CPUID
+  // queries behind it trap to the hypervisor on a virtual machine (48
+  // library keys took 8 ms of a compile before).
+  static const std::string description = [] {
+    std::string text = llvm::sys::getProcessTriple() + " " + llvm::sys::getHostCPUName().str();
+    // StringMap iterates in hash order; sort so equal hosts give equal text.
+    std::vector<std::string> features;
+    for (const auto &f : llvm::sys::getHostCPUFeatures())
+      features.push_back((f.getValue() ? "+" : "-") + f.getKey().str());
+    std::sort(features.begin(), features.end());
+    for (const std::string &f : features)
+      text += " " + f;
+    return text;
+  }();
+  return description;
 }
 
 void Jit::disableMachineScheduler() {
