@@ -113,10 +113,40 @@ struct NoiseCoords {
   SmallVector<Type> types;
 };
 
-/// Gabor noise: the point (and its derivatives and period) made 3D, the
-/// options read as scalars (osl-lane-group-filter made them uniform).
+/// The options of a Gabor noise as scalars (osl-lane-group-filter made them
+/// uniform), OSL's default for each one the call leaves out. Built before
+/// the library region, defaults too: the region then reads every option
+/// from outside, so a call with default options and one with options of
+/// its own have one function when their mode (a constant "anisotropic"
+/// chooses the code) agrees, and the prebuilt library can hold it.
+GaborOptions gaborOptions(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes) {
+  OpBuilder &b = lanes.b;
+  Location loc = lanes.loc;
+  auto scalar = [&](Value converted, Value original, Attribute fallback) -> Value {
+    if (converted)
+      return lanes.unpack(converted, original.getType(), false)[0];
+    return b.create<arith::ConstantOp>(loc, cast<TypedAttr>(fallback));
+  };
+  GaborOptions options;
+  options.anisotropic =
+      scalar(adaptor.getAnisotropic(), op.getAnisotropic(), b.getI32IntegerAttr(0));
+  options.bandwidth = scalar(adaptor.getBandwidth(), op.getBandwidth(), b.getF32FloatAttr(1.0f));
+  options.impulses = scalar(adaptor.getImpulses(), op.getImpulses(), b.getF32FloatAttr(16.0f));
+  options.doFilter = scalar(adaptor.getDoFilter(), op.getDoFilter(), b.getI32IntegerAttr(1));
+  if (op.getDirection()) {
+    SmallVector<Value> dir = lanes.unpack(adaptor.getDirection(), op.getDirection().getType(), false);
+    options.direction = {dir[0], dir[1], dir[2]};
+  } else {
+    for (int k = 0; k < 3; ++k)
+      options.direction[k] = b.create<arith::ConstantOp>(loc, b.getF32FloatAttr(k == 0 ? 1.0f : 0.0f));
+  }
+  return options;
+}
+
+/// Gabor noise: the point (and its derivatives and period) made 3D.
 Value lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, const NoiseCoords &coords,
-                 Components &lanes, Type resultType, OpBuilder &rewriter) {
+                 const GaborOptions &options, Components &lanes, Type resultType,
+                 OpBuilder &rewriter) {
   Location loc = op.getLoc();
   bool varying = isVarying(op.getType());
   SmallVector<Value> flat;
@@ -146,18 +176,6 @@ Value lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, const NoiseCoords &coords
       llvm::append_range(d, c);
     point.dPdx = point3(ArrayRef<Value>(d).take_front(pointSize));
     point.dPdy = point3(ArrayRef<Value>(d).drop_front(pointSize));
-  }
-  GaborOptions options;
-  auto scalar = [&](Value converted, Value original) {
-    return converted ? lanes.unpack(converted, original.getType(), false)[0] : Value();
-  };
-  options.anisotropic = scalar(adaptor.getAnisotropic(), op.getAnisotropic());
-  options.bandwidth = scalar(adaptor.getBandwidth(), op.getBandwidth());
-  options.impulses = scalar(adaptor.getImpulses(), op.getImpulses());
-  options.doFilter = scalar(adaptor.getDoFilter(), op.getDoFilter());
-  if (op.getDirection()) {
-    SmallVector<Value> dir = lanes.unpack(adaptor.getDirection(), op.getDirection().getType(), false);
-    options.direction = {dir[0], dir[1], dir[2]};
   }
   if (isTriple(getUniformType(op.getType())))
     return lanes.pack(buildGaborTriple(rewriter, loc, point, options), resultType);
@@ -250,11 +268,16 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
           type = varyingType;
         }
     }
+    GaborOptions options;
+    if (kind == NoiseKind::gabor) {
+      Components outer{rewriter, op.getLoc(), width};
+      options = gaborOptions(op, adaptor, outer);
+    }
     SmallVector<Value> r = buildLibraryRegion(
         rewriter, op.getLoc(), name, resultType, [&](OpBuilder &b) -> SmallVector<Value> {
           Components inner{b, op.getLoc(), width};
           if (kind == NoiseKind::gabor)
-            return {lowerGabor(op, adaptor, coords, inner, resultType, b)};
+            return {lowerGabor(op, adaptor, coords, options, inner, resultType, b)};
           return {lowerNoise(op, coords, inner, resultType, b)};
         });
     rewriter.replaceOp(op, r);
