@@ -33,6 +33,10 @@ struct GaborOptions {
   Value doFilter;
 };
 
+/// `options` with OSL's default, as a constant built at `b`'s insertion
+/// point, for each option left null.
+GaborOptions withGaborDefaults(OpBuilder &b, Location loc, GaborOptions options);
+
 /// The lookup point of one Gabor evaluation, always 3D (OSL slices 1D and
 /// 2D domains as (x, 0, 0) and (x, y, 0) and ignores a 4th coordinate).
 struct GaborPoint {

@@ -198,12 +198,38 @@ struct Params {
   Value doFilter;
 };
 
+} // namespace
+
+GaborOptions withGaborDefaults(OpBuilder &b, Location loc, GaborOptions options) {
+  auto f32 = [&](float v) -> Value {
+    return b.create<arith::ConstantOp>(loc, b.getF32FloatAttr(v));
+  };
+  auto i32 = [&](int32_t v) -> Value {
+    return b.create<arith::ConstantOp>(loc, b.getI32IntegerAttr(v));
+  };
+  if (!options.anisotropic)
+    options.anisotropic = i32(Isotropic);
+  for (int k = 0; k < 3; ++k)
+    if (!options.direction[k])
+      options.direction[k] = f32(k == 0 ? 1.0f : 0.0f);
+  if (!options.bandwidth)
+    options.bandwidth = f32(1.0f);
+  if (!options.impulses)
+    options.impulses = f32(16.0f);
+  if (!options.doFilter)
+    options.doFilter = i32(1);
+  return options;
+}
+
+namespace {
+
 /// OSL's GaborParams, on uniform (scalar) values.
-Params buildParams(OpBuilder &b, Location loc, const GaborOptions &opt,
+Params buildParams(OpBuilder &b, Location loc, const GaborOptions &given,
                    bool haveDerivs) {
+  GaborOptions opt = withGaborDefaults(b, loc, given);
   Lanes u(b, loc, b.getF32Type());
   Params p;
-  Value bandwidth = clampTo(u, opt.bandwidth ? opt.bandwidth : u.f(1.0f), 0.01f, 100.0f);
+  Value bandwidth = clampTo(u, opt.bandwidth, 0.01f, 100.0f);
   // a in double: OSL writes (2^bw - 1.0) / (2^bw + 1.0) with double literals.
   Type f64 = b.getF64Type();
   auto d = [&](double v) {
@@ -222,7 +248,7 @@ Params buildParams(OpBuilder &b, Location loc, const GaborOptions &opt,
   p.radius2 = u.mul(p.radius, p.radius);
   Value radius3 = u.mul(p.radius2, p.radius);
   p.radiusInv = u.div(u.f(1.0f), p.radius);
-  Value impulses = clampTo(u, opt.impulses ? opt.impulses : u.f(16.0f), 1.0f, 32.0f);
+  Value impulses = clampTo(u, opt.impulses, 1.0f, 32.0f);
   Value lambda = u.div(impulses, u.mul(u.f(float(1.33333 * M_PI)), radius3));
   p.sqrtLambdaInv = u.div(u.f(1.0f), u.sqrt(lambda));
   p.poissonBound = expInDouble(b, loc, u.neg(u.mul(lambda, radius3)));
@@ -231,22 +257,17 @@ Params buildParams(OpBuilder &b, Location loc, const GaborOptions &opt,
   Value variance = u.div(u.f(1.0f), u.mul(u.f(4.0f * std::sqrt(2.0f)), a3));
   p.scale = u.mul(u.div(u.f(1.0f), u.mul(u.f(3.0f), u.sqrt(variance))), u.f(0.5f));
 
-  for (int k = 0; k < 3; ++k)
-    p.direction[k] = opt.direction[k] ? opt.direction[k] : u.f(k == 0 ? 1.0f : 0.0f);
+  p.direction = opt.direction;
   p.directionLength = u.sqrt(u.dot(p.direction, p.direction));
 
   APInt known;
-  if (!opt.anisotropic)
-    p.mode = Isotropic;
-  else if (matchPattern(opt.anisotropic, m_ConstantInt(&known)))
+  if (matchPattern(opt.anisotropic, m_ConstantInt(&known)))
     p.mode = int32_t(known.getSExtValue());
   else
     p.modeValue = opt.anisotropic;
 
   if (haveDerivs) {
-    if (!opt.doFilter)
-      p.doFilter = b.create<arith::ConstantOp>(loc, b.getBoolAttr(true));
-    else if (!matchPattern(opt.doFilter, m_ConstantInt(&known)) || !known.isZero())
+    if (!matchPattern(opt.doFilter, m_ConstantInt(&known)) || !known.isZero())
       p.doFilter = b.create<arith::CmpIOp>(
           loc, arith::CmpIPredicate::ne, opt.doFilter,
           b.create<arith::ConstantOp>(loc, b.getI32IntegerAttr(0)));

@@ -120,27 +120,19 @@ struct NoiseCoords {
 /// its own have one function when their mode (a constant "anisotropic"
 /// chooses the code) agrees, and the prebuilt library can hold it.
 GaborOptions gaborOptions(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes) {
-  OpBuilder &b = lanes.b;
-  Location loc = lanes.loc;
-  auto scalar = [&](Value converted, Value original, Attribute fallback) -> Value {
-    if (converted)
-      return lanes.unpack(converted, original.getType(), false)[0];
-    return b.create<arith::ConstantOp>(loc, cast<TypedAttr>(fallback));
+  auto scalar = [&](Value converted, Value original) {
+    return converted ? lanes.unpack(converted, original.getType(), false)[0] : Value();
   };
   GaborOptions options;
-  options.anisotropic =
-      scalar(adaptor.getAnisotropic(), op.getAnisotropic(), b.getI32IntegerAttr(0));
-  options.bandwidth = scalar(adaptor.getBandwidth(), op.getBandwidth(), b.getF32FloatAttr(1.0f));
-  options.impulses = scalar(adaptor.getImpulses(), op.getImpulses(), b.getF32FloatAttr(16.0f));
-  options.doFilter = scalar(adaptor.getDoFilter(), op.getDoFilter(), b.getI32IntegerAttr(1));
+  options.anisotropic = scalar(adaptor.getAnisotropic(), op.getAnisotropic());
+  options.bandwidth = scalar(adaptor.getBandwidth(), op.getBandwidth());
+  options.impulses = scalar(adaptor.getImpulses(), op.getImpulses());
+  options.doFilter = scalar(adaptor.getDoFilter(), op.getDoFilter());
   if (op.getDirection()) {
     SmallVector<Value> dir = lanes.unpack(adaptor.getDirection(), op.getDirection().getType(), false);
     options.direction = {dir[0], dir[1], dir[2]};
-  } else {
-    for (int k = 0; k < 3; ++k)
-      options.direction[k] = b.create<arith::ConstantOp>(loc, b.getF32FloatAttr(k == 0 ? 1.0f : 0.0f));
   }
-  return options;
+  return withGaborDefaults(lanes.b, lanes.loc, options);
 }
 
 /// Gabor noise: the point (and its derivatives and period) made 3D.
@@ -257,22 +249,19 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
     // with a uniform or constant coordinate links one instead of compiling
     // its own (constants still inline and fold where that pays:
     // osl-outline-library).
+    Components outer{rewriter, op.getLoc(), width};
     NoiseCoords coords{SmallVector<Value>(adaptor.getCoords()),
                        SmallVector<Type>(op.getCoords().getTypes())};
-    if (isVarying(op.getType())) {
-      Components outer{rewriter, op.getLoc(), width};
+    if (isVarying(op.getType()))
       for (auto [value, type] : llvm::zip(coords.values, coords.types))
         if (!isVarying(type)) {
           Type varyingType = withUniformity(type, true);
           value = outer.pack(outer.unpack(value, type, true), convert(varyingType));
           type = varyingType;
         }
-    }
     GaborOptions options;
-    if (kind == NoiseKind::gabor) {
-      Components outer{rewriter, op.getLoc(), width};
+    if (kind == NoiseKind::gabor)
       options = gaborOptions(op, adaptor, outer);
-    }
     SmallVector<Value> r = buildLibraryRegion(
         rewriter, op.getLoc(), name, resultType, [&](OpBuilder &b) -> SmallVector<Value> {
           Components inner{b, op.getLoc(), width};
