@@ -265,31 +265,35 @@ OSL_LANE_TARGET void sampleLightsAt(const PrimTable &T, LightDraws &s) {
     int k = s.light[i];
     Vec3 x(s.ox[i], s.oy[i], s.oz[i]);
     float rx = s.rx[i], ry = s.ry[i];
-    // Sphere: a direction in the cone the light subtends, about its center.
-    constexpr float twoPi = float(2 * M_PI);
-    Vec3 toC = Vec3(T.cx[k], T.cy[k], T.cz[k]) - x;
-    float cmax2 = 1 - T.r2[k] / dot(toC, toC);
-    float cmax = cmax2 > 0 ? std::sqrt(cmax2) : 0.0f;
-    float cosA = 1 - rx + rx * cmax;
-    float sinA = std::sqrt(1 - cosA * cosA);
-    float sp, cp;
-    fast::sincos(twoPi * ry, sp, cp);
-    Vec3 sw = normalize(toC), su, sv;
-    orthoBasis(sw, su, sv);
-    Vec3 cone = normalize(su * (cp * sinA) + sv * (sp * sinA) + sw * cosA);
-    float conePdf = 1 / (twoPi * (1 - cmax));
-    // Quad: a point on it, uniformly by area.
-    Vec3 l = (Vec3(T.qx[k], T.qy[k], T.qz[k]) + rx * Vec3(T.ex[k], T.ey[k], T.ez[k]) +
-              ry * Vec3(T.fx[k], T.fy[k], T.fz[k])) -
-             x;
-    float d2 = dot(l, l);
-    Vec3 toP = normalize(l);
-    float areaPdf = d2 / (T.area[k] * std::fabs(dot(toP, Vec3(T.nx[k], T.ny[k], T.nz[k]))));
-    bool sphere = T.kind[k] == Primitive::Sphere;
-    s.dx[i] = sphere ? cone.x : toP.x;
-    s.dy[i] = sphere ? cone.y : toP.y;
-    s.dz[i] = sphere ? cone.z : toP.z;
-    s.pdf[i] = sphere ? conePdf : areaPdf;
+    Vec3 dir;
+    float pdf;
+    if (T.kind[k] == Primitive::Sphere) {
+      // A direction in the cone the light subtends, about its center.
+      constexpr float twoPi = float(2 * M_PI);
+      Vec3 toC = Vec3(T.cx[k], T.cy[k], T.cz[k]) - x;
+      float cmax2 = 1 - T.r2[k] / dot(toC, toC);
+      float cmax = cmax2 > 0 ? std::sqrt(cmax2) : 0.0f;
+      float cosA = 1 - rx + rx * cmax;
+      float sinA = std::sqrt(1 - cosA * cosA);
+      float sp, cp;
+      fast::sincos(twoPi * ry, sp, cp);
+      Vec3 sw = normalize(toC), su, sv;
+      orthoBasis(sw, su, sv);
+      dir = normalize(su * (cp * sinA) + sv * (sp * sinA) + sw * cosA);
+      pdf = 1 / (twoPi * (1 - cmax));
+    } else {
+      // Quad: a point on it, uniformly by area.
+      Vec3 l = (Vec3(T.qx[k], T.qy[k], T.qz[k]) + rx * Vec3(T.ex[k], T.ey[k], T.ez[k]) +
+                ry * Vec3(T.fx[k], T.fy[k], T.fz[k])) -
+               x;
+      float d2 = dot(l, l);
+      dir = normalize(l);
+      pdf = d2 / (T.area[k] * std::fabs(dot(dir, Vec3(T.nx[k], T.ny[k], T.nz[k]))));
+    }
+    s.dx[i] = dir.x;
+    s.dy[i] = dir.y;
+    s.dz[i] = dir.z;
+    s.pdf[i] = pdf;
   }
 }
 
