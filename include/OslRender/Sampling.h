@@ -215,7 +215,7 @@ struct TangentFrame {
 
 /// Two unit vectors orthogonal to unit `n` (testrender's ortho()).
 inline void orthoBasis(Vec3 n, Vec3 &x, Vec3 &y) {
-  x = normalize(std::fabs(n.x) > .01f ? Vec3(n.z, 0, -n.x) : Vec3(0, -n.z, n.y));
+  x = normalize(select(std::fabs(n.x) > .01f, Vec3(n.z, 0, -n.x), Vec3(0, -n.z, n.y)));
   y = cross(n, x);
 }
 

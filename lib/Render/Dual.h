@@ -36,28 +36,37 @@ inline Dual operator/(float a, Dual b) {
   return {q, inv * (-q * b.dx), inv * (-q * b.dy)};
 }
 
-inline Dual sqrt(Dual a) {
-  if (!(a.v > 0))
-    return {};
-  float f = std::sqrt(a.v);
-  return a.chain(f, 0.5f / f);
+/// c ? a : b, part by part (vectorizable, as Vec3's select).
+inline Dual select(bool c, Dual a, Dual b) {
+  return {c ? a.v : b.v, c ? a.dx : b.dx, c ? a.dy : b.dy};
 }
 
-/// atan2 with OSL's slopes (its sign convention included).
-inline Dual atan2(Dual y, Dual x) {
-  float f = std::atan2(y.v, x.v);
+/// sqrt, 0 (no slope) where a is not positive. Selects, not branches:
+/// lane loops vectorize it.
+inline Dual sqrt(Dual a) {
+  bool positive = a.v > 0;
+  float f = std::sqrt(a.v);
+  return select(positive, a.chain(f, 0.5f / f), Dual());
+}
+
+/// atan2's slopes alone, OSL's (its sign convention included), with the
+/// value 0: they do not need the value, so lanes compute them while libm's
+/// std::atan2 computes the value one lane at a time.
+inline Dual atan2Slopes(Dual y, Dual x) {
   float denom = (x.v == 0 && y.v == 0) ? 0.0f : 1 / (x.v * x.v + y.v * y.v);
   float dfdy = -x.v * denom, dfdx = y.v * denom;
-  return {f, dfdy * y.dx + dfdx * x.dx, dfdy * y.dy + dfdx * x.dy};
+  return {0, dfdy * y.dx + dfdx * x.dx, dfdy * y.dy + dfdx * x.dy};
 }
 
-/// acos clamped to [0, pi] outside [-1, 1] (no slope there).
-inline Dual safeAcos(Dual a) {
-  if (a.v >= 1)
-    return {0};
-  if (a.v <= -1)
-    return {float(M_PI)};
-  return a.chain(std::acos(a.v), -1 / std::sqrt(1 - a.v * a.v));
+/// acos clamped to [0, pi] outside [-1, 1] (no slope there): its value,
+/// and its slopes alone (value 0), as atan2's.
+inline float safeAcosValue(float a) {
+  return a >= 1 ? 0.0f : a <= -1 ? float(M_PI) : std::acos(a);
+}
+inline Dual safeAcosSlopes(Dual a) {
+  bool inside = !(a.v >= 1) && !(a.v <= -1);
+  float df = -1 / std::sqrt(1 - a.v * a.v);
+  return {0, inside ? df * a.dx : 0.0f, inside ? df * a.dy : 0.0f};
 }
 
 inline void fastSinCos(Dual a, Dual &s, Dual &c) {
@@ -78,17 +87,19 @@ struct Dual3 {
   }
 };
 
-/// The unit vector along `a` (0 for 0), by its inverse length.
-inline Dual3 normalize(const Dual3 &a) {
-  Dual ax = a.x(), ay = a.y(), az = a.z();
-  Dual len = sqrt(ax * ax + ay * ay + az * az);
-  if (!(len.v > 0))
-    return {};
+/// Vectors with derivatives as their three Duals, not Dual3s: lane loops
+/// keep Duals in registers, while a Dual3's parts would go through memory.
+/// (x, y, z) made unit (0 for 0), by its inverse length.
+inline void normalize(Dual &x, Dual &y, Dual &z) {
+  Dual len = sqrt(x * x + y * y + z * z);
+  bool positive = len.v > 0;
   Dual inv = 1.0f / len;
-  return Dual3::of(ax * inv, ay * inv, az * inv);
+  x = select(positive, x * inv, Dual());
+  y = select(positive, y * inv, Dual());
+  z = select(positive, z * inv, Dual());
 }
 
-inline Dual dot(const Dual3 &a, Vec3 b) { return a.x() * b.x + a.y() * b.y + a.z() * b.z; }
+inline Dual dot(Dual x, Dual y, Dual z, Vec3 b) { return x * b.x + y * b.y + z * b.z; }
 
 } // namespace osl::render
 

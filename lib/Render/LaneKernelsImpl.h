@@ -191,14 +191,15 @@ void cameraRays(const CameraSetup &camera, const int *pixel, const float *jx, co
 }
 
 /// Each lane's point, normal, parametric frame and ray differentials on
-/// its primitive, as testrender's globals_from_hit computes them (a
-/// sphere's u and v with libm's atan2 and acos, through dual numbers).
-/// One lane at a time, at every width: the libm calls would not vectorize.
+/// its primitive, as testrender's globals_from_hit computes them: in
+/// lanes, but for a sphere's u and v and its frame from them, which take
+/// libm's atan2, acos, sin and cos (testrender's) one sphere at a time.
+template <int W>
 OSL_LANE_TARGET void hitGeometryAt(const PrimTable &T, const RayBatch &rays, HitPoints &h) {
   const float pi = float(M_PI);
   auto set3 = [](std::vector<float> &x, std::vector<float> &y, std::vector<float> &z, size_t i,
                  Vec3 v) { x[i] = v.x, y[i] = v.y, z[i] = v.z; };
-  for (size_t i = 0; i < h.size(); ++i) {
+  forLanes<W>(h.size(), [&](size_t i) __attribute__((always_inline)) {
     int k = h.prim[i], ray = h.ray[i];
     Vec3 o(rays.ox[ray], rays.oy[ray], rays.oz[ray]);
     Vec3 d(rays.dx[ray], rays.dy[ray], rays.dz[ray]);
@@ -210,36 +211,31 @@ OSL_LANE_TARGET void hitGeometryAt(const PrimTable &T, const RayBatch &rays, Hit
     float radius = rays.radius[ray] + rays.spread[ray] * t;
     Vec3 ex, ey;
     orthoBasis(d, ex, ey);
-    Dual3 p{o + d * t, ex * radius, ey * radius};
-    Vec3 dPdu, dPdv;
-    Dual3 n;
-    Dual u, v;
-    if (T.kind[k] == Primitive::Sphere) {
-      Vec3 c(T.cx[k], T.cy[k], T.cz[k]);
-      n = normalize(Dual3{p.v - c, p.dx, p.dy});
-      u = (atan2(n.x(), n.z()) + Dual(pi)) * 0.5f * float(M_1_PI);
-      v = safeAcos(n.y()) * float(M_1_PI);
-      float sin2piu = std::sin(2.0f * pi * u.v), cos2piu = std::cos(2.0f * pi * u.v);
-      float sinpiv = std::sin(pi * v.v), cospiv = std::cos(pi * v.v);
-      float pir = pi * T.radius[k];
-      dPdu = Vec3(-2.0f * pir * sinpiv * cos2piu, 0.0f, 2.0f * pir * sinpiv * sin2piu);
-      dPdv = Vec3(-pir * cospiv * sin2piu, -pir * sinpiv, -pir * cospiv * cos2piu);
-    } else {
-      n = Dual3{Vec3(T.nx[k], T.ny[k], T.nz[k]), Vec3(), Vec3()};
-      Dual3 rel{p.v - Vec3(T.qx[k], T.qy[k], T.qz[k]), p.dx, p.dy};
-      dPdu = Vec3(T.ex[k], T.ey[k], T.ez[k]);
-      dPdv = Vec3(T.fx[k], T.fy[k], T.fz[k]);
-      u = dot(rel, dPdu) * T.eu[k];
-      v = dot(rel, dPdv) * T.ev[k];
-    }
-    bool back = dot(n.v, d) > 0;
-    Vec3 normal = back ? -n.v : n.v;
-    set3(h.px, h.py, h.pz, i, p.v);
+    Vec3 pv = o + d * t, pdx = ex * radius, pdy = ey * radius;
+    bool sphere = T.kind[k] == Primitive::Sphere;
+    // Both primitives' normal and (u, v) slopes, one kept: a sphere's
+    // values of u and v wait for libm below, its slopes do not.
+    Dual nsx{pv.x - T.cx[k], pdx.x, pdy.x}, nsy{pv.y - T.cy[k], pdx.y, pdy.y},
+        nsz{pv.z - T.cz[k], pdx.z, pdy.z};
+    normalize(nsx, nsy, nsz);
+    Dual us = (atan2Slopes(nsx, nsz) + Dual(pi)) * 0.5f * float(M_1_PI);
+    Dual vs = safeAcosSlopes(nsy) * float(M_1_PI);
+    Vec3 nq(T.nx[k], T.ny[k], T.nz[k]);
+    Dual relx{pv.x - T.qx[k], pdx.x, pdy.x}, rely{pv.y - T.qy[k], pdx.y, pdy.y},
+        relz{pv.z - T.qz[k], pdx.z, pdy.z};
+    Vec3 dPdu(T.ex[k], T.ey[k], T.ez[k]), dPdv(T.fx[k], T.fy[k], T.fz[k]);
+    Dual uq = dot(relx, rely, relz, dPdu) * T.eu[k];
+    Dual vq = dot(relx, rely, relz, dPdv) * T.ev[k];
+    Vec3 n = select(sphere, Vec3(nsx.v, nsy.v, nsz.v), nq);
+    Dual u = select(sphere, us, uq), v = select(sphere, vs, vq);
+    bool back = dot(n, d) > 0;
+    Vec3 normal = select(back, -n, n);
+    set3(h.px, h.py, h.pz, i, pv);
     set3(h.nx, h.ny, h.nz, i, normal);
     set3(h.dPdux, h.dPduy, h.dPduz, i, dPdu);
     set3(h.dPdvx, h.dPdvy, h.dPdvz, i, dPdv);
-    set3(h.dPdxX, h.dPdxY, h.dPdxZ, i, p.dx);
-    set3(h.dPdyX, h.dPdyY, h.dPdyZ, i, p.dy);
+    set3(h.dPdxX, h.dPdxY, h.dPdxZ, i, pdx);
+    set3(h.dPdyX, h.dPdyY, h.dPdyZ, i, pdy);
     // I's differentials: the same directions, by the spread alone.
     float spread = rays.spread[ray];
     set3(h.dIdxX, h.dIdxY, h.dIdxZ, i, ex * spread);
@@ -247,15 +243,34 @@ OSL_LANE_TARGET void hitGeometryAt(const PrimTable &T, const RayBatch &rays, Hit
     h.u[i] = u.v, h.v[i] = v.v;
     h.dudx[i] = u.dx, h.dudy[i] = u.dy, h.dvdx[i] = v.dx, h.dvdy[i] = v.dy;
     h.backfacing[i] = back ? 1.0f : 0.0f;
-    h.flip[i] = dot(cross(p.dx, p.dy), normal) < 0 ? 1.0f : 0.0f;
+    h.flip[i] = dot(cross(pdx, pdy), normal) < 0 ? 1.0f : 0.0f;
     h.area[i] = T.area[k];
     h.radius[i] = radius;
+  });
+  // A sphere's u and v, and its frame from them (the unit normal, before
+  // it was turned toward the ray, is back * normal).
+  for (size_t i = 0; i < h.size(); ++i) {
+    int k = h.prim[i];
+    if (T.kind[k] != Primitive::Sphere)
+      continue;
+    float turn = h.backfacing[i] != 0 ? -1.0f : 1.0f;
+    float nx = h.nx[i] * turn, ny = h.ny[i] * turn, nz = h.nz[i] * turn;
+    float u = (std::atan2(nx, nz) + pi) * 0.5f * float(M_1_PI);
+    float v = safeAcosValue(ny) * float(M_1_PI);
+    h.u[i] = u, h.v[i] = v;
+    float sin2piu = std::sin(2.0f * pi * u), cos2piu = std::cos(2.0f * pi * u);
+    float sinpiv = std::sin(pi * v), cospiv = std::cos(pi * v);
+    float pir = pi * T.radius[k];
+    set3(h.dPdux, h.dPduy, h.dPduz, i,
+         Vec3(-2.0f * pir * sinpiv * cos2piu, 0.0f, 2.0f * pir * sinpiv * sin2piu));
+    set3(h.dPdvx, h.dPdvy, h.dPdvz, i,
+         Vec3(-pir * cospiv * sin2piu, -pir * sinpiv, -pir * cospiv * cos2piu));
   }
 }
 
 void hitGeometry(const PrimTable &prims, const RayBatch &rays, HitPoints &hits, int width) {
   hits.sizeOutputs();
-  hitGeometryAt(prims, rays, hits);
+  atWidth(width, [&](auto w) { hitGeometryAt<decltype(w)::value>(prims, rays, hits); });
 }
 
 /// testrender's light samples, one lane at a time at every width (its
