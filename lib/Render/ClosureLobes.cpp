@@ -109,12 +109,18 @@ Vec3 underLayer(const ClosureArena &arena, int32_t top, const ShadingPoint &at, 
 }
 
 /// testrender's medium pass: the index of refraction the closure declares.
+void readMedium(const ClosureArena &arena, const std::vector<ClosurePrimitive> &prims,
+                const ShadingPoint &at, ShadingResult &out);
 void readMedium(const ClosureArena &arena, int32_t handle, const ShadingPoint &at, Vec3 scale,
                 ShadingResult &out) {
+  Flattened prims(arena, handle, scale);
+  readMedium(arena, *prims, at, out);
+}
+void readMedium(const ClosureArena &arena, const std::vector<ClosurePrimitive> &prims,
+                const ShadingPoint &at, ShadingResult &out) {
   // Seen from inside, the index is inverted.
   auto setIor = [&](float ior) { out.refractionIor = at.backfacing ? 1.0f / ior : ior; };
-  Flattened prims(arena, handle, scale);
-  for (const ClosurePrimitive &p : *prims) {
+  for (const ClosurePrimitive &p : prims) {
     Vec3 w(p.weight);
     switch (p.id) {
     case kMxLayer:
@@ -135,10 +141,17 @@ void readMedium(const ClosureArena &arena, int32_t handle, const ShadingPoint &a
   }
 }
 
+void addLobes(const ClosureArena &arena, const std::vector<ClosurePrimitive> &prims,
+              const ShadingPoint &at, bool lightOnly, ShadingResult &out);
 void addLobes(const ClosureArena &arena, int32_t handle, const ShadingPoint &at, Vec3 scale,
               bool lightOnly, ShadingResult &out) {
   Flattened prims(arena, handle, scale);
-  for (const ClosurePrimitive &p : *prims) {
+  addLobes(arena, *prims, at, lightOnly, out);
+}
+/// The lobes and emission of a flattened closure (its weights scaled).
+void addLobes(const ClosureArena &arena, const std::vector<ClosurePrimitive> &prims,
+              const ShadingPoint &at, bool lightOnly, ShadingResult &out) {
+  for (const ClosurePrimitive &p : prims) {
     Vec3 w(p.weight);
     switch (p.id) {
     case kEmission: out.emission += w; continue;
@@ -251,9 +264,12 @@ std::optional<Lobe> lobeOf(const ClosurePrimitive &p, Vec3 w, float refractionIo
 
 void addClosure(const ClosureArena &arena, int32_t handle, const ShadingPoint &at,
                 ShadingResult &out, bool lightOnly) {
+  // One flattening serves both passes at the top (layers flatten their
+  // own parts).
+  Flattened prims(arena, handle, Vec3(1, 1, 1));
   if (!lightOnly)
-    readMedium(arena, handle, at, Vec3(1, 1, 1), out);
-  addLobes(arena, handle, at, Vec3(1, 1, 1), lightOnly, out);
+    readMedium(arena, *prims, at, out);
+  addLobes(arena, *prims, at, lightOnly, out);
 }
 
 Vec3 backgroundOf(const ClosureArena &arena, int32_t handle) {

@@ -22,6 +22,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace osl::render {
@@ -125,10 +126,16 @@ private:
   template <typename Use> void shade(int shader, const ShadeQueue &q, Use use);
   void copyRow(int row, const std::vector<float> &from, size_t start, int n) {
     float *to = &globals[size_t(row) * width];
-    if (n == 1) // width 1: a store, not a call of memmove per row and point
-      *to = from[start];
-    else
-      std::copy_n(from.begin() + start, n, to);
+    const float *at = &from[start];
+    // A full batch is a copy of known size (a few vector moves, not a call
+    // of memmove per row and batch).
+    switch (n) {
+    case 16: std::memcpy(to, at, 16 * sizeof(float)); break;
+    case 8: std::memcpy(to, at, 8 * sizeof(float)); break;
+    case 4: std::memcpy(to, at, 4 * sizeof(float)); break;
+    case 1: *to = *at; break;
+    default: std::copy_n(at, n, to);
+    }
   }
   void copyTriple(int row, const std::vector<float> &x, const std::vector<float> &y,
                   const std::vector<float> &z, size_t start, int n) {
