@@ -5,21 +5,6 @@
 #include <algorithm>
 
 namespace osl::render {
-namespace {
-
-/// Index of the first entry of the cumulative `cdf` above `x`, the chosen
-/// entry's probability, and x rescaled within it to [0, 1).
-float sampleCdf(const float *cdf, int n, float x, int &index, float &pdf) {
-  index = int(std::upper_bound(cdf, cdf + n, x) - cdf);
-  index = std::min(index, n - 1); // x below 1: only a table of zeros gets here
-  float below = index > 0 ? cdf[index - 1] : 0.0f;
-  pdf = index > 0 ? cdf[index] - below : cdf[0];
-  float scaled = index > 0 ? (x - below) / (cdf[index] - below) : x / cdf[0];
-  return std::min(scaled, 0.99999994f);
-}
-
-} // namespace
-
 Dual3 BackgroundMap::direction(float x, float y) const {
   Dual u = Dual(x, 1, 0) * invres, v = Dual(y, 0, 1) * invres;
   Dual st, ct;
@@ -75,16 +60,6 @@ Vec3 BackgroundMap::eval(Vec3 dir, float &pdf) const {
   float colPdf = cols[i] - (x > 0 ? cols[i - 1] : 0.0f);
   pdf = rowPdf * colPdf * invjacobian;
   return values[i];
-}
-
-Vec3 BackgroundMap::sample(float rx, float ry, Vec3 &dir, float &pdf) const {
-  int x, y;
-  float rowPdf, colPdf;
-  ry = sampleCdf(rows.data(), res, ry, y, rowPdf);
-  rx = sampleCdf(cols.data() + size_t(y) * res, res, rx, x, colPdf);
-  dir = direction(float(x) + rx, float(y) + ry).v;
-  pdf = rowPdf * colPdf * invjacobian;
-  return values[size_t(y) * res + x];
 }
 
 } // namespace osl::render

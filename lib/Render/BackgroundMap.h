@@ -14,6 +14,8 @@
 #include "Dual.h"
 #include "OslRender/Vec3.h"
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <vector>
 
@@ -29,8 +31,14 @@ public:
   bool empty() const { return res == 0; }
   /// The radiance over the pdf of direction `dir`, and that pdf.
   Vec3 eval(Vec3 dir, float &pdf) const;
-  /// A direction drawn with (rx, ry), its radiance over its pdf, and the pdf.
-  Vec3 sample(float rx, float ry, Vec3 &dir, float &pdf) const;
+  /// The tables, for sampling in lanes (sampleBackgroundLane).
+  struct Table {
+    int res = 0;
+    float invres = 0, invjacobian = 0;
+    const float *rows = nullptr, *cols = nullptr;
+    const Vec3 *values = nullptr;
+  };
+  Table table() const { return {res, invres, invjacobian, rows.data(), cols.data(), values.data()}; }
 
 private:
   /// The direction at grid coordinates (x, y), with its derivatives along
@@ -42,6 +50,29 @@ private:
   /// Cumulative: rows[y] over rows; cols[y * res + x] within row y.
   std::vector<float> rows, cols;
 };
+
+/// Sampling the table, in pieces a lane loop runs (LaneKernels'
+/// sampleBackground searches the distributions between them, each lane a
+/// branchless std::upper_bound): entry `index` of the cumulative `cdf`
+/// chosen for `x` (below 1), its probability, and x rescaled within it.
+inline float rescaleInCdf(const float *cdf, int index, float x, float &p) {
+  float below = index > 0 ? cdf[index - 1] : 0.0f, at = cdf[index];
+  p = index > 0 ? at - below : at;
+  float scaled = index > 0 ? (x - below) / (at - below) : x / at;
+  return std::min(scaled, 0.99999994f);
+}
+
+/// The direction at grid coordinates (x + rx, y + ry) (the value of
+/// BackgroundMap::direction's).
+inline Vec3 tableDirection(const BackgroundMap::Table &t, int x, int y, float rx, float ry) {
+  float u = (float(x) + rx) * t.invres, v = (float(y) + ry) * t.invres;
+  float st, ct;
+  fast::sincos(u * float(2 * M_PI), st, ct);
+  float cosPhi = 1.0f - v * 2.0f;
+  float sin2 = 1.0f - cosPhi * cosPhi;
+  float sinPhi = sin2 > 0 ? std::sqrt(sin2) : 0.0f;
+  return Vec3(sinPhi * ct, sinPhi * st, cosPhi);
+}
 
 } // namespace osl::render
 

@@ -171,6 +171,8 @@ private:
   std::vector<std::pair<const ShadeQueue *, size_t>> scattering;
   /// Each scattering path's light samples, paths and lights in order.
   LightDraws lightDraws;
+  /// Each scattering path's direction toward the background's table.
+  BackgroundDraws backgroundDraws;
   /// The bounce's shadow rays, traced together a batch of `width` lanes at
   /// a time.
   RayBatch rays;
@@ -259,17 +261,23 @@ void PathWave::shadeBackground(const std::vector<Dual3> &dirs, std::vector<Vec3>
   q.background = true;
   q.rayType = 0;
   HitPoints &h = q.at;
-  for (size_t i = 0; i < dirs.size(); ++i) {
-    h.push(-1, int(i), 0);
-    q.path.push_back(-1);
-  }
-  h.sizeOutputs();
-  for (size_t i = 0; i < dirs.size(); ++i)
-    h.setDirection(i, dirs[i]);
   radiance.assign(dirs.size(), Vec3());
-  shade(scene.background, q, [&](size_t i, int32_t handle) {
-    radiance[i] = backgroundOf(threadClosureArena(), handle);
-  });
+  // A wave's worth at a time: the table has a million directions, and a
+  // queue's forty columns for all of them would be 160 MB to fault in.
+  for (size_t first = 0; first < dirs.size(); first += kWavePaths) {
+    size_t n = std::min<size_t>(kWavePaths, dirs.size() - first);
+    q.clear();
+    for (size_t i = 0; i < n; ++i) {
+      h.push(-1, int(i), 0);
+      q.path.push_back(-1);
+    }
+    h.sizeOutputs();
+    for (size_t i = 0; i < n; ++i)
+      h.setDirection(i, dirs[first + i]);
+    shade(scene.background, q, [&](size_t i, int32_t handle) {
+      radiance[first + i] = backgroundOf(threadClosureArena(), handle);
+    });
+  }
 }
 
 void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *mean) {
@@ -443,17 +451,18 @@ void PathWave::scatterAll(int bounce) {
   laneKernels().drawPoints(draws, width);
   // The background's samples, and the lights' (every path's together).
   lightDraws.clear();
+  if (map)
+    laneKernels().sampleBackground(map->table(), draws.x.data(), draws.y.data(),
+                                   scattering.size(), backgroundDraws, width);
   for (size_t s = 0; s < scattering.size(); ++s) {
     auto [q, i] = scattering[s];
     int self = paths[q->path[i]].hit.prim;
     if (map) {
       Path &p = paths[q->path[i]];
-      Vec3 dir;
-      float pdf = 0;
-      Vec3 bg = map->sample(draws.x[s], draws.y[s], dir, pdf);
+      Vec3 dir = backgroundDraws.dir(s);
       BsdfSample e = results[q->path[i]].eval(-q->at.d(i), dir);
-      Vec3 contrib =
-          p.weight * e.weight * bg * powerHeuristic<MisMode::WeightWeight>(pdf, e.pdf);
+      Vec3 contrib = p.weight * e.weight * backgroundDraws.value(s) *
+                     powerHeuristic<MisMode::WeightWeight>(backgroundDraws.pdf[s], e.pdf);
       if (contrib.sum() > 0)
         queueShadowRay(*q, i, dir, -1, contrib);
     }

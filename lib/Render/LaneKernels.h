@@ -11,6 +11,7 @@
 #ifndef OSLRENDER_LANEKERNELS_H
 #define OSLRENDER_LANEKERNELS_H
 
+#include "BackgroundMap.h"
 #include "Dual.h"
 #include "OslRender/Geometry.h"
 
@@ -114,6 +115,18 @@ struct LightDraws {
   Vec3 dir(size_t i) const { return {dx[i], dy[i], dz[i]}; }
 };
 
+/// Directions drawn from the background's table, as structure of arrays:
+/// each lane's direction, radiance over pdf, and pdf.
+struct BackgroundDraws {
+  std::vector<float> dx, dy, dz, r, g, b, pdf;
+  void resize(size_t n) {
+    for (std::vector<float> *v : {&dx, &dy, &dz, &r, &g, &b, &pdf})
+      v->resize(n);
+  }
+  Vec3 dir(size_t i) const { return {dx[i], dy[i], dz[i]}; }
+  Vec3 value(size_t i) const { return {r[i], g[i], b[i]}; }
+};
+
 /// testrender's camera, set up once: rays leave `eye` toward
 /// dir + cx * (x / xres - 0.5) + cy * (0.5 - y / yres).
 struct CameraSetup {
@@ -140,6 +153,10 @@ struct LaneKernels {
   /// samples lights: a sphere's cone uniformly in solid angle, a quad
   /// uniformly by area.
   void (*sampleLights)(const PrimTable &prims, LightDraws &draws, int width);
+  /// Lane i draws from `table` with (rx[i], ry[i]) (sampleBackgroundLane)
+  /// into `out` (sized by it), `width` at a time.
+  void (*sampleBackground)(const BackgroundMap::Table &table, const float *rx, const float *ry,
+                           size_t n, BackgroundDraws &out, int width);
 };
 
 /// The kernels of the widest instruction set this CPU runs, or those the

@@ -318,6 +318,73 @@ void sampleLights(const PrimTable &prims, LightDraws &draws, int width) {
   sampleLightsAt(prims, draws);
 }
 
+/// std::upper_bound (NaN past the end) in W lanes at once, stepping
+/// together: lane l searches cdf[offset[l], offset[l] + n) for x[l].
+template <int W>
+OSL_LANE_TARGET void upperBoundLanes(const float *__restrict cdf, const int *__restrict offset,
+                                     int n, const float *__restrict x, int *__restrict index) {
+  int base[W];
+  for (int l = 0; l < W; ++l)
+    base[l] = 0;
+  for (int len = n; len > 1;) {
+    int half = len / 2;
+    for (int l = 0; l < W; ++l)
+      base[l] = !(x[l] < cdf[offset[l] + base[l] + half - 1]) ? base[l] + half : base[l];
+    len -= half;
+  }
+  for (int l = 0; l < W; ++l)
+    index[l] = !(x[l] < cdf[offset[l] + base[l]]) ? base[l] + 1 : base[l];
+}
+
+/// testrender's background sample: a row from the rows' distribution, a
+/// column from the row's, and the cell's radiance over its pdf. Padded
+/// with copies of the last draw.
+template <int W>
+OSL_LANE_TARGET void sampleBackgroundAt(const BackgroundMap::Table &t, const float *__restrict rx,
+                                        const float *__restrict ry, size_t n,
+                                        BackgroundDraws &out) {
+  const int last = t.res - 1;
+  for (size_t start = 0; start < n; start += W) {
+    int count = int(std::min<size_t>(W, n - start));
+    float x[W], y[W], rowPdf[W], colPdf[W];
+    int row[W], col[W], offset[W];
+    for (int l = 0; l < W; ++l) {
+      size_t k = start + size_t(std::min(l, count - 1));
+      x[l] = rx[k], y[l] = ry[k], offset[l] = 0;
+    }
+    // x below 1 always: only a table of zeros has no entry above it.
+    upperBoundLanes<W>(t.rows, offset, t.res, y, row);
+    for (int l = 0; l < W; ++l) {
+      row[l] = std::min(row[l], last);
+      y[l] = rescaleInCdf(t.rows, row[l], y[l], rowPdf[l]);
+      offset[l] = row[l] * t.res;
+    }
+    upperBoundLanes<W>(t.cols, offset, t.res, x, col);
+    float dx[W], dy[W], dz[W], r[W], g[W], b[W], pdf[W];
+    for (int l = 0; l < W; ++l) {
+      col[l] = std::min(col[l], last);
+      x[l] = rescaleInCdf(t.cols + offset[l], col[l], x[l], colPdf[l]);
+      Vec3 dir = tableDirection(t, col[l], row[l], x[l], y[l]);
+      dx[l] = dir.x, dy[l] = dir.y, dz[l] = dir.z;
+      pdf[l] = rowPdf[l] * colPdf[l] * t.invjacobian;
+      Vec3 value = t.values[size_t(offset[l] + col[l])];
+      r[l] = value.x, g[l] = value.y, b[l] = value.z;
+    }
+    for (int l = 0; l < count; ++l) {
+      size_t k = start + size_t(l);
+      out.dx[k] = dx[l], out.dy[k] = dy[l], out.dz[k] = dz[l];
+      out.r[k] = r[l], out.g[k] = g[l], out.b[k] = b[l], out.pdf[k] = pdf[l];
+    }
+  }
+}
+
+void sampleBackground(const BackgroundMap::Table &table, const float *rx, const float *ry,
+                      size_t n, BackgroundDraws &out, int width) {
+  out.resize(n);
+  atWidth(width,
+          [&](auto w) { sampleBackgroundAt<decltype(w)::value>(table, rx, ry, n, out); });
+}
+
 /// W sampler points, one per lane.
 template <int W>
 OSL_LANE_TARGET void drawLanes(const uint32_t *__restrict seed, const uint32_t *__restrict index,
@@ -356,8 +423,8 @@ void drawPoints(PointDraws &draws, int width) {
 } // namespace
 
 const LaneKernels &OSL_LANE_KERNELS() {
-  static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect,   drawPoints,
-                                   cameraRays,        hitGeometry, sampleLights};
+  static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect,    drawPoints,      cameraRays,
+                                   hitGeometry,       sampleLights, sampleBackground};
   return kernels;
 }
 
