@@ -11,9 +11,11 @@
 #ifndef OSLRENDER_BSDF_H
 #define OSLRENDER_BSDF_H
 
+#include "OslRender/Sampling.h"
 #include "OslRender/Vec3.h"
 #include "OslRuntime/Closure.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -69,6 +71,48 @@ struct Lobe {
   float pick = 0;
 };
 
+/// The lobes whose sample is a cosine-weighted direction: sampled in lanes
+/// (LaneKernels::sampleCosineLobes) as by sampleLobe, through
+/// sampleCosineLobe.
+inline bool isCosineLobe(Lobe::Model m) {
+  return m == Lobe::Diffuse || m == Lobe::Translucent || m == Lobe::OrenNayar;
+}
+
+/// testrender's Oren-Nayar (Fujii's simplification of the qualitative
+/// model) about `n` with roughness `sigma`, toward wi; nothing below
+/// either side. Selects, not branches: lane loops vectorize it.
+[[gnu::always_inline]] inline BsdfSample orenNayarEval(Vec3 n, float sigma, Vec3 wo, Vec3 wi) {
+  float nl = dot(n, wi), nv = dot(n, wo);
+  bool above = nl > 0 && nv > 0;
+  float s = dot(wo, wi) - nl * nv;
+  float s2 = sigma * sigma;
+  float a = 1 - 0.50f * s2 / (s2 + 0.33f);
+  float b = 0.45f * s2 / (s2 + 0.09f);
+  float stinv = s > 0 ? s / std::max(nl, nv) : 0.0f;
+  float f = a + b * stinv;
+  BsdfSample r;
+  r.wi = select(above, wi, Vec3());
+  r.weight = select(above, Vec3(f, f, f), Vec3());
+  r.pdf = above ? nl * float(M_1_PI) : 0.0f;
+  r.roughness = above ? 1.0f : 0.0f;
+  return r;
+}
+
+/// A cosine lobe's sample about `n` (a translucent lobe's n turned):
+/// the cosine-weighted direction, and for Oren-Nayar its evaluation there.
+[[gnu::always_inline]] inline BsdfSample sampleCosineLobe(bool orenNayar, Vec3 n, float sigma,
+                                                          Vec3 wo, float rx, float ry) {
+  float pdf;
+  Vec3 wi = sampleCosineHemisphere(n, rx, ry, pdf);
+  BsdfSample on = orenNayarEval(n, sigma, wo, wi);
+  BsdfSample r;
+  r.wi = select(orenNayar, on.wi, wi);
+  r.weight = select(orenNayar, on.weight, Vec3(1, 1, 1));
+  r.pdf = orenNayar ? on.pdf : pdf;
+  r.roughness = orenNayar ? on.roughness : 1.0f;
+  return r;
+}
+
 /// testrender's BSDF of `l` alone (its weight not applied).
 BsdfSample evalLobe(const Lobe &l, Vec3 wo, Vec3 wi);
 BsdfSample sampleLobe(const Lobe &l, Vec3 wo, float rx, float ry, float rz);
@@ -112,6 +156,11 @@ struct ShadingResult {
   /// Picks a lobe with rx (rescaled for it), samples it with (rx, ry, rz),
   /// and folds the other lobes' evaluations in. A zero pdf: no sample.
   BsdfSample sample(Vec3 wo, float rx, float ry, float rz) const;
+  /// sample()'s two halves, for lobes sampled elsewhere (in lanes): the
+  /// lobe rx picks (-1: none) with rx rescaled for it, and what lobe i's
+  /// own sample `s` becomes in the mixture.
+  int pick(float &rx) const;
+  BsdfSample mixSample(size_t i, BsdfSample s, Vec3 wo) const;
 };
 
 /// Where a closure is interpreted: toward the viewer (wo) and which side

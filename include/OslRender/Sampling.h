@@ -200,7 +200,7 @@ inline float safePow(float x, float y) {
 struct TangentFrame {
   Vec3 u, v, w;
   explicit TangentFrame(Vec3 n) : w(n) {
-    u = normalize(std::fabs(w.x) > .01f ? Vec3(w.z, 0, -w.x) : Vec3(0, -w.z, w.y));
+    u = normalize(select(std::fabs(w.x) > .01f, Vec3(w.z, 0, -w.x), Vec3(0, -w.z, w.y)));
     v = cross(w, u);
   }
   /// Around unit `n`, its first axis following unit tangent `t`.
@@ -238,8 +238,9 @@ inline void toUnitDisk(float &x, float &y) {
   y *= r;
 }
 
-/// A cosine-weighted direction about unit `n` and its pdf.
-inline Vec3 sampleCosineHemisphere(Vec3 n, float rx, float ry, float &pdf) {
+/// A cosine-weighted direction about unit `n` and its pdf (inlined
+/// always: lane loops sample with it).
+[[gnu::always_inline]] inline Vec3 sampleCosineHemisphere(Vec3 n, float rx, float ry, float &pdf) {
   toUnitDisk(rx, ry);
   float cosTheta = std::sqrt(std::max(1 - rx * rx - ry * ry, 0.0f));
   pdf = cosTheta * float(M_1_PI);

@@ -24,20 +24,6 @@ BsdfSample diffuseEval(Vec3 n, Vec3 wi) {
   return {wi, Vec3(1, 1, 1), std::max(dot(n, wi), 0.0f) * float(M_1_PI), 1.0f};
 }
 
-BsdfSample orenNayarEval(const Lobe &l, Vec3 wo, Vec3 wi) {
-  float nl = dot(l.n, wi), nv = dot(l.n, wo);
-  if (!(nl > 0 && nv > 0))
-    return {};
-  // Fujii's simplification of the qualitative Oren-Nayar model.
-  float s = dot(wo, wi) - nl * nv;
-  float s2 = l.a * l.a;
-  float a = 1 - 0.50f * s2 / (s2 + 0.33f);
-  float b = 0.45f * s2 / (s2 + 0.09f);
-  float stinv = s > 0 ? s / std::max(nl, nv) : 0.0f;
-  float f = a + b * stinv;
-  return {wi, Vec3(f, f, f), nl * float(M_1_PI), 1.0f};
-}
-
 /// Portsmouth's energy-conserving Oren-Nayar (MaterialX's with
 /// energy_compensation): Fujii's single scattering plus a multiple
 /// scattering term from the analytic directional albedo.
@@ -197,7 +183,7 @@ BsdfSample evalLobe(const Lobe &l, Vec3 wo, Vec3 wi) {
   switch (l.model) {
   case Lobe::Diffuse: return diffuseEval(l.n, wi);
   case Lobe::Translucent: return diffuseEval(-l.n, wi);
-  case Lobe::OrenNayar: return orenNayarEval(l, wo, wi);
+  case Lobe::OrenNayar: return orenNayarEval(l.n, l.a, wo, wi);
   case Lobe::OrenNayarEnergy: return orenNayarEnergyEval(l, wo, wi);
   case Lobe::Phong: return phongEval(l, wo, wi);
   case Lobe::Ward: return wardEval(l, wo, wi);
@@ -210,12 +196,10 @@ BsdfSample sampleLobe(const Lobe &l, Vec3 wo, float rx, float ry, float rz) {
     return sampleMicrofacetLobe(l, wo, rx, ry, rz);
   switch (l.model) {
   case Lobe::Diffuse:
-  case Lobe::Translucent: {
-    float pdf;
-    Vec3 wi = sampleCosineHemisphere(l.model == Lobe::Diffuse ? l.n : -l.n, rx, ry, pdf);
-    return {wi, Vec3(1, 1, 1), pdf, 1.0f};
-  }
+  case Lobe::Translucent:
   case Lobe::OrenNayar:
+    return sampleCosineLobe(l.model == Lobe::OrenNayar, l.model == Lobe::Translucent ? -l.n : l.n,
+                            l.a, wo, rx, ry);
   case Lobe::OrenNayarEnergy: {
     float pdf;
     return evalLobe(l, wo, sampleCosineHemisphere(l.n, rx, ry, pdf));
@@ -318,7 +302,7 @@ BsdfSample ShadingResult::eval(Vec3 wo, Vec3 wi) const {
   return s;
 }
 
-BsdfSample ShadingResult::sample(Vec3 wo, float rx, float ry, float rz) const {
+int ShadingResult::pick(float &rx) const {
   float accum = 0;
   for (size_t i = 0; i < lobes.size(); ++i) {
     const Lobe &l = lobes[i];
@@ -327,21 +311,32 @@ BsdfSample ShadingResult::sample(Vec3 wo, float rx, float ry, float rz) const {
       continue;
     }
     rx = std::min((rx - accum) / l.pick, 0.99999994f);
-    BsdfSample s = sampleLobe(l, wo, rx, ry, rz);
-    s.weight *= l.weight * (1 / l.pick);
-    s.pdf *= l.pick;
-    if (s.pdf == 0.0f)
-      return {};
-    // The other lobes toward the sampled direction.
-    for (size_t j = 0; j < lobes.size(); ++j)
-      if (j != i) {
-        BsdfSample b = evalLobe(lobes[j], wo, s.wi);
-        b.weight *= lobes[j].weight;
-        misUpdate(s.weight, s.pdf, b.weight, b.pdf, lobes[j].pick);
-      }
-    return s;
+    return int(i);
   }
-  return {};
+  return -1;
+}
+
+BsdfSample ShadingResult::mixSample(size_t i, BsdfSample s, Vec3 wo) const {
+  const Lobe &l = lobes[i];
+  s.weight *= l.weight * (1 / l.pick);
+  s.pdf *= l.pick;
+  if (s.pdf == 0.0f)
+    return {};
+  // The other lobes toward the sampled direction.
+  for (size_t j = 0; j < lobes.size(); ++j)
+    if (j != i) {
+      BsdfSample b = evalLobe(lobes[j], wo, s.wi);
+      b.weight *= lobes[j].weight;
+      misUpdate(s.weight, s.pdf, b.weight, b.pdf, lobes[j].pick);
+    }
+  return s;
+}
+
+BsdfSample ShadingResult::sample(Vec3 wo, float rx, float ry, float rz) const {
+  int i = pick(rx);
+  if (i < 0)
+    return {};
+  return mixSample(size_t(i), sampleLobe(lobes[size_t(i)], wo, rx, ry, rz), wo);
 }
 
 } // namespace osl::render

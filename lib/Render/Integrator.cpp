@@ -119,6 +119,7 @@ private:
   bool intersectPaths();
   void shadeMisses(int bounce);
   void scatterAll(int bounce);
+  void sampleBsdfs();
   void traceShadowRays();
   void accumulate(float *mean);
   /// Shades `q`'s points with `shader`, `width` at a time, and calls
@@ -173,6 +174,11 @@ private:
   LightDraws lightDraws;
   /// Each scattering path's direction toward the background's table.
   BackgroundDraws backgroundDraws;
+  /// Each scattering path's lobe (-1: none) and BSDF sample, and the
+  /// samples of cosine lobes, drawn in lanes.
+  std::vector<int> pickedLobes;
+  std::vector<BsdfSample> bsdfSamples;
+  CosineDraws cosineDraws;
   /// The bounce's shadow rays, traced together a batch of `width` lanes at
   /// a time.
   RayBatch rays;
@@ -471,6 +477,7 @@ void PathWave::scatterAll(int bounce) {
         lightDraws.push(l, q->at.p(i), draws.x[s], draws.y[s]);
   }
   laneKernels().sampleLights(prims, lightDraws, width);
+  sampleBsdfs();
   size_t light = 0;
   for (size_t s = 0; s < scattering.size(); ++s) {
     auto [q, i] = scattering[s];
@@ -489,7 +496,7 @@ void PathWave::scatterAll(int bounce) {
     }
     // The BSDF's sample continues the path (testrender calls every
     // bounce's rays diffuse).
-    BsdfSample smp = res.sample(wo, draws.x[s], draws.y[s], draws.z[s]);
+    const BsdfSample &smp = bsdfSamples[s];
     p.weight *= smp.weight;
     p.bsdfPdf = smp.pdf;
     p.rayType = rayTypeBit("diffuse");
@@ -507,6 +514,39 @@ void PathWave::scatterAll(int bounce) {
     // as the lobe is rough (testrender's rule).
     pathRays.radius[pathIndex] = q->at.radius[i];
     pathRays.spread[pathIndex] = std::max(pathRays.spread[pathIndex], smp.roughness);
+  }
+}
+
+/// Each scattering path's BSDF sample (with the bounce's sampler point):
+/// the mixture picks a lobe; cosine lobes are sampled in lanes, the others
+/// one at a time.
+void PathWave::sampleBsdfs() {
+  cosineDraws.clear();
+  pickedLobes.resize(scattering.size());
+  bsdfSamples.assign(scattering.size(), BsdfSample());
+  for (size_t s = 0; s < scattering.size(); ++s) {
+    auto [q, i] = scattering[s];
+    const ShadingResult &res = results[q->path[i]];
+    Vec3 wo = -q->at.d(i);
+    float rx = draws.x[s];
+    int lobe = pickedLobes[s] = res.pick(rx);
+    if (lobe < 0)
+      continue;
+    const Lobe &l = res.lobes[size_t(lobe)];
+    if (isCosineLobe(l.model))
+      cosineDraws.push(l, wo, rx, draws.y[s]);
+    else
+      bsdfSamples[s] =
+          res.mixSample(size_t(lobe), sampleLobe(l, wo, rx, draws.y[s], draws.z[s]), wo);
+  }
+  laneKernels().sampleCosineLobes(cosineDraws, width);
+  size_t k = 0;
+  for (size_t s = 0; s < scattering.size(); ++s) {
+    int lobe = pickedLobes[s];
+    auto [q, i] = scattering[s];
+    const ShadingResult &res = results[q->path[i]];
+    if (lobe >= 0 && isCosineLobe(res.lobes[size_t(lobe)].model))
+      bsdfSamples[s] = res.mixSample(size_t(lobe), cosineDraws.result(k++), -q->at.d(i));
   }
 }
 

@@ -13,6 +13,7 @@
 
 #include "BackgroundMap.h"
 #include "Dual.h"
+#include "OslRender/Bsdf.h"
 #include "OslRender/Geometry.h"
 
 #include <cstddef>
@@ -127,6 +128,32 @@ struct BackgroundDraws {
   Vec3 value(size_t i) const { return {r[i], g[i], b[i]}; }
 };
 
+/// Cosine lobes' samples (isCosineLobe), as structure of arrays: each
+/// lane's normal (turned for a translucent lobe), whether it is
+/// Oren-Nayar and its roughness, the direction toward the viewer and two
+/// uniform numbers in; the sample (sampleCosineLobe) out.
+struct CosineDraws {
+  std::vector<int> orenNayar;
+  std::vector<float> nx, ny, nz, sigma, wox, woy, woz, rx, ry;
+  std::vector<float> wix, wiy, wiz, f, pdf, roughness;
+  void clear() {
+    orenNayar.clear();
+    for (std::vector<float> *v : {&nx, &ny, &nz, &sigma, &wox, &woy, &woz, &rx, &ry})
+      v->clear();
+  }
+  void push(const Lobe &l, Vec3 wo, float r0, float r1) {
+    Vec3 n = l.model == Lobe::Translucent ? -l.n : l.n;
+    orenNayar.push_back(l.model == Lobe::OrenNayar);
+    nx.push_back(n.x), ny.push_back(n.y), nz.push_back(n.z), sigma.push_back(l.a);
+    wox.push_back(wo.x), woy.push_back(wo.y), woz.push_back(wo.z);
+    rx.push_back(r0), ry.push_back(r1);
+  }
+  size_t size() const { return orenNayar.size(); }
+  BsdfSample result(size_t i) const {
+    return {{wix[i], wiy[i], wiz[i]}, {f[i], f[i], f[i]}, pdf[i], roughness[i]};
+  }
+};
+
 /// testrender's camera, set up once: rays leave `eye` toward
 /// dir + cx * (x / xres - 0.5) + cy * (0.5 - y / yres).
 struct CameraSetup {
@@ -157,6 +184,8 @@ struct LaneKernels {
   /// into `out` (sized by it), `width` at a time.
   void (*sampleBackground)(const BackgroundMap::Table &table, const float *rx, const float *ry,
                            size_t n, BackgroundDraws &out, int width);
+  /// The outputs of every lane of `draws` (sized by it).
+  void (*sampleCosineLobes)(CosineDraws &draws, int width);
 };
 
 /// The kernels of the widest instruction set this CPU runs, or those the

@@ -385,6 +385,23 @@ void sampleBackground(const BackgroundMap::Table &table, const float *rx, const 
           [&](auto w) { sampleBackgroundAt<decltype(w)::value>(table, rx, ry, n, out); });
 }
 
+template <int W> OSL_LANE_TARGET void sampleCosineLobesAt(CosineDraws &d) {
+  forLanes<W>(d.size(), [&](size_t i) __attribute__((always_inline)) {
+    BsdfSample s = sampleCosineLobe(d.orenNayar[i] != 0, Vec3(d.nx[i], d.ny[i], d.nz[i]),
+                                    d.sigma[i], Vec3(d.wox[i], d.woy[i], d.woz[i]), d.rx[i],
+                                    d.ry[i]);
+    d.wix[i] = s.wi.x, d.wiy[i] = s.wi.y, d.wiz[i] = s.wi.z;
+    d.f[i] = s.weight.x, d.pdf[i] = s.pdf, d.roughness[i] = s.roughness;
+  });
+}
+
+void sampleCosineLobes(CosineDraws &draws, int width) {
+  for (std::vector<float> *v :
+       {&draws.wix, &draws.wiy, &draws.wiz, &draws.f, &draws.pdf, &draws.roughness})
+    v->resize(draws.size());
+  atWidth(width, [&](auto w) { sampleCosineLobesAt<decltype(w)::value>(draws); });
+}
+
 /// W sampler points, one per lane.
 template <int W>
 OSL_LANE_TARGET void drawLanes(const uint32_t *__restrict seed, const uint32_t *__restrict index,
@@ -423,8 +440,9 @@ void drawPoints(PointDraws &draws, int width) {
 } // namespace
 
 const LaneKernels &OSL_LANE_KERNELS() {
-  static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect,    drawPoints,      cameraRays,
-                                   hitGeometry,       sampleLights, sampleBackground};
+  static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect,        drawPoints,
+                                   cameraRays,        hitGeometry,      sampleLights,
+                                   sampleBackground,  sampleCosineLobes};
   return kernels;
 }
 
