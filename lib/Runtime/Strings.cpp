@@ -26,6 +26,7 @@
 #include <set>
 #include <shared_mutex>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 using osl::StringValue;
@@ -61,10 +62,11 @@ public:
       std::fprintf(stderr, "error: too many distinct strings for 32-bit string handles\n");
       std::abort();
     }
-    std::unique_ptr<std::string[]> &chunk = chunks[size_t(handle) / kChunkSize];
+    auto [c, offset] = slotOf(handle);
+    std::unique_ptr<std::string[]> &chunk = chunks[c];
     if (!chunk)
-      chunk = std::make_unique<std::string[]>(kChunkSize);
-    std::string &slot = chunk[size_t(handle) % kChunkSize];
+      chunk = std::make_unique<std::string[]>(kFirstChunk << c);
+    std::string &slot = chunk[offset];
     slot.assign(s);
     handles.emplace(slot, handle);
     count.store(handle + 1, std::memory_order_release);
@@ -76,15 +78,26 @@ public:
   std::string_view text(int32_t handle) const {
     if (handle < 0 || handle >= count.load(std::memory_order_acquire))
       return {};
-    return chunks[size_t(handle) / kChunkSize][size_t(handle) % kChunkSize];
+    auto [c, offset] = slotOf(handle);
+    return chunks[c][offset];
   }
 
 private:
-  static constexpr size_t kChunkSize = size_t(1) << 16;
-  static constexpr size_t kMaxChunks = size_t(1) << 15; // 2^31 handles in all
+  /// Chunk c holds kFirstChunk << c strings: a process that makes a few
+  /// strings (most) builds a few small chunks, not megabytes of empty
+  /// strings to fault in, and 2^31 handles still fit in kChunks.
+  static constexpr int kFirstChunkBits = 8;
+  static constexpr size_t kFirstChunk = size_t(1) << kFirstChunkBits;
+  static constexpr int kChunks = 32 - kFirstChunkBits;
+  /// The chunk and index in it of `handle`: handle + kFirstChunk's top bit
+  /// says which chunk.
+  static std::pair<int, size_t> slotOf(int32_t handle) {
+    uint64_t at = uint64_t(handle) + kFirstChunk;
+    int top = 63 - __builtin_clzll(at);
+    return {top - kFirstChunkBits, size_t(at - (uint64_t(1) << top))};
+  }
   std::shared_mutex mutex; // guards `handles` and writes to `chunks`
-  std::unique_ptr<std::unique_ptr<std::string[]>[]> chunks =
-      std::make_unique<std::unique_ptr<std::string[]>[]>(kMaxChunks);
+  std::unique_ptr<std::string[]> chunks[kChunks];
   std::atomic<int32_t> count{0};
   std::unordered_map<std::string_view, int32_t> handles;
 };
