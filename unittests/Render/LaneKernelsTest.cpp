@@ -226,3 +226,125 @@ TEST(LaneKernels, LightSamplesMatchAtEveryWidth) {
       }
     }
 }
+
+namespace {
+
+/// A 32 x 32 background table whose cells all differ (each cell's
+/// radiance names it), with a band of black rows and black columns in
+/// every row (equal entries in the cumulative tables).
+BackgroundMap namedCellsMap() {
+  BackgroundMap map;
+  map.prepare(32, [](const std::vector<Dual3> &dirs, std::vector<Vec3> &radiance) {
+    radiance.resize(dirs.size());
+    for (size_t i = 0; i < dirs.size(); ++i) {
+      int x = int(i % 32), y = int(i / 32);
+      bool black = (y >= 10 && y < 13) || x % 5 == 2;
+      radiance[i] = black ? Vec3() : Vec3(float(1 + x), float(1 + y), 0.5f + float(i));
+    }
+  });
+  return map;
+}
+
+/// The cell testrender's sampler picks for (rx, ry): std::upper_bound
+/// through the rows, then through the row (the reference for the lanes'
+/// branchless search).
+size_t expectedCell(const BackgroundMap::Table &t, float rx, float ry) {
+  auto entry = [&](const float *cdf, float x) {
+    int i = int(std::upper_bound(cdf, cdf + t.res, x) - cdf);
+    return std::min(i, t.res - 1);
+  };
+  int y = entry(t.rows, ry);
+  int x = entry(t.cols + size_t(y) * t.res, rx);
+  return size_t(y) * t.res + x;
+}
+
+} // namespace
+
+TEST(LaneKernels, BackgroundSamplesPickUpperBoundsCellAtEveryWidth) {
+  BackgroundMap map = namedCellsMap();
+  BackgroundMap::Table t = map.table();
+  // 203 random draws, then the edges: 0, each row's and column's exact
+  // cumulative values (equal runs where cells are black), the largest
+  // float below 1.
+  std::vector<float> rx, ry;
+  Sampler rng(2, 7, 5);
+  for (int i = 0; i < 203; ++i) {
+    Vec3 r = rng.get();
+    rx.push_back(r.x), ry.push_back(r.y);
+  }
+  for (int i = 0; i < t.res; ++i) {
+    rx.push_back(t.cols[size_t(3) * t.res + i]), ry.push_back(t.rows[i]);
+  }
+  rx.push_back(0), ry.push_back(0);
+  rx.push_back(0.99999994f), ry.push_back(0.99999994f);
+  BackgroundDraws reference;
+  genericLaneKernels().sampleBackground(t, rx.data(), ry.data(), rx.size(), reference, 1);
+  for (size_t i = 0; i < rx.size(); ++i) {
+    SCOPED_TRACE("draw " + std::to_string(i));
+    Vec3 value = t.values[expectedCell(t, rx[i], ry[i])];
+    EXPECT_TRUE(sameBits(reference.r[i], value.x) && sameBits(reference.g[i], value.y) &&
+                sameBits(reference.b[i], value.z));
+    EXPECT_GT(reference.value(i).x, 0.0f); // never a black cell
+    EXPECT_NEAR(length(reference.dir(i)), 1.0f, 1e-5f);
+    // eval() of the direction finds the same cell (its pdf) but at a
+    // cell's edge, where the direction's rounding may cross it.
+    float pdf = 0;
+    Vec3 back = map.eval(reference.dir(i), pdf);
+    if (back.x == value.x && back.y == value.y)
+      EXPECT_EQ(pdf, reference.pdf[i]);
+  }
+  for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
+    for (int width : {1, 4, 8, 16}) {
+      SCOPED_TRACE(std::string(kernels->isa) + " width " + std::to_string(width));
+      BackgroundDraws draws;
+      kernels->sampleBackground(t, rx.data(), ry.data(), rx.size(), draws, width);
+      for (size_t i = 0; i < rx.size(); ++i)
+        EXPECT_TRUE(sameBits(draws.pdf[i], reference.pdf[i]) &&
+                    sameBits(draws.dx[i], reference.dx[i]) &&
+                    sameBits(draws.dy[i], reference.dy[i]) &&
+                    sameBits(draws.dz[i], reference.dz[i]) &&
+                    sameBits(draws.r[i], reference.r[i]))
+            << "draw " << i;
+    }
+}
+
+TEST(LaneKernels, CosineLobeSamplesMatchOneLobesOwnAtEveryWidth) {
+  // Diffuse, translucent and Oren-Nayar lobes about random normals, seen
+  // from both sides (Oren-Nayar gives nothing below the surface): 203 of
+  // them, which no width divides.
+  std::vector<Lobe> lobes;
+  std::vector<Vec3> wo, r;
+  Sampler rng(4, 4, 8);
+  auto unit = [](Vec3 a) { return normalize(Vec3(2 * a.x - 1, 2 * a.y - 1, 2 * a.z - 1)); };
+  for (int i = 0; i < 203; ++i) {
+    Lobe l;
+    l.model = i % 3 == 0 ? Lobe::Diffuse : i % 3 == 1 ? Lobe::Translucent : Lobe::OrenNayar;
+    l.n = unit(rng.get());
+    l.a = rng.get().x;
+    lobes.push_back(l);
+    wo.push_back(unit(rng.get()));
+    r.push_back(rng.get());
+  }
+  int zero = 0;
+  for (size_t i = 0; i < lobes.size(); ++i)
+    zero += sampleLobe(lobes[i], wo[i], r[i].x, r[i].y, r[i].z).pdf == 0;
+  EXPECT_GT(zero, 10);  // Oren-Nayar seen from below
+  EXPECT_LT(zero, 100);
+  for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
+    for (int width : {1, 4, 8, 16}) {
+      SCOPED_TRACE(std::string(kernels->isa) + " width " + std::to_string(width));
+      CosineDraws draws;
+      for (size_t i = 0; i < lobes.size(); ++i)
+        draws.push(lobes[i], wo[i], r[i].x, r[i].y);
+      kernels->sampleCosineLobes(draws, width);
+      for (size_t i = 0; i < lobes.size(); ++i) {
+        BsdfSample one = sampleLobe(lobes[i], wo[i], r[i].x, r[i].y, r[i].z);
+        BsdfSample lane = draws.result(i);
+        EXPECT_TRUE(sameBits(lane.pdf, one.pdf) && sameBits(lane.roughness, one.roughness) &&
+                    sameBits(lane.weight.x, one.weight.x) &&
+                    sameBits(lane.weight.z, one.weight.z) && sameBits(lane.wi.x, one.wi.x) &&
+                    sameBits(lane.wi.y, one.wi.y) && sameBits(lane.wi.z, one.wi.z))
+            << "lobe " << i;
+      }
+    }
+}
