@@ -31,7 +31,7 @@ public:
   bool empty() const { return res == 0; }
   /// The radiance over the pdf of direction `dir`, and that pdf.
   Vec3 eval(Vec3 dir, float &pdf) const;
-  /// The tables, for sampling in lanes (sampleBackgroundLane).
+  /// The tables, for sampling in lanes (LaneKernels::sampleBackground).
   struct Table {
     int res = 0;
     float invres = 0, invjacobian = 0;

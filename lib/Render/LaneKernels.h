@@ -180,7 +180,7 @@ struct LaneKernels {
   /// samples lights: a sphere's cone uniformly in solid angle, a quad
   /// uniformly by area.
   void (*sampleLights)(const PrimTable &prims, LightDraws &draws, int width);
-  /// Lane i draws from `table` with (rx[i], ry[i]) (sampleBackgroundLane)
+  /// Lane i draws from `table` with (rx[i], ry[i]), as testrender samples it,
   /// into `out` (sized by it), `width` at a time.
   void (*sampleBackground)(const BackgroundMap::Table &table, const float *rx, const float *ry,
                            size_t n, BackgroundDraws &out, int width);
