@@ -49,17 +49,7 @@ void BackgroundMap::prepare(
 }
 
 Vec3 BackgroundMap::eval(Vec3 dir, float &pdf) const {
-  float u = fast::atan2(dir.y, dir.x) * float(M_1_PI * 0.5f);
-  if (u < 0)
-    u++;
-  float v = (1 - dir.z) * 0.5f;
-  int x = std::clamp(int(u * float(res)), 0, res - 1);
-  int y = std::clamp(int(v * float(res)), 0, res - 1);
-  int i = y * res + x;
-  float rowPdf = rows[y] - (y > 0 ? rows[y - 1] : 0.0f);
-  float colPdf = cols[i] - (x > 0 ? cols[i - 1] : 0.0f);
-  pdf = rowPdf * colPdf * invjacobian;
-  return values[i];
+  return values[tableCell(table(), dir, pdf)];
 }
 
 } // namespace osl::render

@@ -51,6 +51,21 @@ private:
   std::vector<float> rows, cols;
 };
 
+/// The cell of the table direction `dir` falls in (testrender's), and the
+/// pdf of sampling it.
+inline size_t tableCell(const BackgroundMap::Table &t, Vec3 dir, float &pdf) {
+  float u = fast::atan2(dir.y, dir.x) * float(M_1_PI * 0.5f);
+  u = u < 0 ? u + 1 : u;
+  float v = (1 - dir.z) * 0.5f;
+  int x = std::clamp(int(u * float(t.res)), 0, t.res - 1);
+  int y = std::clamp(int(v * float(t.res)), 0, t.res - 1);
+  int i = y * t.res + x;
+  float rowPdf = t.rows[y] - (y > 0 ? t.rows[y - 1] : 0.0f);
+  float colPdf = t.cols[i] - (x > 0 ? t.cols[i - 1] : 0.0f);
+  pdf = rowPdf * colPdf * t.invjacobian;
+  return size_t(i);
+}
+
 /// Sampling the table, in pieces a lane loop runs (LaneKernels'
 /// sampleBackground searches the distributions between them, each lane a
 /// branchless std::upper_bound): entry `index` of the cumulative `cdf`

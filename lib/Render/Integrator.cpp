@@ -172,7 +172,8 @@ private:
   std::vector<std::pair<const ShadeQueue *, size_t>> scattering;
   /// Each scattering path's light samples, paths and lights in order.
   LightDraws lightDraws;
-  /// Each scattering path's direction toward the background's table.
+  /// The background table's answers: toward each escaped ray
+  /// (shadeMisses), then toward each scattering path's sample (scatterAll).
   BackgroundDraws backgroundDraws;
   /// Each scattering path's lobe (-1: none) and BSDF sample, and the
   /// samples of cosine lobes, drawn in lanes.
@@ -400,6 +401,16 @@ void PathWave::shadeMisses(int bounce) {
   if (scene.background < 0)
     return;
   HitPoints &h = misses.at;
+  if (bounce > 0 && map) {
+    laneKernels().evalBackground(map->table(), pathRays, h.ray.data(), h.size(),
+                                 backgroundDraws, width);
+    for (size_t i = 0; i < h.size(); ++i) {
+      Path &p = paths[misses.path[i]];
+      p.radiance += p.weight * backgroundDraws.value(i) *
+                    powerHeuristic<MisMode::WeightWeight>(p.bsdfPdf, backgroundDraws.pdf[i]);
+    }
+    return;
+  }
   h.sizeOutputs();
   for (size_t i = 0; i < h.size(); ++i) {
     // The ray's direction, with its differentials (testrender's
@@ -408,15 +419,6 @@ void PathWave::shadeMisses(int bounce) {
     Vec3 d(pathRays.dx[ray], pathRays.dy[ray], pathRays.dz[ray]), ex, ey;
     orthoBasis(d, ex, ey);
     h.setDirection(i, {d, ex * pathRays.spread[ray], ey * pathRays.spread[ray]});
-  }
-  if (bounce > 0 && map) {
-    for (size_t i = 0; i < h.size(); ++i) {
-      Path &p = paths[misses.path[i]];
-      float pdf = 0;
-      Vec3 bg = map->eval(h.d(i), pdf);
-      p.radiance += p.weight * bg * powerHeuristic<MisMode::WeightWeight>(p.bsdfPdf, pdf);
-    }
-    return;
   }
   misses.rayType = rayTypeBit(bounce > 0 ? "diffuse" : "camera");
   shade(scene.background, misses, [&](size_t i, int32_t handle) {

@@ -186,6 +186,10 @@ struct LaneKernels {
                            size_t n, BackgroundDraws &out, int width);
   /// The outputs of every lane of `draws` (sized by it).
   void (*sampleCosineLobes)(CosineDraws &draws, int width);
+  /// What `table` holds toward rays which[0..n) of `rays` (radiance over
+  /// pdf and pdf, as BackgroundMap::eval; the direction too) into `out`.
+  void (*evalBackground)(const BackgroundMap::Table &table, const RayBatch &rays,
+                         const int *which, size_t n, BackgroundDraws &out, int width);
 };
 
 /// The kernels of the widest instruction set this CPU runs, or those the

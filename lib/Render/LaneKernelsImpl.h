@@ -402,6 +402,28 @@ void sampleCosineLobes(CosineDraws &draws, int width) {
   atWidth(width, [&](auto w) { sampleCosineLobesAt<decltype(w)::value>(draws); });
 }
 
+template <int W>
+OSL_LANE_TARGET void evalBackgroundAt(const BackgroundMap::Table &t, const RayBatch &rays,
+                                      const int *__restrict which, size_t n,
+                                      BackgroundDraws &out) {
+  forLanes<W>(n, [&](size_t i) __attribute__((always_inline)) {
+    int k = which[i];
+    Vec3 dir(rays.dx[k], rays.dy[k], rays.dz[k]);
+    float pdf;
+    Vec3 value = t.values[tableCell(t, dir, pdf)];
+    out.dx[i] = dir.x, out.dy[i] = dir.y, out.dz[i] = dir.z;
+    out.r[i] = value.x, out.g[i] = value.y, out.b[i] = value.z;
+    out.pdf[i] = pdf;
+  });
+}
+
+void evalBackground(const BackgroundMap::Table &table, const RayBatch &rays, const int *which,
+                    size_t n, BackgroundDraws &out, int width) {
+  out.resize(n);
+  atWidth(width,
+          [&](auto w) { evalBackgroundAt<decltype(w)::value>(table, rays, which, n, out); });
+}
+
 /// W sampler points, one per lane.
 template <int W>
 OSL_LANE_TARGET void drawLanes(const uint32_t *__restrict seed, const uint32_t *__restrict index,
@@ -442,7 +464,8 @@ void drawPoints(PointDraws &draws, int width) {
 const LaneKernels &OSL_LANE_KERNELS() {
   static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect,        drawPoints,
                                    cameraRays,        hitGeometry,      sampleLights,
-                                   sampleBackground,  sampleCosineLobes};
+                                   sampleBackground,  sampleCosineLobes,
+                                   evalBackground};
   return kernels;
 }
 

@@ -348,3 +348,35 @@ TEST(LaneKernels, CosineLobeSamplesMatchOneLobesOwnAtEveryWidth) {
       }
     }
 }
+
+TEST(LaneKernels, BackgroundLookupsMatchEvalAtEveryWidth) {
+  // 203 escaped rays (no width divides it), some straight up and down and
+  // along the seam where atan2 turns, read through a permuted ray index.
+  BackgroundMap map = namedCellsMap();
+  RayBatch rays;
+  Sampler rng(6, 1, 2);
+  auto unit = [](Vec3 a) { return normalize(Vec3(2 * a.x - 1, 2 * a.y - 1, 2 * a.z - 1)); };
+  for (int i = 0; i < 203; ++i) {
+    Vec3 d = i % 50 == 0   ? Vec3(0, 0, i % 100 == 0 ? 1.0f : -1.0f)
+             : i % 50 == 1 ? normalize(Vec3(-1, i % 100 == 1 ? 0.0f : -0.0f, 0.3f))
+                           : unit(rng.get());
+    rays.push(Vec3(), d, -1);
+  }
+  std::vector<int> which;
+  for (int i = 202; i >= 0; --i)
+    which.push_back(i);
+  for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
+    for (int width : {1, 4, 8, 16}) {
+      SCOPED_TRACE(std::string(kernels->isa) + " width " + std::to_string(width));
+      BackgroundDraws out;
+      kernels->evalBackground(map.table(), rays, which.data(), which.size(), out, width);
+      for (size_t i = 0; i < which.size(); ++i) {
+        int k = which[i];
+        float pdf = 0;
+        Vec3 value = map.eval(Vec3(rays.dx[k], rays.dy[k], rays.dz[k]), pdf);
+        EXPECT_TRUE(sameBits(out.pdf[i], pdf) && sameBits(out.r[i], value.x) &&
+                    sameBits(out.g[i], value.y) && sameBits(out.b[i], value.z))
+            << "ray " << k;
+      }
+    }
+}
