@@ -273,49 +273,44 @@ void hitGeometry(const PrimTable &prims, const RayBatch &rays, HitPoints &hits, 
   atWidth(width, [&](auto w) { hitGeometryAt<decltype(w)::value>(prims, rays, hits); });
 }
 
-/// testrender's light samples, one lane at a time at every width (its
-/// frame's branch and OpenImageIO's sincos keep the loop from vectorizing).
-OSL_LANE_TARGET void sampleLightsAt(const PrimTable &T, LightDraws &s) {
-  for (size_t i = 0; i < s.size(); ++i) {
+/// testrender's light samples in lanes: a sphere's and a quad's sample
+/// both computed, the light's kept.
+template <int W> OSL_LANE_TARGET void sampleLightsAt(const PrimTable &T, LightDraws &s) {
+  forLanes<W>(s.size(), [&](size_t i) __attribute__((always_inline)) {
     int k = s.light[i];
     Vec3 x(s.ox[i], s.oy[i], s.oz[i]);
     float rx = s.rx[i], ry = s.ry[i];
-    Vec3 dir;
-    float pdf;
-    if (T.kind[k] == Primitive::Sphere) {
-      // A direction in the cone the light subtends, about its center.
-      constexpr float twoPi = float(2 * M_PI);
-      Vec3 toC = Vec3(T.cx[k], T.cy[k], T.cz[k]) - x;
-      float cmax2 = 1 - T.r2[k] / dot(toC, toC);
-      float cmax = cmax2 > 0 ? std::sqrt(cmax2) : 0.0f;
-      float cosA = 1 - rx + rx * cmax;
-      float sinA = std::sqrt(1 - cosA * cosA);
-      float sp, cp;
-      fast::sincos(twoPi * ry, sp, cp);
-      Vec3 sw = normalize(toC), su, sv;
-      orthoBasis(sw, su, sv);
-      dir = normalize(su * (cp * sinA) + sv * (sp * sinA) + sw * cosA);
-      pdf = 1 / (twoPi * (1 - cmax));
-    } else {
-      // Quad: a point on it, uniformly by area.
-      Vec3 l = (Vec3(T.qx[k], T.qy[k], T.qz[k]) + rx * Vec3(T.ex[k], T.ey[k], T.ez[k]) +
-                ry * Vec3(T.fx[k], T.fy[k], T.fz[k])) -
-               x;
-      float d2 = dot(l, l);
-      dir = normalize(l);
-      pdf = d2 / (T.area[k] * std::fabs(dot(dir, Vec3(T.nx[k], T.ny[k], T.nz[k]))));
-    }
-    s.dx[i] = dir.x;
-    s.dy[i] = dir.y;
-    s.dz[i] = dir.z;
-    s.pdf[i] = pdf;
-  }
+    // Sphere: a direction in the cone the light subtends, about its center.
+    constexpr float twoPi = float(2 * M_PI);
+    Vec3 toC = Vec3(T.cx[k], T.cy[k], T.cz[k]) - x;
+    float cmax2 = 1 - T.r2[k] / dot(toC, toC);
+    float cmax = cmax2 > 0 ? std::sqrt(cmax2) : 0.0f;
+    float cosA = 1 - rx + rx * cmax;
+    float sinA = std::sqrt(1 - cosA * cosA);
+    float sp, cp;
+    fast::sincos(twoPi * ry, sp, cp);
+    Vec3 sw = normalize(toC), su, sv;
+    orthoBasis(sw, su, sv);
+    Vec3 sphereDir = normalize(su * (cp * sinA) + sv * (sp * sinA) + sw * cosA);
+    float spherePdf = 1 / (twoPi * (1 - cmax));
+    // Quad: a point on it, uniformly by area.
+    Vec3 l = (Vec3(T.qx[k], T.qy[k], T.qz[k]) + rx * Vec3(T.ex[k], T.ey[k], T.ez[k]) +
+              ry * Vec3(T.fx[k], T.fy[k], T.fz[k])) -
+             x;
+    float d2 = dot(l, l);
+    Vec3 quadDir = normalize(l);
+    float quadPdf = d2 / (T.area[k] * std::fabs(dot(quadDir, Vec3(T.nx[k], T.ny[k], T.nz[k]))));
+    bool sphere = T.kind[k] == Primitive::Sphere;
+    Vec3 dir = select(sphere, sphereDir, quadDir);
+    s.dx[i] = dir.x, s.dy[i] = dir.y, s.dz[i] = dir.z;
+    s.pdf[i] = sphere ? spherePdf : quadPdf;
+  });
 }
 
 void sampleLights(const PrimTable &prims, LightDraws &draws, int width) {
   for (std::vector<float> *v : {&draws.dx, &draws.dy, &draws.dz, &draws.pdf})
     v->resize(draws.size());
-  sampleLightsAt(prims, draws);
+  atWidth(width, [&](auto w) { sampleLightsAt<decltype(w)::value>(prims, draws); });
 }
 
 /// std::upper_bound (NaN past the end) in W lanes at once, stepping
