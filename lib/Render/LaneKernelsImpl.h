@@ -154,6 +154,34 @@ template <int W, typename Body> OSL_LANE_TARGET void forLanes(size_t n, Body bod
     body(i);
 }
 
+/// forLanes, where a full batch whose lanes share one `key` (a primitive)
+/// runs body(i, k) with that k the same for every lane, so what the body
+/// reads at k is loaded once and broadcast instead of gathered per lane;
+/// other batches run body(i, key[i]).
+template <int W, typename Body>
+OSL_LANE_TARGET void forLanesSharing(size_t n, const int *__restrict key, Body body) {
+  size_t full = W > 1 ? n / W * W : 0;
+  if constexpr (W > 1) {
+    for (size_t start = 0; start < full; start += W) {
+      const int k = key[start];
+      bool shared = true;
+      for (int l = 1; l < W; ++l)
+        shared &= key[start + size_t(l)] == k;
+      if (shared) {
+#pragma clang loop vectorize(assume_safety) interleave(disable)
+        for (int l = 0; l < W; ++l)
+          body(start + size_t(l), k);
+      } else {
+#pragma clang loop vectorize(assume_safety) interleave(disable)
+        for (int l = 0; l < W; ++l)
+          body(start + size_t(l), key[start + size_t(l)]);
+      }
+    }
+  }
+  for (size_t i = full; i < n; ++i)
+    body(i, key[i]);
+}
+
 /// testrender's pixel filter: a uniform number warped to a tent on [-1, 1).
 [[gnu::always_inline]] inline float tent(float u) {
   u *= 2;
@@ -199,8 +227,10 @@ OSL_LANE_TARGET void hitGeometryAt(const PrimTable &T, const RayBatch &rays, Hit
   const float pi = float(M_PI);
   auto set3 = [](std::vector<float> &x, std::vector<float> &y, std::vector<float> &z, size_t i,
                  Vec3 v) { x[i] = v.x, y[i] = v.y, z[i] = v.z; };
-  forLanes<W>(h.size(), [&](size_t i) __attribute__((always_inline)) {
-    int k = h.prim[i], ray = h.ray[i];
+  // A queue's hits come path by path, a pixel's samples together: most
+  // batches of the first bounces are on one primitive.
+  forLanesSharing<W>(h.size(), h.prim.data(), [&](size_t i, int k) __attribute__((always_inline)) {
+    int ray = h.ray[i];
     Vec3 o(rays.ox[ray], rays.oy[ray], rays.oz[ray]);
     Vec3 d(rays.dx[ray], rays.dy[ray], rays.dz[ray]);
     set3(h.ox, h.oy, h.oz, i, o);
