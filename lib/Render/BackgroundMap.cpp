@@ -5,15 +5,6 @@
 #include <algorithm>
 
 namespace osl::render {
-Dual3 BackgroundMap::direction(float x, float y) const {
-  Dual u = Dual(x, 1, 0) * invres, v = Dual(y, 0, 1) * invres;
-  Dual st, ct;
-  fastSinCos(u * float(2 * M_PI), st, ct);
-  Dual cosPhi = 1.0f - 2.0f * v;
-  Dual sinPhi = sqrt(1.0f - cosPhi * cosPhi);
-  return Dual3::of(sinPhi * ct, sinPhi * st, cosPhi);
-}
-
 void BackgroundMap::prepare(
     int resolution,
     const std::function<void(const std::vector<Dual3> &, std::vector<Vec3> &)> &shade) {
@@ -24,7 +15,7 @@ void BackgroundMap::prepare(
   dirs.reserve(size_t(res) * res);
   for (int y = 0; y < res; ++y)
     for (int x = 0; x < res; ++x)
-      dirs.push_back(direction(float(x) + 0.5f, float(y) + 0.5f));
+      dirs.push_back(tableDirection(table(), float(x) + 0.5f, float(y) + 0.5f));
   shade(dirs, values);
   rows.assign(res, 0.0f);
   cols.assign(size_t(res) * res, 0.0f);

@@ -41,9 +41,6 @@ public:
   Table table() const { return {res, invres, invjacobian, rows.data(), cols.data(), values.data()}; }
 
 private:
-  /// The direction at grid coordinates (x, y), with its derivatives along
-  /// them.
-  Dual3 direction(float x, float y) const;
   int res = 0;
   float invres = 0, invjacobian = 0;
   std::vector<Vec3> values;
@@ -77,16 +74,15 @@ inline float rescaleInCdf(const float *cdf, int index, float x, float &p) {
   return std::min(scaled, 0.99999994f);
 }
 
-/// The direction at grid coordinates (x + rx, y + ry) (the value of
-/// BackgroundMap::direction's).
-inline Vec3 tableDirection(const BackgroundMap::Table &t, int x, int y, float rx, float ry) {
-  float u = (float(x) + rx) * t.invres, v = (float(y) + ry) * t.invres;
-  float st, ct;
-  fast::sincos(u * float(2 * M_PI), st, ct);
-  float cosPhi = 1.0f - v * 2.0f;
-  float sin2 = 1.0f - cosPhi * cosPhi;
-  float sinPhi = sin2 > 0 ? std::sqrt(sin2) : 0.0f;
-  return Vec3(sinPhi * ct, sinPhi * st, cosPhi);
+/// The direction at grid coordinates (x, y), with its derivatives along
+/// them (the table's shading wants them; a sample, only the value).
+inline Dual3 tableDirection(const BackgroundMap::Table &t, float x, float y) {
+  Dual u = Dual(x, 1, 0) * t.invres, v = Dual(y, 0, 1) * t.invres;
+  Dual st, ct;
+  fastSinCos(u * float(2 * M_PI), st, ct);
+  Dual cosPhi = 1.0f - 2.0f * v;
+  Dual sinPhi = sqrt(1.0f - cosPhi * cosPhi);
+  return Dual3::of(sinPhi * ct, sinPhi * st, cosPhi);
 }
 
 } // namespace osl::render

@@ -79,9 +79,6 @@ inline void fastSinCos(Dual a, Dual &s, Dual &c) {
 /// A vector with its derivatives.
 struct Dual3 {
   Vec3 v, dx, dy;
-  Dual x() const { return {v.x, dx.x, dy.x}; }
-  Dual y() const { return {v.y, dx.y, dy.y}; }
-  Dual z() const { return {v.z, dx.z, dy.z}; }
   static Dual3 of(Dual x, Dual y, Dual z) {
     return {{x.v, y.v, z.v}, {x.dx, y.dx, z.dx}, {x.dy, y.dy, z.dy}};
   }

@@ -175,11 +175,11 @@ private:
   /// The background table's answers: toward each escaped ray
   /// (shadeMisses), then toward each scattering path's sample (scatterAll).
   BackgroundDraws backgroundDraws;
-  /// Each scattering path's lobe (-1: none) and BSDF sample, and the
-  /// samples of cosine lobes, drawn in lanes.
-  std::vector<int> pickedLobes;
+  /// Each scattering path's BSDF sample; the samples of cosine lobes,
+  /// drawn in lanes, and whose each is (scattering index, lobe).
   std::vector<BsdfSample> bsdfSamples;
   CosineDraws cosineDraws;
+  std::vector<std::pair<size_t, size_t>> cosineOwners;
   /// The bounce's shadow rays, traced together a batch of `width` lanes at
   /// a time.
   RayBatch rays;
@@ -524,31 +524,30 @@ void PathWave::scatterAll(int bounce) {
 /// one at a time.
 void PathWave::sampleBsdfs() {
   cosineDraws.clear();
-  pickedLobes.resize(scattering.size());
+  cosineOwners.clear();
   bsdfSamples.assign(scattering.size(), BsdfSample());
   for (size_t s = 0; s < scattering.size(); ++s) {
     auto [q, i] = scattering[s];
     const ShadingResult &res = results[q->path[i]];
     Vec3 wo = -q->at.d(i);
     float rx = draws.x[s];
-    int lobe = pickedLobes[s] = res.pick(rx);
+    int lobe = res.pick(rx);
     if (lobe < 0)
       continue;
     const Lobe &l = res.lobes[size_t(lobe)];
-    if (isCosineLobe(l.model))
+    if (isCosineLobe(l.model)) {
       cosineDraws.push(l, wo, rx, draws.y[s]);
-    else
+      cosineOwners.push_back({s, size_t(lobe)});
+    } else {
       bsdfSamples[s] =
           res.mixSample(size_t(lobe), sampleLobe(l, wo, rx, draws.y[s], draws.z[s]), wo);
+    }
   }
   laneKernels().sampleCosineLobes(cosineDraws, width);
-  size_t k = 0;
-  for (size_t s = 0; s < scattering.size(); ++s) {
-    int lobe = pickedLobes[s];
+  for (size_t k = 0; k < cosineOwners.size(); ++k) {
+    auto [s, lobe] = cosineOwners[k];
     auto [q, i] = scattering[s];
-    const ShadingResult &res = results[q->path[i]];
-    if (lobe >= 0 && isCosineLobe(res.lobes[size_t(lobe)].model))
-      bsdfSamples[s] = res.mixSample(size_t(lobe), cosineDraws.result(k++), -q->at.d(i));
+    bsdfSamples[s] = results[q->path[i]].mixSample(lobe, cosineDraws.result(k), -q->at.d(i));
   }
 }
 

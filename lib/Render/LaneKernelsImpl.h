@@ -389,7 +389,7 @@ OSL_LANE_TARGET void sampleBackgroundAt(const BackgroundMap::Table &t, const flo
     for (int l = 0; l < W; ++l) {
       col[l] = std::min(col[l], last);
       x[l] = rescaleInCdf(t.cols + offset[l], col[l], x[l], colPdf[l]);
-      Vec3 dir = tableDirection(t, col[l], row[l], x[l], y[l]);
+      Vec3 dir = tableDirection(t, float(col[l]) + x[l], float(row[l]) + y[l]).v;
       dx[l] = dir.x, dy[l] = dir.y, dz[l] = dir.z;
       pdf[l] = rowPdf[l] * colPdf[l] * t.invjacobian;
       Vec3 value = t.values[size_t(offset[l] + col[l])];
