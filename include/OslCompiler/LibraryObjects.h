@@ -8,11 +8,14 @@
 // host) links the same object, much as OSL's batched backend calls its
 // precompiled library.
 //
-// The object is looked up as soon as the function exists (right after
-// osl-outline-library), keyed by its MLIR: a function whose object is
-// already known becomes a declaration there, so the rest of the lowering,
-// the translation and LLVM never see its body (most of a noise-heavy
-// shader's compile time). The others are split from the kernel after the
+// A noise routine is keyed by its recipe (what its code is built from,
+// OslLanes/LibraryRegion.h) and looked up while the kernel is converted:
+// one found is declared, its code never built. Other routines (outlined
+// from library regions) are looked up as soon as their function exists
+// (right after osl-outline-library), keyed by their MLIR: a function whose
+// object is already known becomes a declaration there, so the rest of the
+// lowering, the translation and LLVM never see its body (most of a
+// noise-heavy shader's compile time). The others are split from the kernel after the
 // lowering, each into a module of its own, and compiled on the compile
 // threads beside the kernel.
 //
@@ -20,6 +23,7 @@
 #ifndef OSLCOMPILER_LIBRARYOBJECTS_H
 #define OSLCOMPILER_LIBRARYOBJECTS_H
 
+#include "OslLanes/LibraryRegion.h"
 #include "OslRuntime/Jit.h"
 
 #include "llvm/ADT/StringMap.h"
@@ -66,14 +70,22 @@ struct LibraryUse {
 /// is set (to measure compiling everything).
 std::string prebuiltLibraryDirectory();
 
+/// Answers osl-convert-to-vector whether a routine built from a recipe is
+/// compiled already (this process, the cache or the prebuilt library has
+/// it), adding the object to `use`; the routine is then declared, its code
+/// not built. `use` must outlive the compile.
+mlir::osl::LibraryObjectAvailable libraryObjectFinder(const LibraryKeyOptions &options,
+                                                      LibraryUse &use);
+
 /// For each library function defined in `module` (after
 /// osl-outline-library): the object this process, the cache or the
 /// prebuilt library already has (the function becomes a declaration), else
-/// its key in `toCompile`.
-/// The key is the function's MLIR with the symbols it references, the
+/// its key in `toCompile`; added to `use`.
+/// The key is the routine's recipe, or for a function outlined from a
+/// library region its MLIR with the symbols it references; and the
 /// compiler's identity, the LLVM version, the host and `options`.
-LibraryUse findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &options,
-                              Stats *stats);
+void findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &options, Stats *stats,
+                        LibraryUse &use);
 
 /// One function of `LibraryUse::toCompile` alone in an LLVM module of its
 /// own context, so that any thread can compile it while the kernel compiles

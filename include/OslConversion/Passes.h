@@ -15,12 +15,18 @@
 #include "mlir/Dialect/Math/IR/Math.h"
 #include "mlir/Dialect/SCF/IR/SCF.h"
 #include "mlir/Dialect/Vector/IR/VectorOps.h"
+#include "OslLanes/LibraryRegion.h"
 #include "mlir/Pass/Pass.h"
 
 namespace mlir::osl {
 
 #define GEN_PASS_DECL
 #include "OslConversion/Passes.h.inc"
+
+/// osl-convert-to-vector told which library routines are compiled already:
+/// their code is not built where nothing needs it (OslLanes/LibraryRegion.h).
+std::unique_ptr<Pass> createConvertToVector(const ConvertToVectorOptions &options,
+                                            LibraryObjectAvailable available);
 
 #define GEN_PASS_REGISTRATION
 #include "OslConversion/Passes.h.inc"

@@ -21,7 +21,11 @@ def ConvertToVector : Pass<"osl-convert-to-vector", "::mlir::ModuleOp"> {
                         "every value is uniform (osl-uniform-reference): keep their "
                         "derivatives">,
                  Option<"width", "width", "int", "8",
-                        "lanes per batch: 1, 4, 8 or 16">];
+                        "lanes per batch: 1, 4, 8 or 16">,
+                 Option<"assumeCompiled", "assume-compiled", "bool", "false",
+                        "take every noise routine as compiled already: only those "
+                        "a call needs the code of are built (the compiler asks its "
+                        "library objects instead)">];
   let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::math::MathDialect",
                            "::mlir::vector::VectorDialect", "::mlir::scf::SCFDialect",
                            "::mlir::LLVM::LLVMDialect"];

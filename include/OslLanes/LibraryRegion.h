@@ -1,22 +1,43 @@
 //===- LibraryRegion.h - Library routines marked for outlining --*- C++ -*-===//
 //
-// A library routine (noise, Gabor noise) is lowered inline, inside an
-// scf.execute_region marked `osl.library = "name"`: osl-derivatives can
-// still differentiate through it (it inlines the region it needs), and
-// osl-outline-library then makes each routine one function per kernel,
-// which the JIT compiles once and caches as an object across shaders.
+// A library routine is lowered in one of two forms, both of which
+// osl-derivatives can still differentiate through (it inlines the code it
+// needs) and osl-outline-library makes one function per routine and
+// signature, which the JIT compiles once and caches as an object across
+// shaders:
+//
+// - inline, inside an scf.execute_region marked `osl.library = "name"`
+//   (spline inversion), identified by its code once outlined;
+// - as a call to a private function built from a recipe (noise): a string
+//   naming everything its code is built from. Two calls of one recipe share
+//   the function, and its compiled object is keyed by the recipe, so a
+//   routine compiled before need not be built at all: its function is then
+//   a declaration (see LibraryRoutineNeeds).
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLLANES_LIBRARYREGION_H
 #define OSLLANES_LIBRARYREGION_H
 
+#include "mlir/Dialect/Func/IR/FuncOps.h"
 #include "mlir/Dialect/SCF/IR/SCF.h"
 #include "mlir/IR/Builders.h"
+
+#include <functional>
 
 namespace mlir::osl {
 
 /// The attribute naming a library region's routine.
 constexpr const char *kLibraryAttr = "osl.library";
+/// On a library function: the recipe its code is built from.
+constexpr const char *kLibraryRecipeAttr = "osl.library_recipe";
+/// On a call of a library function: it stays a call (osl-outline-library
+/// does not inline it), decided at the call site alone, so that the kernel
+/// is the same whether the function's code was built or found compiled.
+constexpr const char *kKeepCallAttr = "osl.keep_call";
+
+/// Whether a recipe's compiled object is at hand (the compiler's library
+/// cache answers; null: never, every routine is built).
+using LibraryObjectAvailable = std::function<bool(StringRef recipe)>;
 
 /// Emits `build`'s code in a region marked as library routine `name`; the
 /// region's results (of `resultTypes`) are what `build` returns.
@@ -30,6 +51,28 @@ scf::ExecuteRegionOp libraryRegionDefining(Value v);
 /// Moves a library region's code in place of the region and returns what
 /// replaces its results.
 SmallVector<Value> inlineLibraryRegion(scf::ExecuteRegionOp region);
+
+/// The function of library routine `routine` built from `recipe`, in the
+/// module around `anchor`: found, or made now. It gets its code from
+/// `build` (given the entry block's arguments) unless it has code already,
+/// or it is new, `needCode` is unset and `compiled` (asked then only) says
+/// its object is at hand: then it is a declaration (until a later call
+/// needs its code).
+func::FuncOp libraryFunction(OpBuilder &b, Operation *anchor, StringRef routine,
+                             StringRef recipe, FunctionType type, bool needCode,
+                             function_ref<bool()> compiled,
+                             function_ref<SmallVector<Value>(OpBuilder &, ValueRange)> build);
+
+/// The library function `call` calls (one with a recipe), if it does.
+func::FuncOp libraryCallee(func::CallOp call);
+
+/// Replaces `call` by a copy of its callee's single-block body; returns
+/// what replaces its results.
+SmallVector<Value> inlineCall(func::CallOp call, func::FuncOp callee);
+
+/// Whether `v` is a constant, or lanes of one: a copy of a routine it is
+/// passed to would fold it.
+bool isConstantOperand(Value v);
 
 } // namespace mlir::osl
 

@@ -8,6 +8,7 @@
 #ifndef OSLPIPELINE_PIPELINE_H
 #define OSLPIPELINE_PIPELINE_H
 
+#include "OslLanes/LibraryRegion.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Pass/PassManager.h"
@@ -36,6 +37,10 @@ struct OslToLLVMPipelineOptions {
   /// inline-ops=0): how the prebuilt library is built, so that it holds the
   /// routines a shader calls too often to inline.
   bool outlineEveryRoutine = false;
+  /// Which library routines are compiled already, by recipe (the
+  /// compiler's library objects): those no call needs the code of are
+  /// declared, not built (OslLanes/LibraryRegion.h). Null: all are built.
+  LibraryObjectAvailable libraryAvailable;
 };
 
 /// The whole chain.

@@ -186,7 +186,7 @@ def Derivatives : Pass<"osl-derivatives", "::mlir::ModuleOp"> {
 }
 
 def OutlineLibrary : Pass<"osl-outline-library", "::mlir::ModuleOp"> {
-  let summary = "Make each library region one private function of the kernel";
+  let summary = "Make each library region one private function of the kernel; inline small ones";
   let description = [{
     osl-convert-to-vector lowers library routines (noise of every kind)
     inside `scf.execute_region` ops marked
@@ -200,6 +200,12 @@ def OutlineLibrary : Pass<"osl-outline-library", "::mlir::ModuleOp"> {
     shaders (OslCompiler/LibraryObjects.h), so a shader's compile time no
     longer grows with each noise call it makes. Run after osl-derivatives
     and before canonicalization (which would inline the regions).
+
+    Noise is lowered to calls of functions built from a recipe
+    (`osl.library_recipe`) instead: the choice below of which calls go
+    back in place applies to them too, except for calls their site marked
+    `osl.keep_call` (and a routine found compiled is a declaration), and a
+    routine no call is left to is erased.
 
     With `outline=false` (--math=double, whose f64 rewrite stays within
     the kernel) every region's code is moved in place instead. A function

@@ -4,6 +4,7 @@
 #include "OslAbi/Library.h"
 #include "OslCompiler/KernelCache.h"
 #include "OslRuntime/Stats.h"
+#include "OslLanes/LibraryRegion.h"
 
 #include "mlir/Dialect/Func/IR/FuncOps.h"
 #include "mlir/Dialect/LLVMIR/LLVMDialect.h"
@@ -99,6 +100,26 @@ std::shared_ptr<const std::string> lookupObject(const std::string &key,
   return memory.byKey.try_emplace(key, object).first->second;
 }
 
+/// The key's first lines: what decides every library object besides its
+/// code.
+void keyHeader(llvm::raw_ostream &os, llvm::StringRef version,
+               const LibraryKeyOptions &options) {
+  os << "osl-mlir library " << version << "\ncompiler " << KernelCache::compilerIdentity()
+     << "\nllvm " LLVM_VERSION_STRING "\nhost " << Jit::hostDescription() << "\npipeline "
+     << int(options.pipeline) << "\nmath " << options.math << "\n";
+}
+
+/// The key of a routine built from `recipe` (OslLanes/LibraryRegion.h): its
+/// code is decided by the recipe and the compiler, so the recipe stands for
+/// it, and it can be found before its code is built.
+std::string recipeKey(llvm::StringRef recipe, const LibraryKeyOptions &options) {
+  std::string key;
+  llvm::raw_string_ostream os(key);
+  keyHeader(os, "recipe 1", options);
+  os << "recipe " << recipe << "\n";
+  return key;
+}
+
 /// Everything that decides `func`'s object: the options, the compiler and
 /// the IR of the function and of every symbol it references (runtime
 /// entry points, constant strings).
@@ -106,10 +127,8 @@ std::string objectKey(mlir::func::FuncOp func, mlir::SymbolTable &symbols,
                       IRFingerprint &fingerprint, const LibraryKeyOptions &options) {
   std::string key;
   llvm::raw_string_ostream os(key);
-  os << "osl-mlir library 2\ncompiler " << KernelCache::compilerIdentity()
-     << "\nllvm " LLVM_VERSION_STRING "\nhost " << Jit::hostDescription() << "\npipeline "
-     << int(options.pipeline) << "\nmath " << options.math << "\nfunction "
-     << func.getSymName() << " " << fingerprint.of(func) << "\n";
+  keyHeader(os, "2", options);
+  os << "function " << func.getSymName() << " " << fingerprint.of(func) << "\n";
   llvm::StringSet<> referenced;
   if (auto uses = mlir::SymbolTable::getSymbolUses(&func.getBody()))
     for (const mlir::SymbolTable::SymbolUse &use : *uses) {
@@ -236,24 +255,42 @@ bool osl::keepLibraryObjects(std::vector<LibraryJob> &jobs, LibraryUse &use,
   return true;
 }
 
-LibraryUse osl::findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &options,
-                                   Stats *stats) {
+mlir::osl::LibraryObjectAvailable osl::libraryObjectFinder(const LibraryKeyOptions &options,
+                                                          LibraryUse &use) {
+  return [options, &use](llvm::StringRef recipe) {
+    std::shared_ptr<const std::string> object =
+        lookupObject(recipeKey(recipe, options), libraryDirectory(options), use);
+    if (!object)
+      return false;
+    use.objects.push_back(std::move(object));
+    return true;
+  };
+}
+
+void osl::findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &options,
+                             Stats *stats, LibraryUse &use) {
   ScopedTimer timer(stats, "library");
-  LibraryUse use;
   mlir::SymbolTable symbols(module);
   std::string directory = libraryDirectory(options);
   IRFingerprint fingerprint;
   for (auto func : llvm::make_early_inc_range(module.getOps<mlir::func::FuncOp>())) {
-    if (func.isDeclaration() || !func.getSymName().starts_with(abi::kLibrarySymbolPrefix))
+    if (!func.getSymName().starts_with(abi::kLibrarySymbolPrefix))
       continue;
-    std::string key = objectKey(func, symbols, fingerprint, options);
+    // A declaration's object was found when it was declared.
+    if (func.isDeclaration())
+      continue;
+    auto recipe = func->getAttrOfType<mlir::StringAttr>(mlir::osl::kLibraryRecipeAttr);
+    std::string key = recipe ? recipeKey(recipe.getValue(), options)
+                             : objectKey(func, symbols, fingerprint, options);
     if (auto object = lookupObject(key, directory, use)) {
-      use.objects.push_back(std::move(object));
+      // (Found already if osl-convert-to-vector declared it first and a
+      // later call needed its code.)
+      if (llvm::find(use.objects, object) == use.objects.end())
+        use.objects.push_back(std::move(object));
       // Its callers need only its signature.
       func.eraseBody();
     } else {
       use.toCompile[func.getSymName()] = std::move(key);
     }
   }
-  return use;
 }

@@ -168,7 +168,13 @@ bool ShaderCompiler::lower() {
   mlir::osl::OslToLLVMPipelineOptions pipeline{options.width, options.reference,
                                                options.countLanes, options.math,
                                                options.inlineLibrary,
-                                               options.outlineEveryRoutine};
+                                               options.outlineEveryRoutine,
+                                               /*libraryAvailable=*/nullptr};
+  // Noise routines compiled before are looked up as the kernel is
+  // converted; their code is not built (LibraryObjects.h).
+  library = LibraryUse();
+  if (splitLibrary)
+    pipeline.libraryAvailable = libraryObjectFinder(libraryKeyOptions(), library);
   mlir::PassManager oslLevel(&context);
   mlir::osl::buildOslLevelPipeline(oslLevel, pipeline);
   mlir::PassManager outlining(&context), lowering(&context);
@@ -197,11 +203,10 @@ bool ShaderCompiler::lower() {
   }
   if (mlir::failed(outlining.run(*mlirModule)))
     return false;
-  library = LibraryUse();
   if (splitLibrary) {
     // Known library functions lose their bodies before the rest lowers.
     timer.reset();
-    library = findLibraryObjects(*mlirModule, libraryKeyOptions(), stats);
+    findLibraryObjects(*mlirModule, libraryKeyOptions(), stats, library);
     timer.emplace(stats, "mlir passes");
   }
   return mlir::succeeded(lowering.run(*mlirModule)) &&

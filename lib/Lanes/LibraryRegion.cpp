@@ -1,10 +1,19 @@
 //===- LibraryRegion.cpp - Library routines marked for outlining ----------===//
 #include "OslLanes/LibraryRegion.h"
+#include "OslAbi/Library.h"
+
+#include "mlir/Dialect/Vector/IR/VectorOps.h"
+#include "mlir/IR/BuiltinOps.h"
+#include "mlir/IR/IRMapping.h"
+#include "mlir/IR/Matchers.h"
+#include "mlir/IR/SymbolTable.h"
+#include "llvm/ADT/StringExtras.h"
+#include "llvm/Support/xxhash.h"
 
 using namespace mlir;
 
 SmallVector<Value>
-osl::buildLibraryRegion(OpBuilder &b, Location loc, StringRef name, TypeRange resultTypes,
+mlir::osl::buildLibraryRegion(OpBuilder &b, Location loc, StringRef name, TypeRange resultTypes,
                         function_ref<SmallVector<Value>(OpBuilder &)> build) {
   auto region = b.create<scf::ExecuteRegionOp>(loc, resultTypes);
   region->setAttr(kLibraryAttr, b.getStringAttr(name));
@@ -15,12 +24,12 @@ osl::buildLibraryRegion(OpBuilder &b, Location loc, StringRef name, TypeRange re
   return SmallVector<Value>(region.getResults());
 }
 
-scf::ExecuteRegionOp osl::libraryRegionDefining(Value v) {
+scf::ExecuteRegionOp mlir::osl::libraryRegionDefining(Value v) {
   auto region = v.getDefiningOp<scf::ExecuteRegionOp>();
   return region && region->hasAttr(kLibraryAttr) ? region : scf::ExecuteRegionOp();
 }
 
-SmallVector<Value> osl::inlineLibraryRegion(scf::ExecuteRegionOp region) {
+SmallVector<Value> mlir::osl::inlineLibraryRegion(scf::ExecuteRegionOp region) {
   // The builders emit structured control flow only: one block.
   Block &body = region.getRegion().front();
   auto yield = cast<scf::YieldOp>(body.getTerminator());
@@ -30,4 +39,59 @@ SmallVector<Value> osl::inlineLibraryRegion(scf::ExecuteRegionOp region) {
   region.replaceAllUsesWith(results);
   region.erase();
   return results;
+}
+
+func::FuncOp mlir::osl::libraryFunction(
+    OpBuilder &b, Operation *anchor, StringRef routine, StringRef recipe, FunctionType type,
+    bool needCode, function_ref<bool()> compiled,
+    function_ref<SmallVector<Value>(OpBuilder &, ValueRange)> build) {
+  // Named by the recipe's hash: the same name in every process, and the
+  // name of the compiled object's symbol.
+  std::string name = ::osl::abi::kLibrarySymbolPrefix + routine.str() + "." +
+                     llvm::utohexstr(llvm::xxh3_64bits(recipe), /*LowerCase=*/true, 16);
+  auto module = anchor->getParentOfType<ModuleOp>();
+  auto func = dyn_cast_or_null<func::FuncOp>(SymbolTable::lookupSymbolIn(module, name));
+  OpBuilder::InsertionGuard guard(b);
+  bool define = needCode;
+  if (!func) {
+    b.setInsertionPointToEnd(module.getBody());
+    func = b.create<func::FuncOp>(anchor->getLoc(), name, type);
+    func.setPrivate();
+    func->setAttr(kLibraryRecipeAttr, b.getStringAttr(recipe));
+    define = needCode || !compiled();
+  }
+  if (define && func.isDeclaration()) {
+    Block *entry = func.addEntryBlock();
+    b.setInsertionPointToStart(entry);
+    SmallVector<Value> results = build(b, entry->getArguments());
+    b.create<func::ReturnOp>(anchor->getLoc(), results);
+  }
+  return func;
+}
+
+func::FuncOp mlir::osl::libraryCallee(func::CallOp call) {
+  auto callee = dyn_cast_or_null<func::FuncOp>(
+      SymbolTable::lookupNearestSymbolFrom(call, call.getCalleeAttr()));
+  return callee && callee->hasAttr(kLibraryRecipeAttr) ? callee : func::FuncOp();
+}
+
+SmallVector<Value> mlir::osl::inlineCall(func::CallOp call, func::FuncOp callee) {
+  IRMapping map;
+  map.map(callee.getArguments(), call.getOperands());
+  OpBuilder b(call);
+  Block &body = callee.getBody().front();
+  for (Operation &op : body.without_terminator())
+    b.clone(op, map);
+  SmallVector<Value> results;
+  for (Value returned : body.getTerminator()->getOperands())
+    results.push_back(map.lookupOrDefault(returned));
+  call.replaceAllUsesWith(results);
+  call.erase();
+  return results;
+}
+
+bool mlir::osl::isConstantOperand(Value v) {
+  if (auto broadcast = v.getDefiningOp<vector::BroadcastOp>())
+    v = broadcast.getSource();
+  return matchPattern(v, m_Constant());
 }

@@ -82,12 +82,16 @@ void mlir::osl::buildLibraryOutliningPipeline(OpPassManager &pm,
   ConvertToVectorOptions vectorOptions;
   vectorOptions.width = options.reference ? 1 : options.width;
   vectorOptions.referenceMode = options.reference;
-  pm.addPass(createConvertToVector(vectorOptions));
-  pm.addPass(createDerivatives());
   // Not in double evaluation: its rewrite of every f32 value stays within
   // one function.
   OutlineLibraryOptions outlineOptions;
   outlineOptions.outline = math != MathLevel::Double && !options.inlineLibrary;
+  // A routine compiled already is linked, not built, where it stays a call.
+  if (outlineOptions.outline && options.libraryAvailable)
+    pm.addPass(createConvertToVector(vectorOptions, options.libraryAvailable));
+  else
+    pm.addPass(createConvertToVector(vectorOptions));
+  pm.addPass(createDerivatives());
   if (options.outlineEveryRoutine)
     outlineOptions.inlineOps = 0;
   pm.addPass(createOutlineLibrary(outlineOptions));

@@ -7,7 +7,7 @@
 // derivative is asked of are differentiated (null means "derivative 0"), so
 // a shader without Dx pays nothing. Library functions (noise, splines) are
 // already arithmetic here, so they differentiate like anything else (a
-// library region a derivative needs is inlined first).
+// library region or call a derivative needs is inlined first).
 //
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
@@ -63,6 +63,16 @@ public:
       unsigned i = cast<OpResult>(v).getResultNumber();
       return derive(inlineLibraryRegion(region)[i], user);
     }
+    // Likewise a call of a library function (its code copied in place).
+    if (auto call = v.getDefiningOp<func::CallOp>())
+      if (func::FuncOp callee = libraryCallee(call)) {
+        // (osl-convert-to-vector builds the code of every routine a
+        // derivative request depends on.)
+        if (callee.isDeclaration())
+          return fail(user, "a library routine whose code was not built");
+        unsigned i = cast<OpResult>(v).getResultNumber();
+        return derive(inlineCall(call, callee)[i], user);
+      }
     if (auto ifOp = v.getDefiningOp<scf::IfOp>()) // memoizes the rebuilt branch
       return deriveIfResult(ifOp, cast<OpResult>(v), user);
     // Likewise a loop's result (v dies with the loop it rebuilds: a memo

@@ -2,7 +2,9 @@
 //
 // One private function per routine and signature: a kernel calling Perlin
 // noise eight times compiles it once, and the JIT reuses its object in
-// every kernel that calls the same function.
+// every kernel that calls the same function. Library regions become such
+// functions here; routines built from a recipe are functions already, and
+// only the choice of which calls go back in place applies to them.
 //
 //===----------------------------------------------------------------------===//
 #include "OslAbi/Library.h"
@@ -100,29 +102,12 @@ std::optional<unsigned> straightLineOps(func::FuncOp func) {
 /// Whether `call` passes a constant (or lanes of one): a copy of the
 /// callee would fold it.
 bool passesConstant(func::CallOp call) {
-  return llvm::any_of(call.getOperands(), [](Value v) {
-    if (auto broadcast = v.getDefiningOp<vector::BroadcastOp>())
-      v = broadcast.getSource();
-    return matchPattern(v, m_Constant());
-  });
+  return llvm::any_of(call.getOperands(), isConstantOperand);
 }
 
 /// Whether `call` runs in a loop, where the spills around it repeat.
 bool insideLoop(func::CallOp call) {
   return call->getParentOfType<LoopLikeOpInterface>() != nullptr;
-}
-
-/// Replaces `call` by a copy of `func`'s single-block body.
-void inlineCall(func::CallOp call, func::FuncOp func) {
-  IRMapping map;
-  map.map(func.getArguments(), call.getOperands());
-  OpBuilder b(call);
-  Block &body = func.getBody().front();
-  for (Operation &op : body.without_terminator())
-    b.clone(op, map);
-  for (auto [result, returned] : llvm::zip(call.getResults(), body.getTerminator()->getOperands()))
-    result.replaceAllUsesWith(map.lookupOrDefault(returned));
-  call.erase();
 }
 
 struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLibraryPass> {
@@ -135,12 +120,39 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
       if (r->hasAttr(kLibraryAttr))
         regions.push_back(r);
     });
+    SymbolTable symbols(module);
+    // Library functions built from a recipe, with their calls (those a
+    // call site keeps as calls aside).
+    SmallVector<func::FuncOp> recipeFunctions;
+    for (auto func : module.getOps<func::FuncOp>())
+      if (func->hasAttr(kLibraryRecipeAttr))
+        recipeFunctions.push_back(func);
+    llvm::MapVector<func::FuncOp, SmallVector<func::CallOp>> recipeCalls;
+    module.walk([&](func::CallOp call) {
+      auto callee = symbols.lookup<func::FuncOp>(call.getCallee());
+      if (callee && callee->hasAttr(kLibraryRecipeAttr) &&
+          (!outline || !call->hasAttr(kKeepCallAttr)))
+        recipeCalls[callee].push_back(call);
+    });
+    // Erases those of `funcs` no call is left to (one walk for all).
+    auto eraseUncalled = [&](ArrayRef<func::FuncOp> funcs) {
+      DenseSet<StringAttr> called;
+      module.walk([&](func::CallOp call) { called.insert(call.getCalleeAttr().getAttr()); });
+      for (func::FuncOp func : funcs)
+        if (!called.contains(func.getSymNameAttr()))
+          symbols.erase(func);
+    };
     if (!outline) {
       for (scf::ExecuteRegionOp region : regions)
         inlineLibraryRegion(region);
+      // (A routine compiled before has no code here: its calls stay.)
+      for (auto &[func, calls] : recipeCalls)
+        if (!func.isDeclaration())
+          for (func::CallOp call : calls)
+            inlineCall(call, func);
+      eraseUncalled(recipeFunctions);
       return;
     }
-    SymbolTable symbols(module);
     // Functions by their regions' exact hash; a hash only narrows the
     // search: a body is reused when it is equivalent op for op.
     DenseMap<llvm::hash_code, SmallVector<func::FuncOp, 1>> byCode;
@@ -184,6 +196,9 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
       region.erase();
       callsOf[func].push_back(call);
     }
+    for (auto &[func, calls] : recipeCalls)
+      if (!func.isDeclaration())
+        llvm::append_range(callsOf[func], calls);
     // A small straight-line function goes back in place: a call clobbers
     // every vector register, the caller's spills around it cost more than
     // a hash, and constant arguments fold. Bounded for compile time: its
@@ -210,14 +225,20 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
     std::stable_sort(candidates.begin(), candidates.end(),
                      [](const Candidate &a, const Candidate &b) { return a.cost < b.cost; });
     uint64_t budget = inlineBudget;
+    SmallVector<func::FuncOp> inlinedEverywhere;
     for (const Candidate &c : candidates) {
       if (c.cost > inlineOps || c.cost > budget)
         break;
       budget -= c.cost;
       for (func::CallOp call : callsOf[c.func])
         inlineCall(call, c.func);
-      symbols.erase(c.func);
+      if (!c.func->hasAttr(kLibraryRecipeAttr))
+        inlinedEverywhere.push_back(c.func);
     }
+    // And routines no call is left to: inlined at each, or each copied in
+    // place by osl-derivatives.
+    llvm::append_range(inlinedEverywhere, recipeFunctions);
+    eraseUncalled(inlinedEverywhere);
   }
 };
 

@@ -1,5 +1,7 @@
 // RUN: osl-opt %s -split-input-file --osl-convert-to-vector=width=8 | FileCheck %s
 // RUN: osl-opt %s -split-input-file --osl-convert-to-vector=width=16 | FileCheck %s --check-prefix=W16
+// RUN: osl-opt %s -split-input-file --osl-convert-to-vector="width=8 assume-compiled=true" \
+// RUN:   | FileCheck %s --check-prefix=ASSUMED
 
 // The shader becomes the batch kernel; a varying triple global is three
 // rows of W floats, loaded from the globals block.
@@ -94,34 +96,97 @@ func.func @triple_componentwise() {
 
 // -----
 
-// Noise becomes integer hashing and float math in a library region (which
-// osl-outline-library turns into a function): no runtime call.
-// CHECK-LABEL: osl.shader_name = "noise_is_inlined"
-// CHECK-NOT: call
-// CHECK: scf.execute_region -> vector<8xf32>
+// Noise becomes a call of a library function built from its recipe,
+// integer hashing and float math: no runtime call. Two calls of one recipe
+// share it.
+// CHECK-LABEL: osl.shader_name = "noise_is_a_library_function"
+// CHECK: %[[A:.+]] = call @[[F:osl\.lib\.noise_perlin\.[0-9a-f]+]](%{{.+}}) {osl.keep_call} : (vector<3x8xf32>) -> vector<8xf32>
+// CHECK: call @[[F]](%{{.+}}) {osl.keep_call}
+// CHECK-NOT: call @osl.lib
+// CHECK: func.func private @[[F]](%{{.+}}: vector<3x8xf32>) -> vector<8xf32>
+// CHECK-SAME: osl.library_recipe = "noise perlin width 8 (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>"
 // CHECK: arith.xori %{{.+}}, %{{.+}} : vector<8xi32>
-// CHECK: osl.library = "noise_perlin"
-func.func @noise_is_inlined() {
+// CHECK-NOT: func.func private @osl.lib
+// ASSUMED-LABEL: osl.shader_name = "noise_is_a_library_function"
+// ASSUMED: func.func private @osl.lib.noise_perlin.{{[0-9a-f]+}}(vector<3x8xf32>) -> vector<8xf32>
+// ASSUMED-NOT: arith.xori
+func.func @noise_is_a_library_function() {
   %P = osl.global "P" : !osl.varying<vector<3xf32>>
   %n = osl.noise perlin(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  %m = osl.noise perlin(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  %s = osl.add %n, %m : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
+  osl.output "n" = %s : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// A varying noise's uniform coordinate (a constant here) is broadcast before the
+// call, so that the routine takes varying values only (the prebuilt
+// library's signature). A call passing a constant may be inlined to fold
+// it (osl-outline-library), so it is not kept a call, and the routine is
+// built even where it is compiled already.
+// CHECK-LABEL: osl.shader_name = "uniform_coordinate_broadcast_before_call"
+// CHECK: %[[Y:.+]] = vector.broadcast %{{.+}} : f32 to vector<8xf32>
+// CHECK: call @osl.lib.noise_perlin.{{[0-9a-f]+}}(%{{.+}}, %[[Y]]) : (vector<8xf32>, vector<8xf32>)
+// CHECK: osl.library_recipe = "noise perlin width 8 (!osl.varying<f32>, !osl.varying<f32>) -> !osl.varying<f32>"
+// CHECK-NOT: vector.broadcast %{{.+}} : f32 to vector<8xf32>
+// CHECK: return
+// ASSUMED-LABEL: osl.shader_name = "uniform_coordinate_broadcast_before_call"
+// ASSUMED-NOT: osl.keep_call
+// ASSUMED: func.func private @osl.lib.noise_perlin.{{[0-9a-f]+}}(%{{.+}}: vector<8xf32>, %{{.+}}: vector<8xf32>) -> vector<8xf32>
+func.func @uniform_coordinate_broadcast_before_call() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %y = arith.constant 0.5 : f32
+  %n = osl.noise perlin(%u, %y) : (!osl.varying<f32>, f32) -> !osl.varying<f32>
   osl.output "n" = %n : !osl.varying<f32>
   return
 }
 
 // -----
 
-// A varying noise's uniform coordinate (a constant here) is broadcast before the library
-// region, so that the region reads varying values only (the prebuilt
-// library's signature): nothing scalar is broadcast inside it.
-// CHECK-LABEL: osl.shader_name = "uniform_coordinate_broadcast_before_region"
-// CHECK: %[[Y:.+]] = vector.broadcast %{{.+}} : f32 to vector<8xf32>
-// CHECK: scf.execute_region -> vector<8xf32>
-// CHECK-NOT: vector.broadcast %{{.+}} : f32 to vector<8xf32>
-// CHECK: osl.library = "noise_cell"
-func.func @uniform_coordinate_broadcast_before_region() {
+// Cell and hash noise are small enough to inline anywhere: never kept a
+// call, always built.
+// ASSUMED-LABEL: osl.shader_name = "cell_noise_is_built"
+// ASSUMED-NOT: osl.keep_call
+// ASSUMED: func.func private @osl.lib.noise_cell.{{[0-9a-f]+}}(%{{.+}}: vector<8xf32>) -> vector<8xf32>
+func.func @cell_noise_is_built() {
   %u = osl.global "u" : !osl.varying<f32>
-  %y = arith.constant 0.5 : f32
-  %n = osl.noise cell(%u, %y) : (!osl.varying<f32>, f32) -> !osl.varying<f32>
+  %n = osl.noise cell(%u) : (!osl.varying<f32>) -> !osl.varying<f32>
+  osl.output "n" = %n : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// A derivative taken through a noise differentiates its code
+// (osl-derivatives copies it in place): it is built, compiled or not; the
+// other noise's routine is only declared.
+// ASSUMED-LABEL: osl.shader_name = "derivative_through_noise"
+// ASSUMED-DAG: func.func private @osl.lib.noise_uperlin.{{[0-9a-f]+}}(%{{.+}}: vector<3x8xf32>) -> vector<8xf32>
+// ASSUMED-DAG: func.func private @osl.lib.noise_perlin.{{[0-9a-f]+}}(vector<3x8xf32>) -> vector<8xf32>
+func.func @derivative_through_noise() {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %n = osl.noise uperlin(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  %s = osl.mul %n, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
+  %d = osl.deriv x %s : !osl.varying<f32>
+  %m = osl.noise perlin(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  %r = osl.add %d, %m : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
+  osl.output "n" = %r : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// OSL's Gabor noise ignores a 4th coordinate: the call of a point and a
+// time is the 3D point's routine.
+// CHECK-LABEL: osl.shader_name = "gabor_ignores_time"
+// CHECK: call @osl.lib.noise_gabor.{{[0-9a-f]+}}(%{{[0-9]+}}, %{{.+}}) {osl.keep_call} : (vector<3x8xf32>, i32, f32, f32, f32, f32, f32, i32) -> vector<8xf32>
+// CHECK: osl.library_recipe = "noise gabor width 8 (!osl.varying<vector<3xf32>>) -> !osl.varying<f32> derivs () anisotropic 0 filter operand"
+func.func @gabor_ignores_time() {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %t = osl.global "time" : !osl.varying<f32>
+  %n = osl.noise gabor(%P, %t) : (!osl.varying<vector<3xf32>>, !osl.varying<f32>) -> !osl.varying<f32>
   osl.output "n" = %n : !osl.varying<f32>
   return
 }

@@ -382,6 +382,54 @@ func.func @library_region_inlined(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32
 
 // -----
 
+// Likewise a call of a library function built from a recipe: its code is
+// copied in place of the call a derivative needs; the other call stays.
+// CHECK-LABEL: func.func @library_call_inlined
+// CHECK: %[[DU:.+]] = llvm.getelementptr %arg0[140]
+// CHECK: %[[D:.+]] = llvm.load %[[DU]]
+// CHECK: %[[U:.+]] = llvm.load
+// CHECK: call @osl.lib.noise_perlin.1(%[[U]]) {osl.keep_call}
+// CHECK-NOT: call
+// CHECK: arith.addf %[[U]], %[[U]]
+// CHECK: arith.addf %[[D]], %[[D]]
+// CHECK-NOT: osl.lane_deriv
+func.func @library_call_inlined(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %kept = call @osl.lib.noise_perlin.1(%u) {osl.keep_call} : (vector<4xf32>) -> vector<4xf32>
+  %twice = call @osl.lib.noise_perlin.1(%u) {osl.keep_call} : (vector<4xf32>) -> vector<4xf32>
+  %d = osl.lane_deriv x %twice : vector<4xf32>
+  %sum = arith.addf %d, %kept : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %sum, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
+func.func private @osl.lib.noise_perlin.1(%x: vector<4xf32>) -> vector<4xf32>
+    attributes {osl.library_recipe = "twice"} {
+  %t = arith.addf %x, %x : vector<4xf32>
+  return %t : vector<4xf32>
+}
+
+// -----
+
+// A routine compiled before is only declared: there is no code to
+// differentiate (osl-convert-to-vector builds every routine a derivative
+// depends on, so this is the compiler's error, not the shader's).
+func.func @library_declaration(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %n = call @osl.lib.noise_perlin.2(%u) {osl.keep_call} : (vector<4xf32>) -> vector<4xf32>
+  // expected-error @+1 {{cannot take the derivative through a library routine whose code was not built yet}}
+  %d = osl.lane_deriv x %n : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
+func.func private @osl.lib.noise_perlin.2(vector<4xf32>) -> vector<4xf32>
+    attributes {osl.library_recipe = "declared"}
+
+// -----
+
 // OSL's dual division: (x' - (x/y) y') times 1/y, and 1/y is 0 where it is
 // not finite (rounded as OSL rounds it: normalize's derivative is then
 // OSL's to the last bit). With x = 1 and y = u: -(q dudx) * (1/u).

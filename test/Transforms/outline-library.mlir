@@ -263,3 +263,52 @@ func.func @bigger_bodies_inline_where_they_gain(%x: f32, %y: f32) -> (f32, f32, 
   }
   return %once, %constant, %looped : f32, f32, f32
 }
+
+// -----
+
+// A routine built from a recipe is a function already: a call its site
+// keeps (osl.keep_call) stays a call at any inline-ops, and a declaration
+// (a routine compiled before) is left alone; a small one's other calls go
+// back in place as a region's would, and a routine no call is left to is
+// erased.
+// CHECK-LABEL: func.func @recipe_functions
+// CHECK: call @osl.lib.noise_perlin.1(%arg0) {osl.keep_call}
+// CHECK: call @osl.lib.noise_cell.1(%arg0)
+// CHECK: call @osl.lib.noise_simplex.1(%arg0) {osl.keep_call}
+// CHECK-DAG: func.func private @osl.lib.noise_perlin.1(%{{.+}}: f32) -> f32
+// CHECK-DAG: func.func private @osl.lib.noise_cell.1(%{{.+}}: f32) -> f32
+// CHECK-DAG: func.func private @osl.lib.noise_simplex.1(f32) -> f32
+// CHECK-NOT: noise_hash
+// SMALL-LABEL: func.func @recipe_functions
+// SMALL: call @osl.lib.noise_perlin.1(%arg0) {osl.keep_call}
+// SMALL-NOT: call @osl.lib.noise_cell
+// SMALL: arith.addf %arg0, %arg0
+// SMALL: call @osl.lib.noise_simplex.1(%arg0) {osl.keep_call}
+// SMALL-DAG: func.func private @osl.lib.noise_perlin.1(
+// SMALL-DAG: func.func private @osl.lib.noise_simplex.1(f32) -> f32
+// SMALL-NOT: func.func private @osl.lib.noise_cell
+// SMALL-NOT: noise_hash
+// INLINE-LABEL: func.func @recipe_functions
+// INLINE: arith.mulf %arg0, %arg0
+// INLINE: arith.addf %arg0, %arg0
+// INLINE: call @osl.lib.noise_simplex.1(%arg0) {osl.keep_call}
+// FOLDS-LABEL: func.func @recipe_functions
+// FOLDS: call @osl.lib.noise_cell.1(%arg0)
+func.func @recipe_functions(%x: f32) -> (f32, f32, f32) {
+  %a = call @osl.lib.noise_perlin.1(%x) {osl.keep_call} : (f32) -> f32
+  %b = call @osl.lib.noise_cell.1(%x) : (f32) -> f32
+  %c = call @osl.lib.noise_simplex.1(%x) {osl.keep_call} : (f32) -> f32
+  return %a, %b, %c : f32, f32, f32
+}
+func.func private @osl.lib.noise_perlin.1(%x: f32) -> f32 attributes {osl.library_recipe = "p"} {
+  %m = arith.mulf %x, %x : f32
+  return %m : f32
+}
+func.func private @osl.lib.noise_cell.1(%x: f32) -> f32 attributes {osl.library_recipe = "c"} {
+  %m = arith.addf %x, %x : f32
+  return %m : f32
+}
+func.func private @osl.lib.noise_simplex.1(f32) -> f32 attributes {osl.library_recipe = "s"}
+func.func private @osl.lib.noise_hash.1(%x: f32) -> f32 attributes {osl.library_recipe = "h"} {
+  return %x : f32
+}

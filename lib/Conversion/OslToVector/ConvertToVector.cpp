@@ -30,6 +30,11 @@ namespace {
 struct ConvertToVectorPass
     : public mlir::osl::impl::ConvertToVectorBase<ConvertToVectorPass> {
   using mlir::osl::impl::ConvertToVectorBase<ConvertToVectorPass>::ConvertToVectorBase;
+  ConvertToVectorPass(const ConvertToVectorOptions &options, LibraryObjectAvailable available)
+      : ConvertToVectorBase(options), available(std::move(available)) {}
+
+  /// Which library routines are compiled already (none without).
+  LibraryObjectAvailable available;
 
   void runOnOperation() override {
     if (width != 1 && width != 4 && width != 8 && width != 16) {
@@ -63,6 +68,10 @@ struct ConvertToVectorPass
     target.addLegalOp<LaneDerivOp>();
     // Library regions (OslLanes/LibraryRegion.h) hold converted code.
     target.addLegalOp<scf::ExecuteRegionOp>();
+    LibraryObjectAvailable compiled = available;
+    if (!compiled && assumeCompiled)
+      compiled = [](StringRef) { return true; };
+    LibraryRoutineNeeds needs(shaders[0], compiled);
     target.addLegalDialect<arith::ArithDialect, math::MathDialect,
                            vector::VectorDialect, LLVM::LLVMDialect,
                            func::FuncDialect>();
@@ -70,6 +79,7 @@ struct ConvertToVectorPass
     populateKernelPatterns(converter, patterns, outputRow);
     populateLaneOpPatterns(converter, patterns, referenceMode);
     populateLibraryCallPatterns(converter, patterns);
+    populateNoisePatterns(converter, patterns, needs);
     populateClosurePatterns(converter, patterns);
     populateRuntimeCallPatterns(converter, patterns);
     scf::populateSCFStructuralTypeConversionsAndLegality(converter, patterns, target);
@@ -80,3 +90,8 @@ struct ConvertToVectorPass
 };
 
 } // namespace
+
+std::unique_ptr<Pass> mlir::osl::createConvertToVector(const ConvertToVectorOptions &options,
+                                                       LibraryObjectAvailable available) {
+  return std::make_unique<ConvertToVectorPass>(options, std::move(available));
+}

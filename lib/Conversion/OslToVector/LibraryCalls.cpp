@@ -1,8 +1,8 @@
 //===- LibraryCalls.cpp - OSL's library functions on lanes ------------------===//
 //
-// Geometry, noise (Gabor included), hashes, space transforms, colors and
-// splines: each expands inline through its lane builder (OslLanes), the same
-// code the front end folds constants with.
+// Geometry, hashes, space transforms, colors and splines: each expands
+// inline through its lane builder (OslLanes), the same code the front end
+// folds constants with (noise: NoiseCalls.cpp).
 //
 //===----------------------------------------------------------------------===//
 #include "OslToVector.h"
@@ -10,11 +10,10 @@
 #include "OslAbi/Closures.h"
 #include "OslLanes/ColorBuilder.h"
 #include "OslLanes/ConstantTable.h"
-#include "OslLanes/GaborBuilder.h"
 #include "OslLanes/LaneMath.h"
 #include "OslLanes/LibraryBuilders.h"
-#include "OslLanes/LibraryRegion.h"
 #include "OslLanes/NoiseBuilder.h"
+#include "OslLanes/LibraryRegion.h"
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Math/IR/Math.h"
 #include "mlir/IR/Matchers.h"
@@ -106,98 +105,6 @@ struct GeometryLowering : public OslPattern<OpTy> {
   }
 };
 
-/// A noise op's coordinates (and periods) as converted values, with the
-/// osl types they have.
-struct NoiseCoords {
-  SmallVector<Value> values;
-  SmallVector<Type> types;
-};
-
-/// The options of a Gabor noise as scalars (osl-lane-group-filter made them
-/// uniform), OSL's default for each one the call leaves out. Built before
-/// the library region, defaults too: the region then reads every option
-/// from outside, so a call with default options and one with options of
-/// its own have one function when their mode (a constant "anisotropic"
-/// chooses the code) agrees, and the prebuilt library can hold it.
-GaborOptions gaborOptions(NoiseOp op, NoiseOp::Adaptor adaptor, Components &lanes) {
-  auto scalar = [&](Value converted, Value original) {
-    return converted ? lanes.unpack(converted, original.getType(), false)[0] : Value();
-  };
-  GaborOptions options;
-  options.anisotropic = scalar(adaptor.getAnisotropic(), op.getAnisotropic());
-  options.bandwidth = scalar(adaptor.getBandwidth(), op.getBandwidth());
-  options.impulses = scalar(adaptor.getImpulses(), op.getImpulses());
-  options.doFilter = scalar(adaptor.getDoFilter(), op.getDoFilter());
-  if (op.getDirection()) {
-    SmallVector<Value> dir = lanes.unpack(adaptor.getDirection(), op.getDirection().getType(), false);
-    options.direction = {dir[0], dir[1], dir[2]};
-  }
-  return withGaborDefaults(lanes.b, lanes.loc, options);
-}
-
-/// Gabor noise: the point (and its derivatives and period) made 3D.
-Value lowerGabor(NoiseOp op, NoiseOp::Adaptor adaptor, const NoiseCoords &coords,
-                 const GaborOptions &options, Components &lanes, Type resultType,
-                 OpBuilder &rewriter) {
-  Location loc = op.getLoc();
-  bool varying = isVarying(op.getType());
-  SmallVector<Value> flat;
-  for (auto [value, type] : llvm::zip(coords.values, coords.types))
-    llvm::append_range(flat, lanes.unpack(value, type, varying));
-  // A triple point has 3 values, a float domain 1 or 2 (a 4th coordinate
-  // and its period are ignored, as OSL does).
-  size_t ncoords = op.getPeriodic() ? coords.values.size() / 2 : coords.values.size();
-  bool triple = isTriple(getUniformType(coords.types[0]));
-  size_t pointSize = triple ? 3 : ncoords;
-  size_t domainSize = triple ? (ncoords == 2 ? 4 : 3) : ncoords;
-  Type laneType = flat[0].getType();
-  auto point3 = [&](ArrayRef<Value> v) {
-    std::array<Value, 3> p;
-    for (size_t k = 0; k < 3; ++k)
-      p[k] = k < v.size() ? v[k] : lane::constant(rewriter, loc, laneType, 0.0);
-    return p;
-  };
-  ArrayRef<Value> all(flat);
-  GaborPoint point;
-  point.p = point3(all.take_front(pointSize));
-  if (op.getPeriodic())
-    point.period = point3(all.drop_front(domainSize).take_front(pointSize));
-  if (!op.getDerivs().empty()) {
-    SmallVector<Value> d;
-    for (auto &c : lanes.unpackAll(adaptor.getDerivs(), op.getDerivs(), varying))
-      llvm::append_range(d, c);
-    point.dPdx = point3(ArrayRef<Value>(d).take_front(pointSize));
-    point.dPdy = point3(ArrayRef<Value>(d).drop_front(pointSize));
-  }
-  if (isTriple(getUniformType(op.getType())))
-    return lanes.pack(buildGaborTriple(rewriter, loc, point, options), resultType);
-  return buildGaborFloat(rewriter, loc, point, options);
-}
-
-/// The noise of a non-Gabor kind; null for a periodic kind OSL does not
-/// define.
-Value lowerNoise(NoiseOp op, const NoiseCoords &noiseCoords, Components &lanes,
-                 Type resultType, OpBuilder &b) {
-  NoiseKind kind = op.getKind();
-  Location loc = op.getLoc();
-  SmallVector<Value> coords;
-  for (auto [value, type] : llvm::zip(noiseCoords.values, noiseCoords.types))
-    llvm::append_range(coords, lanes.unpack(value, type, isVarying(op.getType())));
-  bool triple = isTriple(getUniformType(op.getType()));
-  if (op.getPeriodic()) {
-    ArrayRef<Value> all(coords);
-    ArrayRef<Value> points = all.take_front(all.size() / 2);
-    ArrayRef<Value> periods = all.drop_front(all.size() / 2);
-    if (!triple)
-      return buildPeriodicNoiseFloat(b, loc, kind, points, periods);
-    std::array<Value, 3> r = buildPeriodicNoiseTriple(b, loc, kind, points, periods);
-    return r[0] ? lanes.pack(r, resultType) : Value();
-  }
-  if (triple)
-    return lanes.pack(buildNoiseTriple(b, loc, kind, coords), resultType);
-  return buildNoiseFloat(b, loc, kind, coords);
-}
-
 struct TableReadLowering : public OslPattern<TableReadOp> {
   using OslPattern::OslPattern;
   LogicalResult matchAndRewrite(TableReadOp op, OpAdaptor adaptor,
@@ -220,56 +127,6 @@ struct HashLowering : public OslPattern<HashOp> {
     if (keys.empty() || keys.size() > 5)
       return op.emitError("hash takes 1 to 5 key components");
     rewriter.replaceOp(op, buildIntHash(rewriter, loc, keys));
-    return success();
-  }
-};
-
-/// Noise in a library region (LibraryRegion.h): one function per kind and
-/// signature in the kernel, compiled once and cached. Cell and hash noise
-/// too: a call costs a few ns a batch, their codegen tens of ms a shader.
-struct NoiseLowering : public OslPattern<NoiseOp> {
-  using OslPattern::OslPattern;
-  LogicalResult matchAndRewrite(NoiseOp op, OpAdaptor adaptor,
-                                ConversionPatternRewriter &rewriter) const override {
-    NoiseKind kind = op.getKind();
-    if (kind == NoiseKind::gabor)
-      for (Value option : op.getOptions())
-        if (isVarying(option.getType()))
-          return op.emitError("gabor options chosen per point must be split into lane "
-                              "groups first (osl-lane-group-filter)");
-    if (op.getPeriodic() && (kind == NoiseKind::simplex || kind == NoiseKind::usimplex))
-      return op.emitError("periodic '") << stringifyNoiseKind(kind) << "' noise is not defined";
-    Type resultType = convert(op.getType());
-    std::string name = ("noise_" + stringifyNoiseKind(kind)).str();
-    if (op.getPeriodic())
-      name += "_periodic";
-    // A varying noise's uniform coordinates are broadcast before its
-    // region, which broadcast them first thing anyway: its function then
-    // takes varying operands only, as the prebuilt library's do, and a call
-    // with a uniform or constant coordinate links one instead of compiling
-    // its own (constants still inline and fold where that pays:
-    // osl-outline-library).
-    Components outer{rewriter, op.getLoc(), width};
-    NoiseCoords coords{SmallVector<Value>(adaptor.getCoords()),
-                       SmallVector<Type>(op.getCoords().getTypes())};
-    if (isVarying(op.getType()))
-      for (auto [value, type] : llvm::zip(coords.values, coords.types))
-        if (!isVarying(type)) {
-          Type varyingType = withUniformity(type, true);
-          value = outer.pack(outer.unpack(value, type, true), convert(varyingType));
-          type = varyingType;
-        }
-    GaborOptions options;
-    if (kind == NoiseKind::gabor)
-      options = gaborOptions(op, adaptor, outer);
-    SmallVector<Value> r = buildLibraryRegion(
-        rewriter, op.getLoc(), name, resultType, [&](OpBuilder &b) -> SmallVector<Value> {
-          Components inner{b, op.getLoc(), width};
-          if (kind == NoiseKind::gabor)
-            return {lowerGabor(op, adaptor, coords, options, inner, resultType, b)};
-          return {lowerNoise(op, coords, inner, resultType, b)};
-        });
-    rewriter.replaceOp(op, r);
     return success();
   }
 };
@@ -398,7 +255,7 @@ void mlir::osl::lowering::populateLibraryCallPatterns(const VaryingTypeConverter
                                                       RewritePatternSet &patterns) {
   patterns.add<GeometryLowering<DotOp>, GeometryLowering<LengthOp>,
                GeometryLowering<DistanceOp>, GeometryLowering<CrossOp>,
-               GeometryLowering<NormalizeOp>, NoiseLowering, HashLowering, TableReadLowering,
+               GeometryLowering<NormalizeOp>, HashLowering, TableReadLowering,
                TransformLowering,
                SplineFamilyLowering<SplineOp>, SplineFamilyLowering<SplineInverseOp>,
                ColorLowering<TransformcOp>, ColorLowering<BlackbodyOp>,

@@ -13,6 +13,7 @@
 #include "OslAbi/EntryPoints.h"
 #include "OslDialect/OslDialect.h"
 #include "OslLanes/LaneMath.h"
+#include "OslLanes/LibraryRegion.h"
 
 #include "mlir/Dialect/Func/IR/FuncOps.h"
 #include "mlir/Dialect/LLVMIR/LLVMDialect.h"
@@ -186,14 +187,27 @@ void resetMessagesOnEntry(ModuleOp module, func::FuncOp kernel);
 void populateLaneOpPatterns(const VaryingTypeConverter &converter, RewritePatternSet &patterns,
                             bool referenceMode);
 
-/// Geometry, noise, hashes, transforms, colors and splines through their
-/// lane builders (LibraryCalls.cpp).
 /// Reports spline/splineinverse calls whose knot count is a constant out of
 /// range; failure when there are any.
 LogicalResult checkSplineKnotCounts(Operation *root);
 
+/// Geometry, hashes, transforms, colors and splines through their lane
+/// builders (LibraryCalls.cpp).
 void populateLibraryCallPatterns(const VaryingTypeConverter &converter,
                                  RewritePatternSet &patterns);
+
+/// What decides whether a noise routine's code is built (NoiseCalls.cpp):
+/// the noises a derivative request depends on (their code is
+/// differentiated), and which compiled routines are at hand.
+struct LibraryRoutineNeeds {
+  LibraryRoutineNeeds(Operation *root, LibraryObjectAvailable available);
+  DenseSet<Operation *> derivativeOf;
+  LibraryObjectAvailable available;
+};
+
+/// Noise as calls of a library function per recipe (NoiseCalls.cpp).
+void populateNoisePatterns(const VaryingTypeConverter &converter, RewritePatternSet &patterns,
+                           const LibraryRoutineNeeds &needs);
 
 /// Closure construction, products and sums (Closures.cpp).
 void populateClosurePatterns(const VaryingTypeConverter &converter,
