@@ -61,6 +61,14 @@ struct LibraryUse {
   std::vector<std::shared_ptr<const std::string>> objects;
   /// Functions still defined in the kernel, to compile: their keys by name.
   llvm::StringMap<std::string> toCompile;
+  /// Routines asked for by recipe while the kernel was converted: the
+  /// object found (null: none), and the counter above its origin adds to
+  /// if the kernel still calls the routine when its functions are read.
+  struct Found {
+    std::shared_ptr<const std::string> object;
+    int LibraryUse::*origin = nullptr;
+  };
+  llvm::StringMap<Found> recipesFound;
 };
 
 /// Where the objects compiled when osl-mlir was built are:

@@ -35,6 +35,11 @@ constexpr const char *kLibraryRecipeAttr = "osl.library_recipe";
 /// is the same whether the function's code was built or found compiled.
 constexpr const char *kKeepCallAttr = "osl.keep_call";
 
+/// On a library function: the indices of its arguments that are
+/// derivatives themselves (Gabor noise's dP/dx and dP/dy for its filter):
+/// OSL takes a derivative of a derivative as 0, so they have no tangents.
+constexpr const char *kDerivativeArgsAttr = "osl.derivative_args";
+
 /// Whether a recipe's compiled object is at hand (the compiler's library
 /// cache answers; null: never, every routine is built).
 using LibraryObjectAvailable = std::function<bool(StringRef recipe)>;
@@ -62,6 +67,10 @@ func::FuncOp libraryFunction(OpBuilder &b, Operation *anchor, StringRef routine,
                              StringRef recipe, FunctionType type, bool needCode,
                              function_ref<bool()> compiled,
                              function_ref<SmallVector<Value>(OpBuilder &, ValueRange)> build);
+
+/// The recipe of a routine's dual (its code and its derivatives along x
+/// and y, osl-derivatives).
+inline std::string dualRecipeOf(StringRef recipe) { return (recipe + " dual x y").str(); }
 
 /// The library function `call` calls (one with a recipe), if it does.
 func::FuncOp libraryCallee(func::CallOp call);

@@ -2,6 +2,7 @@
 #ifndef OSLTRANSFORMS_PASSES_H
 #define OSLTRANSFORMS_PASSES_H
 
+#include "OslLanes/LibraryRegion.h"
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
 #include "mlir/Dialect/Func/IR/FuncOps.h"
@@ -37,6 +38,11 @@ void populateFoldConstantsPatterns(RewritePatternSet &patterns);
 
 #define GEN_PASS_DECL
 #include "OslTransforms/Passes.h.inc"
+
+/// osl-derivatives told which dual routines are compiled already: those
+/// are declared, not built (OslLanes/LibraryRegion.h).
+std::unique_ptr<Pass> createDerivatives(const DerivativesOptions &options,
+                                        LibraryObjectAvailable available);
 
 #define GEN_PASS_REGISTRATION
 #include "OslTransforms/Passes.h.inc"

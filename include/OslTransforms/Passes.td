@@ -180,9 +180,27 @@ def Derivatives : Pass<"osl-derivatives", "::mlir::ModuleOp"> {
     chain rule through the arith, math and vector operations that produce
     it, from the derivative rows of the shader globals (dPdx, dudx, ...).
     Only what a derivative is asked of is differentiated.
+
+    A library routine that stays a call (`osl.keep_call`) is differentiated
+    along x and y by a call of its dual routine: a function of the routine's
+    arguments and their tangents returning its results and their
+    derivatives along x and y, built once from the routine's code and keyed
+    by its recipe (`recipe dual x y`), as OSL's batched library calls noise
+    on dual numbers. A routine compiled before is declared instead of built
+    (`assume-compiled` takes every one as compiled). Other routines, all of
+    them in a shader asking for derivatives along z, and all in reference
+    mode (`dual-routines=false`: every value uniform, the routines' options
+    included) are copied in place and differentiated there.
   }];
+  let options = [Option<"dualRoutines", "dual-routines", "bool", "true",
+                        "differentiate library calls kept as calls through their dual "
+                        "routines (false: in place, as reference mode does)">,
+                 Option<"assumeCompiled", "assume-compiled", "bool", "false",
+                        "take every dual routine as compiled already (the compiler "
+                        "asks its library objects instead)">];
   let dependentDialects = ["::mlir::arith::ArithDialect", "::mlir::math::MathDialect",
-                           "::mlir::vector::VectorDialect", "::mlir::LLVM::LLVMDialect"];
+                           "::mlir::vector::VectorDialect", "::mlir::LLVM::LLVMDialect",
+                           "::mlir::func::FuncDialect"];
 }
 
 def OutlineLibrary : Pass<"osl-outline-library", "::mlir::ModuleOp"> {

@@ -258,12 +258,18 @@ bool osl::keepLibraryObjects(std::vector<LibraryJob> &jobs, LibraryUse &use,
 mlir::osl::LibraryObjectAvailable osl::libraryObjectFinder(const LibraryKeyOptions &options,
                                                           LibraryUse &use) {
   return [options, &use](llvm::StringRef recipe) {
-    std::shared_ptr<const std::string> object =
-        lookupObject(recipeKey(recipe, options), libraryDirectory(options), use);
-    if (!object)
-      return false;
-    use.objects.push_back(std::move(object));
-    return true;
+    auto [it, isNew] = use.recipesFound.try_emplace(recipe);
+    if (isNew) {
+      // Counted once the kernel is known to call it (findLibraryObjects):
+      // a routine differentiated by its dual is not.
+      LibraryUse counted;
+      it->second.object =
+          lookupObject(recipeKey(recipe, options), libraryDirectory(options), counted);
+      it->second.origin = counted.prebuilt     ? &LibraryUse::prebuilt
+                          : counted.fromDisk   ? &LibraryUse::fromDisk
+                                               : &LibraryUse::fromMemory;
+    }
+    return it->second.object != nullptr;
   };
 }
 
@@ -276,10 +282,21 @@ void osl::findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &opt
   for (auto func : llvm::make_early_inc_range(module.getOps<mlir::func::FuncOp>())) {
     if (!func.getSymName().starts_with(abi::kLibrarySymbolPrefix))
       continue;
-    // A declaration's object was found when it was declared.
+    auto recipe = func->getAttrOfType<mlir::StringAttr>(mlir::osl::kLibraryRecipeAttr);
+    // A routine found while the kernel was converted (a declaration, or
+    // defined for a call that needed its code): that object.
+    auto found = recipe ? use.recipesFound.find(recipe.getValue()) : use.recipesFound.end();
+    if (found != use.recipesFound.end() && found->second.object) {
+      if (llvm::find(use.objects, found->second.object) == use.objects.end()) {
+        use.objects.push_back(found->second.object);
+        ++(use.*found->second.origin);
+      }
+      if (!func.isDeclaration())
+        func.eraseBody();
+      continue;
+    }
     if (func.isDeclaration())
       continue;
-    auto recipe = func->getAttrOfType<mlir::StringAttr>(mlir::osl::kLibraryRecipeAttr);
     std::string key = recipe ? recipeKey(recipe.getValue(), options)
                              : objectKey(func, symbols, fingerprint, options);
     if (auto object = lookupObject(key, directory, use)) {

@@ -35,7 +35,8 @@ struct OslToLLVMOptions : public PassPipelineOptions<OslToLLVMOptions> {
       *this, "outline-every-routine",
       llvm::cl::desc("every library routine a function, however small"), llvm::cl::init(false)};
   osl::OslToLLVMPipelineOptions get() const {
-    return {width, reference, countLanes, math, inlineLibrary, outlineEveryRoutine};
+    return {width, reference, countLanes, math, inlineLibrary, outlineEveryRoutine,
+            /*libraryAvailable=*/nullptr};
   }
 };
 } // namespace
@@ -87,11 +88,17 @@ void mlir::osl::buildLibraryOutliningPipeline(OpPassManager &pm,
   OutlineLibraryOptions outlineOptions;
   outlineOptions.outline = math != MathLevel::Double && !options.inlineLibrary;
   // A routine compiled already is linked, not built, where it stays a call.
-  if (outlineOptions.outline && options.libraryAvailable)
+  // Reference mode differentiates routines in place: its values are all
+  // uniform, which a dual routine's tangents are not.
+  DerivativesOptions derivativeOptions;
+  derivativeOptions.dualRoutines = !options.reference;
+  if (outlineOptions.outline && options.libraryAvailable) {
     pm.addPass(createConvertToVector(vectorOptions, options.libraryAvailable));
-  else
+    pm.addPass(createDerivatives(derivativeOptions, options.libraryAvailable));
+  } else {
     pm.addPass(createConvertToVector(vectorOptions));
-  pm.addPass(createDerivatives());
+    pm.addPass(createDerivatives(derivativeOptions));
+  }
   if (options.outlineEveryRoutine)
     outlineOptions.inlineOps = 0;
   pm.addPass(createOutlineLibrary(outlineOptions));

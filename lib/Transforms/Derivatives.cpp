@@ -15,6 +15,7 @@
 #include "OslAbi/Texture.h"
 #include "OslLanes/LaneMath.h"
 #include "OslLanes/LibraryRegion.h"
+#include "OslAbi/Library.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
@@ -46,9 +47,15 @@ constexpr const char *kDerivativeRowAttr = "osl.derivative_row";
 /// and results it had before (the rest are derivatives).
 constexpr const char *kPrimalCountsAttr = "osl.primal_counts";
 
+struct DualRoutines;
+
 class Differentiator {
 public:
-  Differentiator(StringRef axis) : axis(axis) {}
+  Differentiator(StringRef axis, DualRoutines *duals = nullptr) : axis(axis), duals(duals) {}
+
+  /// Takes `d` as the derivative of `v` (a routine's argument, or a dual
+  /// call's result whose derivative along this axis an earlier one made).
+  void seed(Value v, Value d) { memo[v] = d; }
 
   /// d(v)/d(axis), or null for 0; failure for an operation it cannot
   /// differentiate (reported at `user`).
@@ -63,14 +70,20 @@ public:
       unsigned i = cast<OpResult>(v).getResultNumber();
       return derive(inlineLibraryRegion(region)[i], user);
     }
-    // Likewise a call of a library function (its code copied in place).
+    // Likewise a call of a library function (its code copied in place),
+    // unless a call of its dual routine replaces it.
     if (auto call = v.getDefiningOp<func::CallOp>())
       if (func::FuncOp callee = libraryCallee(call)) {
+        unsigned i = cast<OpResult>(v).getResultNumber();
+        FailureOr<std::optional<Value>> dual = replaceByDual(call, callee, i, user);
+        if (failed(dual))
+          return failure();
+        if (*dual)
+          return **dual;
         // (osl-convert-to-vector builds the code of every routine a
         // derivative request depends on.)
         if (callee.isDeclaration())
           return fail(user, "a library routine whose code was not built");
-        unsigned i = cast<OpResult>(v).getResultNumber();
         return derive(inlineCall(call, callee)[i], user);
       }
     if (auto ifOp = v.getDefiningOp<scf::IfOp>()) // memoizes the rebuilt branch
@@ -654,25 +667,213 @@ private:
     return failure();
   }
 
+  /// Replaces `call` by a call of its routine's dual (DualRoutines) where
+  /// that applies: the x axis's derivatives of its arguments are made now,
+  /// the y axis's are asked for by new requests, and the call's results
+  /// (`v` among them) get their x derivatives here and their y ones
+  /// seeded for the y axis. Returns the x derivative of result `index`;
+  /// none where a dual does not apply.
+  FailureOr<std::optional<Value>> replaceByDual(func::CallOp call, func::FuncOp callee,
+                                                unsigned index, Operation *user);
+
 public:
   StringRef axis;
 
 private:
+  DualRoutines *duals;
   DenseMap<Value, Value> memo;
 };
 
+/// A routine that stays a call (osl.keep_call: too big to inline) is
+/// differentiated by a call of its dual routine: the routine's code and its
+/// derivatives along x and y (tangents given for its varying float
+/// arguments), built once from its recipe, the function's code
+/// differentiated as it would be in place - one call instead of a copy of
+/// the routine and its derivatives in the kernel (as OSL's batched library
+/// calls its noise on dual numbers). It is keyed by its recipe too, so one
+/// compiled before is declared, not built. Shaders asking for derivatives
+/// along z (volumes) differentiate routines in place.
+struct DualRoutines {
+  ModuleOp module;
+  LibraryObjectAvailable available;
+  /// The y derivatives of dual calls' results, for the y axis.
+  SmallVector<std::pair<Value, Value>> ySeeds;
+  /// The requests of the y axis (the dual calls' y tangents join them).
+  SmallVector<LaneDerivOp> *yRequests = nullptr;
+
+  /// Whether argument `i` of `callee` has a tangent: a varying float that
+  /// is not a derivative itself (a uniform one has none; in reference
+  /// mode, where every value is uniform, routines are differentiated in
+  /// place).
+  static bool isTangentArg(func::FuncOp callee, unsigned i) {
+    Type t = callee.getArgumentTypes()[i];
+    if (!isa<VectorType>(t) || !isa<FloatType>(getElementTypeOrSelf(t)))
+      return false;
+    auto derivatives = callee->getAttrOfType<DenseI64ArrayAttr>(kDerivativeArgsAttr);
+    return !derivatives || !llvm::is_contained(derivatives.asArrayRef(), int64_t(i));
+  }
+
+  /// The dual of `callee`, found or made; null (with an error at `user`)
+  /// if its code cannot be differentiated.
+  func::FuncOp dualOf(func::FuncOp callee, Operation *user) {
+    auto recipe = callee->getAttrOfType<StringAttr>(kLibraryRecipeAttr).getValue();
+    std::string dualRecipe = dualRecipeOf(recipe);
+    StringRef routine = callee.getSymName()
+                            .drop_front(StringRef(::osl::abi::kLibrarySymbolPrefix).size())
+                            .rsplit('.')
+                            .first;
+    FunctionType type = callee.getFunctionType();
+    SmallVector<Type> inputs(type.getInputs());
+    for (int axis = 0; axis < 2; ++axis)
+      for (auto [i, t] : llvm::enumerate(type.getInputs()))
+        if (isTangentArg(callee, unsigned(i)))
+          inputs.push_back(t);
+    SmallVector<Type> results;
+    for (int copy = 0; copy < 3; ++copy)
+      llvm::append_range(results, type.getResults());
+    auto dualType = FunctionType::get(callee.getContext(), inputs, results);
+    // Its code: the routine's, then its derivatives along x and y. A
+    // routine already differentiated once is found by name.
+    bool failedToDerive = false;
+    OpBuilder b(callee.getContext());
+    func::FuncOp dual = libraryFunction(
+        b, callee, (routine + "_dual").str(), dualRecipe, dualType, /*needCode=*/false,
+        [&] { return available && available(dualRecipe); },
+        [&](OpBuilder &b, ValueRange args) -> SmallVector<Value> {
+          if (callee.isDeclaration()) {
+            user->emitError("cannot take the derivative through a library routine "
+                            "whose code was not built yet");
+            failedToDerive = true;
+            return {};
+          }
+          IRMapping map;
+          size_t n = type.getNumInputs();
+          map.map(callee.getArguments(), args.take_front(n));
+          for (Operation &op : callee.getBody().front().without_terminator())
+            b.clone(op, map);
+          SmallVector<Value> primal;
+          for (Value r : callee.getBody().front().getTerminator()->getOperands())
+            primal.push_back(map.lookupOrDefault(r));
+          SmallVector<Value> out(primal);
+          size_t next = n;
+          Operation *at = b.getInsertionBlock()->getParentOp();
+          for (StringRef axis : {"x", "y"}) {
+            Differentiator diff(axis);
+            for (size_t i = 0; i < n; ++i)
+              if (isTangentArg(callee, unsigned(i)))
+                diff.seed(args[i], args[next++]);
+            for (Value r : primal) {
+              FailureOr<Value> d = diff.derive(r, user);
+              if (failed(d)) {
+                failedToDerive = true;
+                return {};
+              }
+              Value dv = *d;
+              if (!dv) {
+                OpBuilder end = OpBuilder::atBlockEnd(b.getInsertionBlock());
+                dv = Differentiator::zeroLike(end, at->getLoc(), r.getType());
+              }
+              out.push_back(dv);
+            }
+          }
+          return out;
+        });
+    if (failedToDerive) {
+      dual.erase();
+      return {};
+    }
+    return dual;
+  }
+};
+
+FailureOr<std::optional<Value>> Differentiator::replaceByDual(func::CallOp call,
+                                                              func::FuncOp callee,
+                                                              unsigned index, Operation *user) {
+  // Along y only for a routine the x axis did not reach and whose code
+  // was not built (its dual compiled before stands in): a call of the dual
+  // for x, y and the value costs about what a copy of the routine would.
+  bool alongY = axis == "y" && callee.isDeclaration();
+  if (!duals || !call->hasAttr(kKeepCallAttr) || !(axis == "x" || alongY))
+    return std::optional<Value>();
+  func::FuncOp dual = duals->dualOf(callee, user);
+  if (!dual)
+    return failure();
+  // The x tangents first: deriving an argument may rebuild the branch or
+  // loop that made it, which replaces it (the call's operands follow).
+  SmallVector<Value> tangents;
+  OpBuilder b(call);
+  for (auto [i, a] : llvm::enumerate(call.getOperands())) {
+    if (!DualRoutines::isTangentArg(callee, unsigned(i)))
+      continue;
+    FailureOr<Value> d = derive(a, user);
+    if (failed(d))
+      return failure();
+    tangents.push_back(*d);
+  }
+  SmallVector<Value> operands(call.getOperands()), dx, dy;
+  auto tangent = tangents.begin();
+  for (auto [i, a] : llvm::enumerate(call.getOperands())) {
+    if (!DualRoutines::isTangentArg(callee, unsigned(i)))
+      continue;
+    Value d = *tangent++;
+    if (!d)
+      d = zeroLike(b, call.getLoc(), a.getType());
+    if (alongY) {
+      dx.push_back(zeroLike(b, call.getLoc(), a.getType()));
+      dy.push_back(d);
+      continue;
+    }
+    dx.push_back(d);
+    auto request = b.create<LaneDerivOp>(call.getLoc(), a.getType(), a, DerivAxis::y);
+    duals->yRequests->push_back(request);
+    dy.push_back(request);
+  }
+  llvm::append_range(operands, dx);
+  llvm::append_range(operands, dy);
+  auto dualCall = b.create<func::CallOp>(call.getLoc(), dual, operands);
+  dualCall->setAttr(kKeepCallAttr, b.getUnitAttr());
+  unsigned n = call.getNumResults(), mine = alongY ? 2 * n : n;
+  for (unsigned j = 0; j < n; ++j) {
+    Value r = dualCall.getResult(j);
+    call.getResult(j).replaceAllUsesWith(r);
+    memo[r] = dualCall.getResult(mine + j);
+    if (!alongY)
+      duals->ySeeds.push_back({r, dualCall.getResult(2 * n + j)});
+  }
+  call.erase();
+  return std::optional<Value>(dualCall.getResult(mine + index));
+}
+
 struct DerivativesPass : public mlir::osl::impl::DerivativesBase<DerivativesPass> {
+  using DerivativesBase::DerivativesBase;
+  DerivativesPass(const DerivativesOptions &options, LibraryObjectAvailable available)
+      : DerivativesBase(options), available(std::move(available)) {}
+
+  /// Which dual routines are compiled already (none without).
+  LibraryObjectAvailable available;
+
   void runOnOperation() override {
     // Grouped by axis up front: each request is erased once resolved, so
     // none may be looked at again afterwards.
     SmallVector<LaneDerivOp> requests[3];
     getOperation().walk(
         [&](LaneDerivOp op) { requests[static_cast<int>(op.getAxis())].push_back(op); });
+    DualRoutines duals{getOperation(), available, {}, &requests[1]};
+    if (!duals.available && assumeCompiled)
+      duals.available = [](StringRef) { return true; };
+    // (Only x and y: a routine a z derivative goes through is copied in place.)
+    bool useDuals = dualRoutines && requests[2].empty();
     // One axis at a time: rebuilding a branch for one axis replaces values
     // another axis's memo would otherwise still hold.
     for (int k = 0; k < 3; ++k) {
-      Differentiator diff(stringifyDerivAxis(static_cast<DerivAxis>(k)));
-      for (LaneDerivOp op : llvm::reverse(requests[k])) {
+      Differentiator diff(stringifyDerivAxis(static_cast<DerivAxis>(k)),
+                          useDuals ? &duals : nullptr);
+      if (k == 1)
+        for (auto [value, d] : duals.ySeeds)
+          diff.seed(value, d);
+      // (Indexed: the x axis's dual calls add y requests.)
+      for (size_t r = requests[k].size(); r-- > 0;) {
+        LaneDerivOp op = requests[k][r];
         FailureOr<Value> d = diff.derive(op.getValue(), op);
         if (failed(d))
           return signalPassFailure();
@@ -702,3 +903,8 @@ struct DerivativesPass : public mlir::osl::impl::DerivativesBase<DerivativesPass
 };
 
 } // namespace
+
+std::unique_ptr<Pass> mlir::osl::createDerivatives(const DerivativesOptions &options,
+                                                   LibraryObjectAvailable available) {
+  return std::make_unique<DerivativesPass>(options, std::move(available));
+}

@@ -159,17 +159,31 @@ func.func @cell_noise_is_built() {
 
 // -----
 
-// A derivative taken through a noise differentiates its code
-// (osl-derivatives copies it in place): it is built, compiled or not; the
-// other noise's routine is only declared.
+// A derivative taken through a noise that stays a call is differentiated
+// by its dual routine (osl-derivatives), compiled too here: the routine is
+// only declared. Along z, the routine's code is differentiated in place:
+// it is built, compiled or not.
 // ASSUMED-LABEL: osl.shader_name = "derivative_through_noise"
-// ASSUMED-DAG: func.func private @osl.lib.noise_uperlin.{{[0-9a-f]+}}(%{{.+}}: vector<3x8xf32>) -> vector<8xf32>
-// ASSUMED-DAG: func.func private @osl.lib.noise_perlin.{{[0-9a-f]+}}(vector<3x8xf32>) -> vector<8xf32>
+// ASSUMED: func.func private @osl.lib.noise_uperlin.{{[0-9a-f]+}}(vector<3x8xf32>) -> vector<8xf32>
 func.func @derivative_through_noise() {
   %P = osl.global "P" : !osl.varying<vector<3xf32>>
   %n = osl.noise uperlin(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
   %s = osl.mul %n, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
   %d = osl.deriv x %s : !osl.varying<f32>
+  osl.output "n" = %d : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// ASSUMED-LABEL: osl.shader_name = "z_derivative_through_noise"
+// ASSUMED-DAG: func.func private @osl.lib.noise_uperlin.{{[0-9a-f]+}}(%{{.+}}: vector<3x8xf32>) -> vector<8xf32>
+// ASSUMED-DAG: func.func private @osl.lib.noise_perlin.{{[0-9a-f]+}}(vector<3x8xf32>) -> vector<8xf32>
+func.func @z_derivative_through_noise() {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %n = osl.noise uperlin(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  %s = osl.mul %n, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
+  %d = osl.deriv z %s : !osl.varying<f32>
   %m = osl.noise perlin(%P) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
   %r = osl.add %d, %m : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
   osl.output "n" = %r : !osl.varying<f32>

@@ -1,4 +1,6 @@
 // RUN: osl-opt %s -split-input-file --osl-derivatives -verify-diagnostics | FileCheck %s
+// RUN: osl-opt %s -split-input-file --osl-derivatives=assume-compiled=true -verify-diagnostics \
+// RUN:   | FileCheck %s --check-prefix=COMPILED
 
 // The derivative of a global's row is its derivative row: dudx is row 35
 // (u is row 33), so at width 4 it is read 140 floats into the block.
@@ -382,13 +384,14 @@ func.func @library_region_inlined(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32
 
 // -----
 
-// Likewise a call of a library function built from a recipe: its code is
-// copied in place of the call a derivative needs; the other call stays.
+// Likewise a call of a library function built from a recipe that its site
+// may inline (no osl.keep_call): its code is copied in place of the call a
+// derivative needs; the other call stays.
 // CHECK-LABEL: func.func @library_call_inlined
 // CHECK: %[[DU:.+]] = llvm.getelementptr %arg0[140]
 // CHECK: %[[D:.+]] = llvm.load %[[DU]]
 // CHECK: %[[U:.+]] = llvm.load
-// CHECK: call @osl.lib.noise_perlin.1(%[[U]]) {osl.keep_call}
+// CHECK: call @osl.lib.noise_perlin.1(%[[U]])
 // CHECK-NOT: call
 // CHECK: arith.addf %[[U]], %[[U]]
 // CHECK: arith.addf %[[D]], %[[D]]
@@ -396,8 +399,8 @@ func.func @library_region_inlined(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32
 func.func @library_call_inlined(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
   %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
   %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
-  %kept = call @osl.lib.noise_perlin.1(%u) {osl.keep_call} : (vector<4xf32>) -> vector<4xf32>
-  %twice = call @osl.lib.noise_perlin.1(%u) {osl.keep_call} : (vector<4xf32>) -> vector<4xf32>
+  %kept = call @osl.lib.noise_perlin.1(%u) : (vector<4xf32>) -> vector<4xf32>
+  %twice = call @osl.lib.noise_perlin.1(%u) : (vector<4xf32>) -> vector<4xf32>
   %d = osl.lane_deriv x %twice : vector<4xf32>
   %sum = arith.addf %d, %kept : vector<4xf32>
   %m = arith.constant dense<true> : vector<4xi1>
@@ -412,13 +415,52 @@ func.func private @osl.lib.noise_perlin.1(%x: vector<4xf32>) -> vector<4xf32>
 
 // -----
 
-// A routine compiled before is only declared: there is no code to
-// differentiate (osl-convert-to-vector builds every routine a derivative
-// depends on, so this is the compiler's error, not the shader's).
+// A call its site keeps (too big to inline) is differentiated by a call of
+// the routine's dual: its code and derivatives along x and y, given the
+// argument's tangents (dudx made here, dudy asked for and made by the y
+// axis), built from the routine's code (here u * u: 2 u u').
+// CHECK-LABEL: func.func @library_call_dual
+// CHECK-DAG: %[[DUDX:.+]] = llvm.load %{{.+}} {{.*}}osl.derivative_row{{.*}} -> vector<4xf32>
+// CHECK-DAG: %[[DUDY:.+]] = llvm.load %{{.+}} {{.*}}osl.derivative_row{{.*}} -> vector<4xf32>
+// CHECK: %[[R:.+]]:3 = call @[[D:osl\.lib\.noise_perlin_dual\.[0-9a-f]+]](%{{.+}}, %[[DUDX]], %[[DUDY]]) {osl.keep_call
+// CHECK-NOT: call
+// CHECK: arith.addf %[[R]]#1, %[[R]]#2
+// CHECK-NOT: osl.lane_deriv
+// CHECK: func.func private @[[D]](%[[X:.+]]: vector<4xf32>, %[[TX:.+]]: vector<4xf32>, %[[TY:.+]]: vector<4xf32>) -> (vector<4xf32>, vector<4xf32>, vector<4xf32>)
+// CHECK-SAME: osl.library_recipe = "square dual x y"
+// CHECK: %[[M:.+]] = arith.mulf %[[X]], %[[X]]
+// CHECK-DAG: arith.mulf %[[TX]], %[[X]]
+// CHECK-DAG: arith.mulf %[[TY]], %[[X]]
+// CHECK: return %[[M]],
+// COMPILED-LABEL: func.func @library_call_dual
+// COMPILED: call @osl.lib.noise_perlin_dual.{{[0-9a-f]+}}(
+// COMPILED: func.func private @osl.lib.noise_perlin_dual.{{[0-9a-f]+}}(vector<4xf32>, vector<4xf32>, vector<4xf32>) -> (vector<4xf32>, vector<4xf32>, vector<4xf32>)
+func.func @library_call_dual(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %n = call @osl.lib.noise_perlin.3(%u) {osl.keep_call} : (vector<4xf32>) -> vector<4xf32>
+  %dx = osl.lane_deriv x %n : vector<4xf32>
+  %dy = osl.lane_deriv y %n : vector<4xf32>
+  %sum = arith.addf %dx, %dy : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %sum, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}
+func.func private @osl.lib.noise_perlin.3(%x: vector<4xf32>) -> vector<4xf32>
+    attributes {osl.library_recipe = "square"} {
+  %t = arith.mulf %x, %x : vector<4xf32>
+  return %t : vector<4xf32>
+}
+
+// -----
+
+// A routine compiled before is only declared: there is no code to copy in
+// place (osl-convert-to-vector builds every routine a derivative depends
+// on, so this is the compiler's error, not the shader's).
 func.func @library_declaration(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
   %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
   %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
-  %n = call @osl.lib.noise_perlin.2(%u) {osl.keep_call} : (vector<4xf32>) -> vector<4xf32>
+  %n = call @osl.lib.noise_perlin.2(%u) : (vector<4xf32>) -> vector<4xf32>
   // expected-error @+1 {{cannot take the derivative through a library routine whose code was not built yet}}
   %d = osl.lane_deriv x %n : vector<4xf32>
   %m = arith.constant dense<true> : vector<4xi1>

@@ -71,7 +71,7 @@ struct ConvertToVectorPass
     LibraryObjectAvailable compiled = available;
     if (!compiled && assumeCompiled)
       compiled = [](StringRef) { return true; };
-    LibraryRoutineNeeds needs(shaders[0], compiled);
+    LibraryRoutineNeeds needs(shaders[0], compiled, referenceMode);
     target.addLegalDialect<arith::ArithDialect, math::MathDialect,
                            vector::VectorDialect, LLVM::LLVMDialect,
                            func::FuncDialect>();

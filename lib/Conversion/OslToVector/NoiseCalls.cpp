@@ -231,7 +231,12 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
     auto type = FunctionType::get(getContext(), ValueRange(operands).getTypes(), resultType);
     std::string text = recipe.text(width);
     bool keepCall = !siteMayInline(op, recipe, coords);
-    bool needCode = !keepCall || needs.derivativeOf.contains(op) || !needs.available;
+    // A routine a derivative goes through is differentiated by its dual
+    // routine (osl-derivatives), built from its code unless compiled
+    // before; along z, by its code copied in place.
+    bool needCode = !keepCall || !needs.available ||
+                    (needs.derivativeOf.contains(op) &&
+                     (needs.inPlaceDerivatives || !needs.available(dualRecipeOf(text))));
     size_t ncoords = coords.size(), nderivs = derivs.size();
     func::FuncOp func = libraryFunction(
         rewriter, op, recipe.name(), text, type, needCode,
@@ -244,6 +249,12 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
                                args.drop_front(ncoords + nderivs), inner, resultType)};
           return {buildNoise(recipe, args, inner, resultType)};
         });
+    if (!derivs.empty() && !func->hasAttr(kDerivativeArgsAttr)) {
+      SmallVector<int64_t> indices;
+      for (size_t i = 0; i < nderivs; ++i)
+        indices.push_back(int64_t(ncoords + i));
+      func->setAttr(kDerivativeArgsAttr, rewriter.getDenseI64ArrayAttr(indices));
+    }
     auto call = rewriter.create<func::CallOp>(loc, func, operands);
     if (keepCall)
       call->setAttr(kKeepCallAttr, rewriter.getUnitAttr());
@@ -277,12 +288,16 @@ void addBackwardSlice(Value v, DenseSet<Operation *> &slice) {
 
 } // namespace
 
-LibraryRoutineNeeds::LibraryRoutineNeeds(Operation *root, LibraryObjectAvailable available)
-    : available(std::move(available)) {
+LibraryRoutineNeeds::LibraryRoutineNeeds(Operation *root, LibraryObjectAvailable available,
+                                         bool referenceMode)
+    : inPlaceDerivatives(referenceMode), available(std::move(available)) {
   // osl-derivatives differentiates through a routine's code: a noise any
   // derivative request depends on keeps its code.
   DenseSet<Operation *> slice;
-  root->walk([&](DerivOp d) { addBackwardSlice(d.getValue(), slice); });
+  root->walk([&](DerivOp d) {
+    addBackwardSlice(d.getValue(), slice);
+    inPlaceDerivatives |= d.getAxis() == DerivAxis::z;
+  });
   for (Operation *op : slice)
     if (isa<NoiseOp>(op))
       derivativeOf.insert(op);

@@ -200,8 +200,11 @@ void populateLibraryCallPatterns(const VaryingTypeConverter &converter,
 /// the noises a derivative request depends on (their code is
 /// differentiated), and which compiled routines are at hand.
 struct LibraryRoutineNeeds {
-  LibraryRoutineNeeds(Operation *root, LibraryObjectAvailable available);
+  LibraryRoutineNeeds(Operation *root, LibraryObjectAvailable available, bool referenceMode);
   DenseSet<Operation *> derivativeOf;
+  /// Whether derivatives go through routines' code in place rather than
+  /// dual routines (osl-derivatives): along z, or in reference mode.
+  bool inPlaceDerivatives = false;
   LibraryObjectAvailable available;
 };
 
