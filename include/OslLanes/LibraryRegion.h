@@ -75,9 +75,24 @@ inline std::string dualRecipeOf(StringRef recipe) { return (recipe + " dual x y"
 /// The library function `call` calls (one with a recipe), if it does.
 func::FuncOp libraryCallee(func::CallOp call);
 
+/// Copies `callee`'s single-block body, its terminator included, at `b`'s
+/// insertion point with its arguments bound to `args`; returns the copied
+/// terminator, whose operands are what the copy returns (and stay so when
+/// a value is replaced).
+func::ReturnOp cloneBody(OpBuilder &b, func::FuncOp callee, ValueRange args);
+
 /// Replaces `call` by a copy of its callee's single-block body; returns
 /// what replaces its results.
 SmallVector<Value> inlineCall(func::CallOp call, func::FuncOp callee);
+
+/// `available`, or when it is null and `assumeAll` is set, every routine
+/// (the passes' assume-compiled option, for tests).
+inline LibraryObjectAvailable orAssumedCompiled(LibraryObjectAvailable available,
+                                                bool assumeAll) {
+  if (!available && assumeAll)
+    return [](StringRef) { return true; };
+  return available;
+}
 
 /// Whether `v` is a constant, or lanes of one: a copy of a routine it is
 /// passed to would fold it.

@@ -300,10 +300,7 @@ void osl::findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &opt
     std::string key = recipe ? recipeKey(recipe.getValue(), options)
                              : objectKey(func, symbols, fingerprint, options);
     if (auto object = lookupObject(key, directory, use)) {
-      // (Found already if osl-convert-to-vector declared it first and a
-      // later call needed its code.)
-      if (llvm::find(use.objects, object) == use.objects.end())
-        use.objects.push_back(std::move(object));
+      use.objects.push_back(std::move(object));
       // Its callers need only its signature.
       func.eraseBody();
     } else {

@@ -75,16 +75,20 @@ func::FuncOp mlir::osl::libraryCallee(func::CallOp call) {
   return callee && callee->hasAttr(kLibraryRecipeAttr) ? callee : func::FuncOp();
 }
 
-SmallVector<Value> mlir::osl::inlineCall(func::CallOp call, func::FuncOp callee) {
+func::ReturnOp mlir::osl::cloneBody(OpBuilder &b, func::FuncOp callee, ValueRange args) {
   IRMapping map;
-  map.map(callee.getArguments(), call.getOperands());
+  map.map(callee.getArguments(), args);
+  Operation *last = nullptr;
+  for (Operation &op : callee.getBody().front())
+    last = b.clone(op, map);
+  return cast<func::ReturnOp>(last);
+}
+
+SmallVector<Value> mlir::osl::inlineCall(func::CallOp call, func::FuncOp callee) {
   OpBuilder b(call);
-  Block &body = callee.getBody().front();
-  for (Operation &op : body.without_terminator())
-    b.clone(op, map);
-  SmallVector<Value> results;
-  for (Value returned : body.getTerminator()->getOperands())
-    results.push_back(map.lookupOrDefault(returned));
+  func::ReturnOp copied = cloneBody(b, callee, call.getOperands());
+  SmallVector<Value> results(copied.getOperands());
+  copied.erase();
   call.replaceAllUsesWith(results);
   call.erase();
   return results;

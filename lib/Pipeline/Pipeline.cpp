@@ -92,13 +92,9 @@ void mlir::osl::buildLibraryOutliningPipeline(OpPassManager &pm,
   // uniform, which a dual routine's tangents are not.
   DerivativesOptions derivativeOptions;
   derivativeOptions.dualRoutines = !options.reference;
-  if (outlineOptions.outline && options.libraryAvailable) {
-    pm.addPass(createConvertToVector(vectorOptions, options.libraryAvailable));
-    pm.addPass(createDerivatives(derivativeOptions, options.libraryAvailable));
-  } else {
-    pm.addPass(createConvertToVector(vectorOptions));
-    pm.addPass(createDerivatives(derivativeOptions));
-  }
+  LibraryObjectAvailable available = outlineOptions.outline ? options.libraryAvailable : nullptr;
+  pm.addPass(createConvertToVector(vectorOptions, available));
+  pm.addPass(createDerivatives(derivativeOptions, available));
   if (options.outlineEveryRoutine)
     outlineOptions.inlineOps = 0;
   pm.addPass(createOutlineLibrary(outlineOptions));

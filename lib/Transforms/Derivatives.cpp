@@ -694,7 +694,6 @@ private:
 /// compiled before is declared, not built. Shaders asking for derivatives
 /// along z (volumes) differentiate routines in place.
 struct DualRoutines {
-  ModuleOp module;
   LibraryObjectAvailable available;
   /// The y derivatives of dual calls' results, for the y axis.
   SmallVector<std::pair<Value, Value>> ySeeds;
@@ -746,36 +745,33 @@ struct DualRoutines {
             failedToDerive = true;
             return {};
           }
-          IRMapping map;
+          // What it returns is read from the copied return, its
+          // derivatives appended there: deriving may rebuild a branch or
+          // loop, which replaces the values it made.
           size_t n = type.getNumInputs();
-          map.map(callee.getArguments(), args.take_front(n));
-          for (Operation &op : callee.getBody().front().without_terminator())
-            b.clone(op, map);
-          SmallVector<Value> primal;
-          for (Value r : callee.getBody().front().getTerminator()->getOperands())
-            primal.push_back(map.lookupOrDefault(r));
-          SmallVector<Value> out(primal);
+          func::ReturnOp copied = cloneBody(b, callee, args.take_front(n));
+          unsigned results = copied.getNumOperands();
+          b.setInsertionPoint(copied);
           size_t next = n;
-          Operation *at = b.getInsertionBlock()->getParentOp();
           for (StringRef axis : {"x", "y"}) {
             Differentiator diff(axis);
             for (size_t i = 0; i < n; ++i)
               if (isTangentArg(callee, unsigned(i)))
                 diff.seed(args[i], args[next++]);
-            for (Value r : primal) {
+            for (unsigned j = 0; j < results; ++j) {
+              Value r = copied.getOperand(j);
               FailureOr<Value> d = diff.derive(r, user);
               if (failed(d)) {
                 failedToDerive = true;
                 return {};
               }
-              Value dv = *d;
-              if (!dv) {
-                OpBuilder end = OpBuilder::atBlockEnd(b.getInsertionBlock());
-                dv = Differentiator::zeroLike(end, at->getLoc(), r.getType());
-              }
-              out.push_back(dv);
+              Value dv = *d ? *d : Differentiator::zeroLike(b, copied.getLoc(), r.getType());
+              copied->insertOperands(copied.getNumOperands(), dv);
             }
           }
+          SmallVector<Value> out(copied.getOperands());
+          b.setInsertionPointToEnd(copied->getBlock()); // (the caller returns them)
+          copied.erase();
           return out;
         });
     if (failedToDerive) {
@@ -858,9 +854,7 @@ struct DerivativesPass : public mlir::osl::impl::DerivativesBase<DerivativesPass
     SmallVector<LaneDerivOp> requests[3];
     getOperation().walk(
         [&](LaneDerivOp op) { requests[static_cast<int>(op.getAxis())].push_back(op); });
-    DualRoutines duals{getOperation(), available, {}, &requests[1]};
-    if (!duals.available && assumeCompiled)
-      duals.available = [](StringRef) { return true; };
+    DualRoutines duals{orAssumedCompiled(available, assumeCompiled), {}, &requests[1]};
     // (Only x and y: a routine a z derivative goes through is copied in place.)
     bool useDuals = dualRoutines && requests[2].empty();
     // One axis at a time: rebuilding a branch for one axis replaces values

@@ -68,10 +68,8 @@ struct ConvertToVectorPass
     target.addLegalOp<LaneDerivOp>();
     // Library regions (OslLanes/LibraryRegion.h) hold converted code.
     target.addLegalOp<scf::ExecuteRegionOp>();
-    LibraryObjectAvailable compiled = available;
-    if (!compiled && assumeCompiled)
-      compiled = [](StringRef) { return true; };
-    LibraryRoutineNeeds needs(shaders[0], compiled, referenceMode);
+    LibraryRoutineNeeds needs(shaders[0], orAssumedCompiled(available, assumeCompiled),
+                              referenceMode);
     target.addLegalDialect<arith::ArithDialect, math::MathDialect,
                            vector::VectorDialect, LLVM::LLVMDialect,
                            func::FuncDialect>();
