@@ -44,6 +44,11 @@ Value buildZero(OpBuilder &b, Location loc, Type type);
 /// runs those in C++, so x * 0 keeps IEEE's sign there (-0 for a negative
 /// x), while its optimizer folds a shader's x * 0 to 0.
 constexpr llvm::StringLiteral kIeeeProductAttr = "osl.ieee_product";
+/// Marks an osl.any that tests whether any lane takes an arm reporting an
+/// error (a range check, error()): the arm is cold, and its branch says so
+/// to LLVM (osl-insert-mask-stack sets it; the OR reduction osl.any
+/// becomes keeps it for osl-lower-to-llvm).
+constexpr llvm::StringLiteral kColdArmAttr = "osl.cold_arm";
 /// The result type of a lane-wise op of this kind over these operands.
 Type inferLaneResultType(LaneKind kind, ValueRange operands);
 LogicalResult verifyLaneOp(Operation *op, LaneKind kind);

@@ -129,7 +129,14 @@ def InsertMaskStack : Pass<"osl-insert-mask-stack", "::mlir::func::FuncOp"> {
     An arm of a varying if that holds a loop, a noise call, or more than `skip-threshold`
     operations runs under `scf.if (osl.any(mask))`, so a batch in which no
     lane takes it skips it at run time; smaller arms run unconditionally
-    because the test would cost more than the arm.
+    because the test would cost more than the arm. When the other arm only
+    passes values on (`if (c) { ... }` with no else), the merge happens
+    inside the guard, and a skipped arm leaves the values as they were
+    without waiting for its condition. In a loop such a one-sided arm is
+    guarded from three operations of its own on (`if (d < r) { cover +=
+    1 - d / r; if (cover > 1.25) break; }`): the values the loop carries
+    then depend on the condition only when some lane takes the arm, as in
+    OSL's batched code, which branches around every arm.
   }];
   let options = [Option<"skipThreshold", "skip-threshold", "int", "16",
                         "operations in an arm from which it is skipped when its "

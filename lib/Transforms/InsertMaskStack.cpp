@@ -109,6 +109,22 @@ private:
     if (failed(checkSlots(op, thenYield.getValues().getTypes(), op.getResultTypes())) ||
         failed(checkSlots(op, elseYield.getValues().getTypes(), op.getResultTypes())))
       return failure();
+    // One arm with operations and one that only passes values on (`if (c)
+    // { ...; break; }`, an accumulation): in a loop the arm is guarded
+    // even when small, and its merge happens inside the guard, so
+    // when no lane takes it the loop's values pass on without waiting for
+    // the condition (a loop-carried chain the branch breaks, as OSL's
+    // batched code branches around every arm).
+    bool thenOnly = passesValuesOn(elseBlock), elseOnly = passesValuesOn(thenBlock);
+    if (thenOnly != elseOnly) {
+      Block &arm = thenOnly ? thenBlock : elseBlock;
+      if (worthSkipping(arm) || (loopDepth > 0 && workIn(arm) >= kLoopArmWork)) {
+        op.replaceAllUsesWith(inlineGuardedArm(op, arm, thenOnly ? thenMask : elseMask,
+                                               thenOnly));
+        op.erase();
+        return success();
+      }
+    }
     SmallVector<Value> thenValues = inlineArm(op, thenBlock, thenMask);
     SmallVector<Value> elseValues = inlineArm(op, elseBlock, elseMask);
     b.setInsertionPoint(op);
@@ -118,6 +134,84 @@ private:
     op.replaceAllUsesWith(merged);
     op.erase();
     return success();
+  }
+
+  /// Whether any lane takes `arm`; marked cold (kColdArmAttr) when the
+  /// arm reports an error, as range checks do on every array access.
+  static Value buildArmTest(OpBuilder &b, Location loc, Block &arm, Value armMask) {
+    auto any = b.create<AnyOp>(loc, b.getI1Type(), armMask);
+    bool reportsError = arm.walk([](PrintOp print) {
+                             return print.getStream() == "error" ||
+                                            print.getStream() == "renderer_error"
+                                        ? WalkResult::interrupt()
+                                        : WalkResult::advance();
+                           }).wasInterrupted();
+    if (reportsError)
+      any->setAttr(kColdArmAttr, b.getUnitAttr());
+    return any;
+  }
+
+  /// Operations in a loop's one-sided arm from which it is guarded: fewer
+  /// (`if (c) n += 1;`) cost less than the test.
+  static constexpr int kLoopArmWork = 3;
+
+  /// Values made up front (constants, broadcasts).
+  static bool isMadeUpFront(Operation &op) {
+    return op.hasTrait<OpTrait::ConstantLike>() || isa<BroadcastOp>(op);
+  }
+
+  /// What flattening adds to an arm besides its own computation: masks
+  /// (not, and, or of i1 lanes), merges, tests and yields.
+  static bool isBookkeeping(Operation &op) {
+    if (isa<SelectOp, AnyOp, YieldOp, scf::YieldOp, scf::IfOp>(op))
+      return true;
+    return isa<NotOp, AndOp, OrOp>(op) &&
+           getUniformType(op.getResult(0).getType()).isInteger(1);
+  }
+
+  /// An arm that computes nothing (after its own nested constructs were
+  /// flattened): its values come from outside, constants or broadcasts.
+  static bool passesValuesOn(Block &arm) {
+    return llvm::all_of(arm.without_terminator(), isMadeUpFront);
+  }
+
+  static int workIn(Block &arm) {
+    int count = 0;
+    arm.walk([&](Operation *op) { count += !isMadeUpFront(*op) && !isBookkeeping(*op); });
+    return count;
+  }
+
+  /// `op`'s merged values when only `arm` has operations: under
+  /// `scf.if (any(armMask))` the arm runs and each slot merges by the
+  /// condition; otherwise the other arm's values (defined outside the if)
+  /// pass on unchanged.
+  SmallVector<Value> inlineGuardedArm(IfOp op, Block &arm, Value armMask, bool armIsThen) {
+    Location loc = op.getLoc();
+    Block &other = armIsThen ? op.getElseRegion().front() : op.getThenRegion().front();
+    SmallVector<Value> armValues(cast<YieldOp>(arm.getTerminator()).getValues());
+    SmallVector<Value> otherValues(cast<YieldOp>(other.getTerminator()).getValues());
+    countActiveLanes(arm, loc, armMask);
+    op->getBlock()->getOperations().splice(op->getIterator(), other.getOperations(),
+                                           other.begin(), other.getTerminator()->getIterator());
+    OpBuilder b(op);
+    Value taken = buildArmTest(b, loc, arm, armMask);
+    auto guard = b.create<scf::IfOp>(loc, op.getResultTypes(), taken,
+                                     /*withThen=*/true, /*withElse=*/op.getNumResults() > 0);
+    Block *thenBlock = guard.thenBlock();
+    Operation *armYield = arm.getTerminator();
+    thenBlock->getOperations().splice(thenBlock->begin(), arm.getOperations(),
+                                      arm.begin(), armYield->getIterator());
+    OpBuilder tb = OpBuilder::atBlockEnd(thenBlock);
+    SmallVector<Value> merged;
+    for (auto [a, o] : llvm::zip(armValues, otherValues))
+      merged.push_back(a == o ? a
+                              : tb.create<SelectOp>(loc, op.getCondition(), armIsThen ? a : o,
+                                                    armIsThen ? o : a)
+                                    .getResult());
+    tb.create<scf::YieldOp>(loc, merged);
+    if (op.getNumResults() > 0)
+      OpBuilder::atBlockBegin(guard.elseBlock()).create<scf::YieldOp>(loc, otherValues);
+    return SmallVector<Value>(guard.getResults());
   }
 
   /// Moves an arm's operations before `op` and returns the values it
@@ -141,7 +235,7 @@ private:
     for (Value v : values)
       if (v.getParentBlock() == &arm && !llvm::is_contained(inner, v))
         inner.push_back(v);
-    Value taken = b.create<AnyOp>(loc, b.getI1Type(), armMask);
+    Value taken = buildArmTest(b, loc, arm, armMask);
     auto guard = b.create<scf::IfOp>(loc, TypeRange(ValueRange(inner)), taken,
                                      /*withThen=*/true, /*withElse=*/!inner.empty());
     Block *thenBlock = guard.thenBlock();
@@ -216,8 +310,11 @@ private:
                                        op.getInits());
     loop.getBefore().takeBody(op.getBefore());
     loop.getAfter().takeBody(op.getAfter());
-    if (failed(processBlock(loop.getBefore().front(), mask)) ||
-        failed(processBlock(loop.getAfter().front(), mask)))
+    ++loopDepth;
+    LogicalResult body = success(succeeded(processBlock(loop.getBefore().front(), mask)) &&
+                                 succeeded(processBlock(loop.getAfter().front(), mask)));
+    --loopDepth;
+    if (failed(body))
       return failure();
     auto cond = cast<ConditionOp>(loop.getBefore().front().getTerminator());
     auto yield = cast<YieldOp>(loop.getAfter().front().getTerminator());
@@ -257,8 +354,11 @@ private:
     Block &after = loop.getAfter().front();
     Value beforeMask = before.addArgument(maskType, loc);
     Value afterMask = after.addArgument(maskType, loc);
-    if (failed(processBlock(before, beforeMask)) ||
-        failed(processBlock(after, afterMask)))
+    ++loopDepth;
+    LogicalResult body = success(succeeded(processBlock(before, beforeMask)) &&
+                                 succeeded(processBlock(after, afterMask)));
+    --loopDepth;
+    if (failed(body))
       return failure();
     countActiveLanes(after, loc, afterMask);
 
@@ -311,6 +411,7 @@ private:
   int skipThreshold;
   bool countLanes;
   Value entryMask;
+  int loopDepth = 0;
 };
 
 struct InsertMaskStackPass

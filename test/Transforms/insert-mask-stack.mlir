@@ -441,21 +441,23 @@ func.func @partial_output() attributes {osl.shader_type = "shader"} {
 // -----
 
 // An arm holding a loop (or many operations) is skipped when no lane of
-// the batch takes it: it runs under scf.if on osl.any of its mask, and
-// yields zeros otherwise, which the merge never selects for a live lane.
-// CHECK-LABEL: func.func @empty_arm_is_skipped
+// the batch takes it: it runs under scf.if on osl.any of its mask. When
+// the other arm only passes values on, the merge happens inside the
+// guard, and a skipped arm leaves those values as they were.
+// CHECK-LABEL: func.func @one_sided_arm_merges_in_its_guard
 // CHECK: %[[ENTRY:.+]] = osl.batch_mask
 // CHECK: %[[ARM:.+]] = osl.and %[[ENTRY]], %[[C:.+]] :
 // CHECK: %[[ANY:.+]] = osl.any %[[ARM]]
 // CHECK: %[[G:.+]] = scf.if %[[ANY]] -> (!osl.varying<f32>) {
 // CHECK:   %[[L:.+]]:2 = scf.while
-// CHECK:   scf.yield %[[L]]#0
+// CHECK:   %[[M:.+]] = osl.select %[[C]], %[[L]]#0, %[[X:.+]] :
+// CHECK:   scf.yield %[[M]]
 // CHECK: } else {
-// CHECK:   %[[Z:.+]] = osl.broadcast %{{.+}} : f32 -> !osl.varying<f32>
-// CHECK:   scf.yield %[[Z]]
+// CHECK:   scf.yield %[[X]]
 // CHECK: }
-// CHECK: osl.select %[[C]], %[[G]], %{{.+}}
-func.func @empty_arm_is_skipped(%c: !osl.varying<i1>, %n: !osl.varying<f32>, %x: !osl.varying<f32>) {
+// CHECK-NOT: osl.select
+// CHECK: osl.output "x" = %[[G]]
+func.func @one_sided_arm_merges_in_its_guard(%c: !osl.varying<i1>, %n: !osl.varying<f32>, %x: !osl.varying<f32>) {
   %r = osl.if %c : !osl.varying<i1> -> !osl.varying<f32> {
     %l = osl.while (%x : !osl.varying<f32>) -> !osl.varying<f32> cond {
     ^bb0(%v: !osl.varying<f32>):
@@ -472,6 +474,104 @@ func.func @empty_arm_is_skipped(%c: !osl.varying<i1>, %n: !osl.varying<f32>, %x:
     osl.yield %x : !osl.varying<f32>
   }
   osl.output "x" = %r : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// When both arms compute, a guarded arm yields zeros when it is skipped,
+// which the merge after both arms never selects for a live lane.
+// CHECK-LABEL: func.func @guarded_arm_beside_another_arm
+// CHECK: %[[ANY:.+]] = osl.any
+// CHECK: %[[G:.+]] = scf.if %[[ANY]] -> (!osl.varying<f32>) {
+// CHECK:   %[[L:.+]]:2 = scf.while
+// CHECK:   scf.yield %[[L]]#0
+// CHECK: } else {
+// CHECK:   %[[Z:.+]] = osl.broadcast %{{.+}} : f32 -> !osl.varying<f32>
+// CHECK:   scf.yield %[[Z]]
+// CHECK: }
+// CHECK: %[[E:.+]] = osl.sin
+// CHECK: osl.select %{{.+}}, %[[G]], %[[E]]
+func.func @guarded_arm_beside_another_arm(%c: !osl.varying<i1>, %n: !osl.varying<f32>, %x: !osl.varying<f32>) {
+  %r = osl.if %c : !osl.varying<i1> -> !osl.varying<f32> {
+    %l = osl.while (%x : !osl.varying<f32>) -> !osl.varying<f32> cond {
+    ^bb0(%v: !osl.varying<f32>):
+      %lt = osl.cmp lt, %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+      osl.condition %lt : !osl.varying<i1>, %v : !osl.varying<f32>
+    } do {
+    ^bb0(%v: !osl.varying<f32>):
+      %one = arith.constant 1.0 : f32
+      %v2 = osl.add %v, %one : !osl.varying<f32>, f32 -> !osl.varying<f32>
+      osl.yield %v2 : !osl.varying<f32>
+    }
+    osl.yield %l : !osl.varying<f32>
+  } else {
+    %s = osl.sin %x : !osl.varying<f32> -> !osl.varying<f32>
+    osl.yield %s : !osl.varying<f32>
+  }
+  osl.output "x" = %r : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// In a loop, a one-sided arm of three or more operations is guarded even
+// though it is small (`if (d < r) { cover += 1 - d / r; }`): when no lane
+// takes it the carried value passes on without waiting for the condition.
+// A smaller one (`n += 1`) and one outside any loop stay selects.
+// CHECK-LABEL: func.func @small_one_sided_arms
+// CHECK: scf.while
+// CHECK: } do {
+// CHECK:   %[[ANY:.+]] = osl.any
+// CHECK:   scf.if %[[ANY]] -> (!osl.varying<f32>) {
+// CHECK:     osl.div
+// CHECK:     osl.sub
+// CHECK:     osl.add
+// CHECK:     osl.select
+// CHECK:   } else {
+// CHECK:   osl.add
+// CHECK-NOT: osl.any
+// CHECK:   osl.select
+// CHECK:   scf.yield
+// CHECK: }
+// CHECK-NOT: scf.if
+// CHECK: osl.output
+func.func @small_one_sided_arms(%d: !osl.varying<f32>, %r: f32, %x: !osl.varying<f32>, %n: !osl.varying<f32>) {
+  %loop:2 = osl.while (%x, %n : !osl.varying<f32>, !osl.varying<f32>) -> !osl.varying<f32>, !osl.varying<f32> cond {
+  ^bb0(%v: !osl.varying<f32>, %k: !osl.varying<f32>):
+    %lt = osl.cmp lt, %v, %n : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<i1>
+    osl.condition %lt : !osl.varying<i1>, %v, %k : !osl.varying<f32>, !osl.varying<f32>
+  } do {
+  ^bb0(%v: !osl.varying<f32>, %k: !osl.varying<f32>):
+    %near = osl.cmp lt, %d, %r : !osl.varying<f32>, f32 -> !osl.varying<i1>
+    %cover = osl.if %near : !osl.varying<i1> -> !osl.varying<f32> {
+      %one = arith.constant 1.0 : f32
+      %q = osl.div %d, %r : !osl.varying<f32>, f32 -> !osl.varying<f32>
+      %w = osl.sub %one, %q : f32, !osl.varying<f32> -> !osl.varying<f32>
+      %s = osl.add %v, %w : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
+      osl.yield %s : !osl.varying<f32>
+    } else {
+      osl.yield %v : !osl.varying<f32>
+    }
+    %k2 = osl.if %near : !osl.varying<i1> -> !osl.varying<f32> {
+      %one = arith.constant 1.0 : f32
+      %k1 = osl.add %k, %one : !osl.varying<f32>, f32 -> !osl.varying<f32>
+      osl.yield %k1 : !osl.varying<f32>
+    } else {
+      osl.yield %k : !osl.varying<f32>
+    }
+    osl.yield %cover, %k2 : !osl.varying<f32>, !osl.varying<f32>
+  }
+  %far = osl.cmp gt, %d, %r : !osl.varying<f32>, f32 -> !osl.varying<i1>
+  %out = osl.if %far : !osl.varying<i1> -> !osl.varying<f32> {
+    %q = osl.div %d, %r : !osl.varying<f32>, f32 -> !osl.varying<f32>
+    %w = osl.sub %loop#0, %q : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
+    %s = osl.add %loop#1, %w : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
+    osl.yield %s : !osl.varying<f32>
+  } else {
+    osl.yield %x : !osl.varying<f32>
+  }
+  osl.output "x" = %out : !osl.varying<f32>
   return
 }
 
@@ -576,5 +676,34 @@ func.func @messages_take_the_arm_mask(%c: !osl.varying<i1>, %a: !osl.varying<f32
     osl.yield
   }
   %f2, %v2 = osl.get_message "m" "float" "f"(%a) : (!osl.varying<f32>) -> (!osl.varying<i32>, !osl.varying<f32>)
+  return
+}
+
+// -----
+
+// An arm that reports an error (a range check) is cold: its test says so,
+// and osl-lower-to-llvm's branch on it says skipping is likely. An arm
+// that only prints is not.
+// CHECK-LABEL: func.func @error_arm_is_cold
+// CHECK: osl.any %{{.+}} {osl.cold_arm} : !osl.varying<i1>
+// CHECK: osl.print "renderer_error"
+// CHECK: %[[ANY:.+]] = osl.any %{{.+}} : !osl.varying<i1>
+// CHECK-NEXT: scf.if %[[ANY]]
+// CHECK: osl.print "printf"
+func.func @error_arm_is_cold(%c: !osl.varying<i1>, %a: !osl.varying<f32>, %fmt: i32) {
+  osl.if %c : !osl.varying<i1> {
+    %n = osl.noise perlin(%a) : (!osl.varying<f32>) -> !osl.varying<f32>
+    osl.print "renderer_error" "sf"(%fmt, %n) : i32, !osl.varying<f32>
+    osl.yield
+  } else {
+    osl.yield
+  }
+  osl.if %c : !osl.varying<i1> {
+    %n = osl.noise perlin(%a) : (!osl.varying<f32>) -> !osl.varying<f32>
+    osl.print "printf" "sf"(%fmt, %n) : i32, !osl.varying<f32>
+    osl.yield
+  } else {
+    osl.yield
+  }
   return
 }

@@ -19,6 +19,59 @@ func.func @loop_until_no_lane_active(%m: vector<4xi1>) -> vector<4xi1> {
 // -----
 
 // Triples of W lanes (vector<3xWxf32>) lower to arrays of 1-D vectors.
+// A branch on whether any lane takes an arm (osl-insert-mask-stack's
+// guard) says skipping is likely, so that LLVM keeps it a branch; a
+// loop's branch on the same kind of test has no weights.
+// CHECK-LABEL: llvm.func @lane_guard_weights
+// CHECK: llvm.cond_br %{{.+}} weights([1, 1000]), ^bb1, ^bb2
+// CHECK: llvm.cond_br %{{[0-9]+}}, ^
+// CHECK-NOT: weights
+func.func @lane_guard_weights(%m: vector<4xi1>, %x: vector<4xf32>) -> vector<4xf32> {
+  %any = vector.reduction <or>, %m : vector<4xi1> into i1
+  %g = scf.if %any -> vector<4xf32> {
+    %s = arith.addf %x, %x : vector<4xf32>
+    scf.yield %s : vector<4xf32>
+  } else {
+    scf.yield %x : vector<4xf32>
+  }
+  %r = scf.while (%y = %m) : (vector<4xi1>) -> vector<4xi1> {
+    %more = vector.reduction <or>, %y : vector<4xi1> into i1
+    scf.condition(%more) %y : vector<4xi1>
+  } do {
+  ^bb0(%y: vector<4xi1>):
+    %f = arith.constant dense<false> : vector<4xi1>
+    scf.yield %f : vector<4xi1>
+  }
+  return %g : vector<4xf32>
+}
+
+// -----
+
+// A cold arm's guard (osl.cold_arm on its test: the arm reports an error)
+// says skipping is likely whatever the arm's size; a large arm's that is
+// not cold has no weights.
+// CHECK-LABEL: llvm.func @cold_arm_weights
+// CHECK: llvm.cond_br %{{.+}} weights([1, 1000])
+// CHECK: llvm.call @report
+// CHECK: llvm.cond_br %{{[0-9]+}}, ^
+// CHECK-NOT: weights
+// CHECK: llvm.call @work
+func.func private @report(vector<4xf32>)
+func.func private @work(vector<4xf32>)
+func.func @cold_arm_weights(%m: vector<4xi1>, %x: vector<4xf32>) {
+  %cold = vector.reduction <or>, %m {osl.cold_arm} : vector<4xi1> into i1
+  scf.if %cold {
+    func.call @report(%x) : (vector<4xf32>) -> ()
+  }
+  %any = vector.reduction <or>, %m : vector<4xi1> into i1
+  scf.if %any {
+    func.call @work(%x) : (vector<4xf32>) -> ()
+  }
+  return
+}
+
+// -----
+
 // CHECK-LABEL: llvm.func @triple_rows
 // CHECK: llvm.extractvalue %{{.+}}[1] : !llvm.array<3 x vector<8xf32>>
 func.func @triple_rows(%t: vector<3x8xf32>) -> vector<8xf32> {

@@ -7,6 +7,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslConversion/Passes.h"
+#include "OslDialect/OslDialect.h"
 #include "OslSupport/PatternRoots.h"
 
 #include "mlir/Conversion/ArithToLLVM/ArithToLLVM.h"
@@ -20,6 +21,9 @@
 #include "mlir/Conversion/SCFToControlFlow/SCFToControlFlow.h"
 #include "mlir/Conversion/VectorToLLVM/ConvertVectorToLLVM.h"
 #include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
+#include "mlir/Dialect/ControlFlow/IR/ControlFlowOps.h"
+#include "mlir/Dialect/SCF/IR/SCF.h"
+#include "mlir/Dialect/Vector/IR/VectorOps.h"
 #include "mlir/Dialect/Math/Transforms/Passes.h"
 #include "mlir/Dialect/LLVMIR/LLVMDialect.h"
 #include "mlir/Dialect/Vector/Transforms/LoweringPatterns.h"
@@ -37,13 +41,66 @@ using namespace mlir;
 namespace {
 
 
+constexpr llvm::StringLiteral kLaneGuardAttr = "osl.lane_guard";
+
+/// Operations in a guarded arm up to which LLVM might speculate it (its
+/// own budget is a few instructions; arms guarded for their work - loops,
+/// noise, texture - are far larger or make calls, and stay branches by
+/// themselves).
+constexpr int kSpeculableArmOps = 24;
+
+/// Whether `op` tests if any lane takes an arm (an OR reduction of the
+/// arm's mask) that is cold (it reports an error) or small
+/// (osl-insert-mask-stack guards such arms in loops).
+bool isUnlikelyOrSmallLaneGuard(scf::IfOp op) {
+  auto any = op.getCondition().getDefiningOp<vector::ReductionOp>();
+  if (!any || any.getKind() != vector::CombiningKind::OR)
+    return false;
+  if (any->hasAttr(osl::kColdArmAttr))
+    return true;
+  int ops = 0;
+  bool calls = false;
+  op.getThenRegion().walk([&](Operation *nested) {
+    ++ops;
+    calls |= isa<CallOpInterface>(nested);
+  });
+  return !calls && ops <= kSpeculableArmOps;
+}
+
+/// Those lane guards' branches are tagged (kLaneGuardAttr) for
+/// weighLaneGuards.
 LogicalResult lowerStructuredControlFlow(ModuleOp module) {
+  llvm::SmallPtrSet<void *, 16> guardConditions;
+  module.walk([&](scf::IfOp op) {
+    if (isUnlikelyOrSmallLaneGuard(op))
+      guardConditions.insert(op.getCondition().getAsOpaquePointer());
+  });
   RewritePatternSet patterns(module.getContext());
   populateSCFToControlFlowConversionPatterns(patterns);
   ConversionTarget target(*module.getContext());
   target.addIllegalDialect<scf::SCFDialect>();
   target.markUnknownOpDynamicallyLegal([](Operation *) { return true; });
-  return applyPartialConversion(module, target, std::move(patterns));
+  if (failed(applyPartialConversion(module, target, std::move(patterns))))
+    return failure();
+  module.walk([&](cf::CondBranchOp br) {
+    if (guardConditions.contains(br.getCondition().getAsOpaquePointer()))
+      br->setAttr(kLaneGuardAttr, UnitAttr::get(module.getContext()));
+  });
+  return success();
+}
+
+/// A cold arm's branch says skipping is likely, which moves the arm out of
+/// line. So does a small arm's: without weights LLVM's SimplifyCFG
+/// speculates the arm back into selects on the arm's mask, which brings
+/// back the dependence on the condition the guard removes; weights beyond
+/// its "predictable" threshold (99%) keep the branch. Other guards (large
+/// arms, calls) stay branches by themselves and are often taken by some
+/// lane, so they get no weights.
+void weighLaneGuards(ModuleOp module) {
+  module.walk([](LLVM::CondBrOp br) {
+    if (br->removeAttr(kLaneGuardAttr))
+      br.setBranchWeights(llvm::ArrayRef<int32_t>{1, 1000});
+  });
 }
 
 /// The shift amount of `shift` when it is the same constant in every lane.
@@ -128,7 +185,8 @@ struct LowerToLLVMPass
     OpPassManager cleanup(ModuleOp::getOperationName());
     cleanup.addPass(createReconcileUnrealizedCastsPass());
     if (failed(runPipeline(cleanup, module)))
-      signalPassFailure();
+      return signalPassFailure();
+    weighLaneGuards(module);
   }
 };
 

@@ -84,8 +84,10 @@ struct AnyLowering : public OslPattern<AnyOp> {
       rewriter.replaceOp(op, adaptor.getMask());
       return success();
     }
-    rewriter.replaceOpWithNewOp<vector::ReductionOp>(op, vector::CombiningKind::OR,
-                                                     adaptor.getMask());
+    auto any = rewriter.replaceOpWithNewOp<vector::ReductionOp>(
+        op, vector::CombiningKind::OR, adaptor.getMask());
+    if (op->hasAttr(kColdArmAttr))
+      any->setAttr(kColdArmAttr, rewriter.getUnitAttr());
     return success();
   }
 };
