@@ -265,7 +265,8 @@ def main():
     cases = [c for c in cases if re.search(a.only, c.name) and not (a.skip and re.search(a.skip, c.name))]
 
     print("osl-run --width %d against testshade --batched (batch %d), 1 thread, %dx%d, "
-          "shading = (N passes - 1 pass) / (N - 1), N >= %d, best of %d interleaved rounds"
+          "shading = each tool's own shading-loop timer, (N passes - 1 pass) / (N - 1), "
+          "N >= %d, best of %d interleaved rounds"
           % (a.width, a.width, a.res, a.res, a.passes, a.rounds), flush=True)
     runnable = []
     for c in cases:
@@ -361,7 +362,8 @@ def main():
             c.name, ns["osl"], ns["ours"], ratio, wall_ratio, opt[c.name], first_cost,
             ours_compile[c.name], cr, fr, ours_all[c.name], wr), flush=True)
     if runnable:
-        worst = max(zip(ratios, (c.name for c in runnable)))
+        worst = max(((r, c.name) for r, c in zip(ratios, runnable) if math.isfinite(r)),
+                    default=(float("nan"), "none"))
         print("\nshading: geometric mean %.2fx OSL over %d shaders, worst %.2fx (%s), "
               "%d slower than OSL" % (geomean(ratios), len(ratios), worst[0], worst[1],
                                       sum(r > 1 for r in ratios)))

@@ -34,6 +34,11 @@
 
 using namespace osl;
 
+/// --lane-stats and --stats (defined below).
+void reportRun(const RunOptions &options, ShaderCompiler &compiler,
+               const CompiledShader &shader, ThreadPool &pool, Stats &stats,
+               double shading);
+
 namespace {
 
 int fail(const std::string &message) {
@@ -222,7 +227,7 @@ void armTimeout(int seconds) {
 /// rows at a time, each image written as it goes (under a temporary name,
 /// renamed when whole). What the shader prints comes band by band, before
 /// the "Output ... to ..." lines.
-int shadeInBands(RunOptions &options, const CompiledShader &shader,
+int shadeInBands(RunOptions &options, ShaderCompiler &compiler, const CompiledShader &shader,
                  const std::vector<OutputFile> &files, int bandRows,
                  ThreadPool &pool, Stats &stats) {
   std::string error;
@@ -267,6 +272,11 @@ int shadeInBands(RunOptions &options, const CompiledShader &shader,
   for (size_t i = 0; i < files.size(); ++i)
     if (files[i].file != "null" && !options.outputs.empty())
       llvm::outs() << "Output " << files[i].name << " to " << files[i].file << "\n";
+  // The whole window again, for the per-point figures (--stats printed
+  // nothing for a banded grid before).
+  options.grid.rowBegin = top;
+  options.grid.rowEnd = bottom;
+  reportRun(options, compiler, shader, pool, stats, shading);
   return statusAfterShading(options);
 }
 
@@ -507,7 +517,7 @@ int main(int argc, char **argv) {
     ThreadPool pool(options.grid.threads);
     int bandRows =
         int(std::clamp(budget / rowBytes, 1.0, double(imageHeight(options.grid))));
-    return shadeInBands(options, *shader, files, bandRows, pool, stats);
+    return shadeInBands(options, compiler, *shader, files, bandRows, pool, stats);
   }
 
   options.grid.progress = true;
