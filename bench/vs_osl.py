@@ -19,10 +19,10 @@ loop (testshade --runstats' "Run", osl-run --stats' "shading") at N passes
 minus that at 1 pass (best of the rounds each), the two tools interleaved
 shader by shader; N is --passes or more, so that OSL's N passes take about
 0.5 s. The "wall" column is the same difference of whole-process times: it
-was the measure until testshade's start-up (0.6-0.9 s, loading LLVM and
-clang, with work on other threads) was seen to move by 0.2 s between runs,
-as much as 11 passes of a 100 ns shader, so that OSL's wall figures for one
-shader swung 60-280 ns between runs while its own Run timer agreed to 5%. Compile time: osl-run's source-to-kernel (--stats, no
+was the measure until testshade's start-up (loading LLVM and clang) was
+seen to take 0.65 s in one run and 0.87 s in the next of the same one-pass
+command, as much as 8 passes of a 100 ns shader at 512x512, while its Run
+timer moved by 0.02 s. Compile time: osl-run's source-to-kernel (--stats, no
 kernel cache; the noise routines of the prebuilt library linked, as OSL
 links its batched library compiled when it was built; "all compiled":
 without the prebuilt library either, every noise routine compiled) against OSL's "Runtime optimization cost" (testshade
