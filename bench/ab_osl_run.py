@@ -86,8 +86,8 @@ def main():
         print("%-40s %10.2f %10.2f %7.2f" % (c.name, best["before"], best["after"], ratio),
               flush=True)
     if ratios:
-        mean = math.exp(sum(math.log(r) for r, _ in ratios) / len(ratios))
-        print("\ngeometric mean %.3f over %d shaders" % (mean, len(ratios)))
+        print("\ngeometric mean %.3f over %d shaders" % (
+            vs_osl.geomean([r for r, _ in ratios]), len(ratios)))
         for r, name in sorted(ratios):
             if abs(r - 1) > 0.05:
                 print("  %s %.2f" % (name, r))

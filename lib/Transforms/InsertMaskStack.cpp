@@ -151,6 +151,21 @@ private:
     return any;
   }
 
+  /// `scf.if (any(armMask))` before `op` (with an else block when it has
+  /// `results`), holding the arm's operations; the caller adds the yields
+  /// (the builder adds none: an arm that yields nothing, e.g. one that only
+  /// prints, still needs its scf.yield).
+  scf::IfOp guardArm(IfOp op, Block &arm, Value armMask, TypeRange results) {
+    OpBuilder b(op);
+    Value taken = buildArmTest(b, op.getLoc(), arm, armMask);
+    auto guard = b.create<scf::IfOp>(op.getLoc(), results, taken,
+                                     /*withThen=*/true, /*withElse=*/!results.empty());
+    Block *thenBlock = guard.thenBlock();
+    thenBlock->getOperations().splice(thenBlock->begin(), arm.getOperations(), arm.begin(),
+                                      arm.getTerminator()->getIterator());
+    return guard;
+  }
+
   /// Operations in a loop's one-sided arm from which it is guarded: fewer
   /// (`if (c) n += 1;`) cost less than the test.
   static constexpr int kLoopArmWork = 3;
@@ -193,15 +208,8 @@ private:
     countActiveLanes(arm, loc, armMask);
     op->getBlock()->getOperations().splice(op->getIterator(), other.getOperations(),
                                            other.begin(), other.getTerminator()->getIterator());
-    OpBuilder b(op);
-    Value taken = buildArmTest(b, loc, arm, armMask);
-    auto guard = b.create<scf::IfOp>(loc, op.getResultTypes(), taken,
-                                     /*withThen=*/true, /*withElse=*/op.getNumResults() > 0);
-    Block *thenBlock = guard.thenBlock();
-    Operation *armYield = arm.getTerminator();
-    thenBlock->getOperations().splice(thenBlock->begin(), arm.getOperations(),
-                                      arm.begin(), armYield->getIterator());
-    OpBuilder tb = OpBuilder::atBlockEnd(thenBlock);
+    scf::IfOp guard = guardArm(op, arm, armMask, op.getResultTypes());
+    OpBuilder tb = OpBuilder::atBlockEnd(guard.thenBlock());
     SmallVector<Value> merged;
     for (auto [a, o] : llvm::zip(armValues, otherValues))
       merged.push_back(a == o ? a
@@ -228,23 +236,14 @@ private:
                                      arm.begin(), yield->getIterator());
       return values;
     }
-    OpBuilder b(op);
     Location loc = op.getLoc();
     // Only values made inside the arm need to leave the guard.
     SmallVector<Value> inner;
     for (Value v : values)
       if (v.getParentBlock() == &arm && !llvm::is_contained(inner, v))
         inner.push_back(v);
-    Value taken = buildArmTest(b, loc, arm, armMask);
-    auto guard = b.create<scf::IfOp>(loc, TypeRange(ValueRange(inner)), taken,
-                                     /*withThen=*/true, /*withElse=*/!inner.empty());
-    Block *thenBlock = guard.thenBlock();
-    thenBlock->getOperations().splice(thenBlock->begin(), arm.getOperations(),
-                                      arm.begin(), yield->getIterator());
-    // (This builder adds no terminators: an arm that yields nothing, e.g.
-    // one that only prints, still needs its scf.yield.)
-    OpBuilder tb = OpBuilder::atBlockEnd(thenBlock);
-    tb.create<scf::YieldOp>(loc, inner);
+    scf::IfOp guard = guardArm(op, arm, armMask, TypeRange(ValueRange(inner)));
+    OpBuilder::atBlockEnd(guard.thenBlock()).create<scf::YieldOp>(loc, inner);
     if (!inner.empty()) {
       OpBuilder eb = OpBuilder::atBlockBegin(guard.elseBlock());
       SmallVector<Value> zeros;

@@ -70,10 +70,10 @@ bool isUnlikelyOrSmallLaneGuard(scf::IfOp op) {
 /// Those lane guards' branches are tagged (kLaneGuardAttr) for
 /// weighLaneGuards.
 LogicalResult lowerStructuredControlFlow(ModuleOp module) {
-  llvm::SmallPtrSet<void *, 16> guardConditions;
+  llvm::DenseSet<Value> guardConditions;
   module.walk([&](scf::IfOp op) {
     if (isUnlikelyOrSmallLaneGuard(op))
-      guardConditions.insert(op.getCondition().getAsOpaquePointer());
+      guardConditions.insert(op.getCondition());
   });
   RewritePatternSet patterns(module.getContext());
   populateSCFToControlFlowConversionPatterns(patterns);
@@ -83,7 +83,7 @@ LogicalResult lowerStructuredControlFlow(ModuleOp module) {
   if (failed(applyPartialConversion(module, target, std::move(patterns))))
     return failure();
   module.walk([&](cf::CondBranchOp br) {
-    if (guardConditions.contains(br.getCondition().getAsOpaquePointer()))
+    if (guardConditions.contains(br.getCondition()))
       br->setAttr(kLaneGuardAttr, UnitAttr::get(module.getContext()));
   });
   return success();
