@@ -465,6 +465,34 @@ def Osl_NoiseOp : Osl_Op<"noise", [Pure, AttrSizedOperandSegments]> {
   let hasVerifier = 1;
 }
 
+def Osl_NoiseByKindOp : Osl_Op<"noise_by_kind", [Pure, AttrSizedOperandSegments]> {
+  let summary = "noise(name, p [, t]) whose kind is a value: chosen per point or at run time";
+  let description = [{
+    The noise of `kind` (an i32 holding an `osl.noise` kind's number, uniform
+    or per point) at `coords`, domains and `periodic` as in `osl.noise`; a
+    kind outside the kinds the noise has (simplex kinds when periodic) gives
+    0. The front end makes one for noise("name", ...) whose name is one of
+    several strings the shader knows (an element of a constant array), so
+    that the kernel makes one call, as OSL's batched backend calls one
+    routine that switches on the name, instead of one call per name.
+
+    Gabor noise is among the kinds with OSL's default options; `derivs`
+    holds Dx then Dy of the lookup point (as `osl.noise`'s), for its
+    filter: none for a 1D domain, zeros where the shader's names exclude
+    "gabor".
+  }];
+  let arguments = (ins Osl_Value:$kind, Variadic<Osl_Value>:$coords, UnitAttr:$periodic,
+                       Variadic<Osl_Value>:$derivs);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = [{
+    $kind `:` type($kind) `(` $coords `)`
+    (`derivs` `(` $derivs^ `:` type($derivs) `)`)?
+    attr-dict `:` functional-type($coords, $result)
+  }];
+  let hasVerifier = 1;
+  let hasCanonicalizer = 1;
+}
+
 def Osl_TransformOp : Osl_Op<"transform", [Pure]> {
   let summary = "transform a point, vector or normal between named spaces";
   let arguments = (ins StrAttr:$from, StrAttr:$to, Osl_TransformKind:$kind, Osl_Triple:$value);

@@ -35,6 +35,11 @@ constexpr const char *kLibraryRecipeAttr = "osl.library_recipe";
 /// is the same whether the function's code was built or found compiled.
 constexpr const char *kKeepCallAttr = "osl.keep_call";
 
+/// On a library function compiled before (a declaration): the library
+/// functions its object calls (noise_by_kind calls each kind's routine),
+/// kept in the module so that their objects are linked beside it.
+constexpr const char *kLibraryCalleesAttr = "osl.library_callees";
+
 /// On a library function: the indices of its arguments that are
 /// derivatives themselves (Gabor noise's dP/dx and dP/dy for its filter):
 /// OSL takes a derivative of a derivative as 0, so they have no tangents.

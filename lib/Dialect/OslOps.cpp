@@ -233,6 +233,19 @@ StringRef mlir::osl::splineBasisName(SplineBasis basis) {
   return basis == SplineBasis::catmullrom ? "catmull-rom" : stringifySplineBasis(basis);
 }
 
+/// Whether `derivs` are Dx then Dy of each coordinate of the lookup point
+/// of a noise whose domain (uniform types, without periods) is `domain`:
+/// the triple, or each float coordinate.
+static bool arePointDerivs(ValueRange derivs, ArrayRef<Type> domain) {
+  ArrayRef<Type> point = isTriple(domain[0]) ? domain.take_front(1) : domain;
+  if (derivs.size() != 2 * point.size())
+    return false;
+  for (auto [k, d] : llvm::enumerate(derivs))
+    if (getUniformType(d.getType()) != point[k % point.size()])
+      return false;
+  return true;
+}
+
 /// Gabor's options and filter derivatives (see the op's description).
 /// `domain` holds the uniform types of the coordinates, without periods.
 static LogicalResult verifyNoiseOptions(NoiseOp op, ArrayRef<Type> domain) {
@@ -258,39 +271,81 @@ static LogicalResult verifyNoiseOptions(NoiseOp op, ArrayRef<Type> domain) {
       return op.emitOpError("noise option '")
              << o.name << "' has the wrong type " << o.value.getType();
   }
-  if (op.getDerivs().empty())
-    return success();
-  // Derivatives of the point: the triple, or each float coordinate.
-  ArrayRef<Type> point = isTriple(domain[0]) ? domain.take_front(1) : domain;
-  auto derivs = op.getDerivs();
-  if (derivs.size() != 2 * point.size())
+  if (!op.getDerivs().empty() && !arePointDerivs(op.getDerivs(), domain))
     return op.emitOpError("derivs must be Dx then Dy of each point coordinate");
-  for (auto [k, d] : llvm::enumerate(derivs))
-    if (getUniformType(d.getType()) != point[k % point.size()])
-      return op.emitOpError("derivs must be Dx then Dy of each point coordinate");
   return success();
 }
 
-LogicalResult NoiseOp::verify() {
+/// The domain of a noise's coordinates (their uniform types, periods
+/// dropped), checked against the domains noise has; failure reported.
+static FailureOr<SmallVector<Type>> verifyNoiseDomain(Operation *op, ValueRange coords,
+                                                      bool periodic, Type result) {
   SmallVector<Type> bases;
-  for (Value v : getCoords())
+  for (Value v : coords)
     bases.push_back(getUniformType(v.getType()));
-  if (getPeriodic()) {
+  if (periodic) {
     size_t half = bases.size() / 2;
     if (bases.size() % 2 ||
         !llvm::equal(ArrayRef<Type>(bases).take_front(half),
                      ArrayRef<Type>(bases).drop_front(half)))
-      return emitOpError("periodic noise takes one period per coordinate, of its type");
+      return op->emitOpError("periodic noise takes one period per coordinate, of its type");
     bases.resize(half);
   }
   bool domainOk = (bases.size() == 1 && isFloatLike(bases[0])) ||
                   (bases.size() == 2 && isFloatLike(bases[0]) && bases[1].isF32());
   if (!domainOk)
-    return emitOpError("domain must be (float), (float, float), (triple) or "
-                       "(triple, float)");
-  if (!isFloatLike(getUniformType(getType())))
-    return emitOpError("result must be f32 or a triple");
-  return verifyNoiseOptions(*this, bases);
+    return op->emitOpError("domain must be (float), (float, float), (triple) or "
+                           "(triple, float)");
+  if (!isFloatLike(getUniformType(result)))
+    return op->emitOpError("result must be f32 or a triple");
+  return bases;
+}
+
+LogicalResult NoiseOp::verify() {
+  auto domain = verifyNoiseDomain(*this, getCoords(), getPeriodic(), getType());
+  if (failed(domain))
+    return failure();
+  return verifyNoiseOptions(*this, *domain);
+}
+
+LogicalResult NoiseByKindOp::verify() {
+  auto domain = verifyNoiseDomain(*this, getCoords(), getPeriodic(), getType());
+  if (failed(domain))
+    return failure();
+  if (!getUniformType(getKind().getType()).isInteger(32))
+    return emitOpError("kind must be an i32");
+  // Gabor filters a 2D, 3D or 4D domain by the point's derivatives.
+  bool filtered = domain->size() == 2 || isTriple((*domain)[0]);
+  if (filtered ? !arePointDerivs(getDerivs(), *domain) : !getDerivs().empty())
+    return emitOpError(filtered ? "derivs must be Dx then Dy of each point coordinate"
+                                : "a 1D noise takes no derivs");
+  return success();
+}
+
+namespace {
+/// A noise whose kind is a constant is the noise of that kind.
+struct NoiseOfConstantKind : public OpRewritePattern<NoiseByKindOp> {
+  using OpRewritePattern::OpRewritePattern;
+  LogicalResult matchAndRewrite(NoiseByKindOp op, PatternRewriter &rewriter) const override {
+    APInt value;
+    if (!matchPattern(op.getKind(), m_ConstantInt(&value)))
+      return failure();
+    std::optional<NoiseKind> kind = symbolizeNoiseKind(uint32_t(value.getSExtValue()));
+    if (!kind || (op.getPeriodic() && (*kind == NoiseKind::simplex ||
+                                       *kind == NoiseKind::usimplex)))
+      return failure(); // 0: left to the lowering, which knows the zero of every type
+    bool gabor = *kind == NoiseKind::gabor;
+    rewriter.replaceOpWithNewOp<NoiseOp>(
+        op, op.getType(), *kind, op.getCoords(), op.getPeriodic(),
+        gabor ? op.getDerivs() : ValueRange(), Value(), Value(), Value(), Value(), Value());
+    return success();
+  }
+};
+} // namespace
+
+void NoiseByKindOp::getCanonicalizationPatterns(RewritePatternSet &results,
+                                                MLIRContext *context) {
+  results.add<NoiseOfConstantKind>(context);
 }
 
 LogicalResult TransformOp::verify() {

@@ -376,8 +376,28 @@ RValue IRGen::stringChoice(std::vector<RValue> strings, Value index, SrcLoc l) {
     }
     return RValue::runtimeString(handle);
   }
-  // Flatten nested choices: each choice becomes its own entry.
   RValue r = RValue::string("");
+  if (strings.size() > 2 &&
+      llvm::none_of(strings, [](const RValue &s) { return s.isStringChoice(); })) {
+    // Choice k is string k: the index itself where it is one (0 elsewhere),
+    // two compares where a compare and a select per string would do.
+    for (const RValue &s : strings)
+      r.choices.push_back(s.str);
+    int32_t last = int32_t(strings.size()) - 1;
+    if (auto clamp = index.getDefiningOp<ClampOp>()) {
+      // An array's index, clamped as OSL clamps it: in range already.
+      auto lo = getConstScalar(clamp.getB()), hi = getConstScalar(clamp.getC());
+      if (lo && hi && *lo >= 0 && *hi <= last) {
+        r.value = index;
+        return r;
+      }
+    }
+    Value inRange = boolAnd(cmp("ge", index, constInt(0, l), l),
+                            cmp("le", index, constInt(last, l), l), l);
+    r.value = select(inRange, index, constInt(0, l), l);
+    return r;
+  }
+  // Flatten nested choices: each choice becomes its own entry.
   Value flat = constInt(0, l);
   for (size_t k = 0; k < strings.size(); ++k) {
     Value isK = b.create<CmpOp>(loc(l), "eq", index, constInt(int(k), l));

@@ -215,6 +215,11 @@ public:
     return error(l, msg);
   }
 
+  /// Arrays from this length on are read through osl.table_read when every
+  /// element is a compile-time constant: one gather instead of a compare
+  /// and a select per element.
+  static constexpr int kTableMinLength = 8;
+
   mlir::Value constInt(int32_t v, SrcLoc l);
   mlir::Value constFloat(float v, SrcLoc l);
   mlir::Value constBool(bool v, SrcLoc l);

@@ -167,11 +167,6 @@ static RValue matrixRow(const RValue &m, int i) {
   return row;
 }
 
-/// Arrays from this length on are read through osl.table_read when every
-/// element is a compile-time constant: one gather instead of a compare and
-/// a select per element.
-static constexpr int kTableMinLength = 8;
-
 /// The elements' constants, one list per component (one for numbers, three
 /// for triples), or none when an element is not a constant.
 static std::optional<std::vector<DenseElementsAttr>>

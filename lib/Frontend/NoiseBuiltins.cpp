@@ -1,11 +1,13 @@
 //===- NoiseBuiltins.cpp - noise, snoise, cellnoise, pnoise, gabor ----------===//
 //
 // The noise family by name (a compile-time string, or one chosen per
-// point), with Gabor noise's options (osl-lane-group-filter splits per-point ones).
+// point: one osl.noise_by_kind), with Gabor noise's options
+// (osl-lane-group-filter splits per-point ones).
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
 
+#include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/Matchers.h"
 
 using namespace mlir;
@@ -92,6 +94,75 @@ std::vector<Value> gaborFilterDerivs(IRGen &g, SrcLoc l, llvm::ArrayRef<Value> p
   return derivs;
 }
 
+/// The kinds a noise name may be, in the order of `choices`; none if a
+/// name is unknown (for periodic noise, simplex is: OSL reports it where
+/// the point runs, which the per-name expansion does).
+std::optional<std::vector<NoiseKind>> knownKinds(const std::vector<std::string> &choices,
+                                                 bool periodic) {
+  std::vector<NoiseKind> kinds;
+  for (const std::string &name : choices) {
+    std::optional<NoiseKind> kind = noiseKindFromName(name);
+    if (!kind || (periodic && (*kind == NoiseKind::simplex || *kind == NoiseKind::usimplex)))
+      return std::nullopt;
+    kinds.push_back(*kind);
+  }
+  return kinds;
+}
+
+/// noise(name, ...) whose name is one of several strings (`kindName`, a
+/// string choice) naming at least two kinds, without Gabor options: one
+/// osl.noise_by_kind on the kind the choice picks (null otherwise, and the
+/// noise is expanded per name).
+Value emitNoiseByKind(IRGen &g, const Expr &call, const RValue &kindName,
+                      const NoiseOptionValues &options, llvm::ArrayRef<Value> coords,
+                      llvm::ArrayRef<Value> pointCoords, bool periodic, Type resultType) {
+  if (!kindName.isStringChoice() || options.anisotropic || options.direction ||
+      options.bandwidth || options.impulses || options.doFilter)
+    return {};
+  std::optional<std::vector<NoiseKind>> kinds = knownKinds(kindName.choices, periodic);
+  if (!kinds || llvm::all_equal(*kinds))
+    return {};
+  OpBuilder &b = g.builder();
+  Location loc = g.loc(call.loc);
+  // The kind of each choice, as the per-name expansion picks it: choice 0,
+  // else choice 1, ..., else the last.
+  Value kind;
+  int32_t last = int32_t(kinds->size()) - 1;
+  if (kinds->size() >= size_t(IRGen::kTableMinLength)) {
+    SmallVector<int32_t> table;
+    for (NoiseKind k : *kinds)
+      table.push_back(int32_t(k));
+    Value index = b.create<ClampOp>(loc, kindName.value, g.constInt(0, call.loc),
+                                    g.constInt(last, call.loc));
+    kind = b.create<TableReadOp>(
+        loc, withUniformity(b.getI32Type(), isVarying(index.getType())),
+        DenseElementsAttr::get(RankedTensorType::get({int64_t(table.size())}, b.getI32Type()),
+                               ArrayRef<int32_t>(table)),
+        index);
+  } else {
+    kind = g.constInt(int32_t(kinds->back()), call.loc);
+    for (int32_t k = last; k-- > 0;) {
+      Value isK = b.create<CmpOp>(loc, "eq", kindName.value, g.constInt(k, call.loc));
+      kind = b.create<SelectOp>(loc, isK, g.constInt(int32_t((*kinds)[k]), call.loc), kind);
+    }
+  }
+  // Gabor's filter reads the point's derivatives; zeros stand in where no
+  // name is "gabor" (the routine never reads them then).
+  bool gabor = llvm::is_contained(*kinds, NoiseKind::gabor);
+  std::vector<Value> derivs;
+  if (pointCoords.size() > 1 || isTriple(getUniformType(pointCoords[0].getType()))) {
+    for (char axis : {'x', 'y'})
+      for (Value c : pointCoords)
+        derivs.push_back(gabor ? derivOf(g, call.loc, c, axis)
+                               : b.create<arith::ConstantOp>(
+                                     loc, b.getZeroAttr(getUniformType(c.getType()))));
+  }
+  // A kind chosen per point makes the noise vary even at a uniform point.
+  Type type = withUniformity(getUniformType(resultType),
+                             isVarying(resultType) || isVarying(kind.getType()));
+  return b.create<NoiseByKindOp>(loc, type, kind, coords, periodic, derivs);
+}
+
 } // namespace
 
 std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expected) {
@@ -160,6 +231,8 @@ std::optional<RValue> emitNoise(IRGen &g, const Expr &call, const OslType *expec
   OslType resultType = triple ? OslType(expected->base) : OslType(BaseType::Float);
   bool varying = llvm::any_of(coords, [](Value v) { return isVarying(v.getType()); });
   Type t = withUniformity(irType(g.builder(), resultType), varying);
+  if (Value v = emitNoiseByKind(g, call, kindName, *options, coords, pointCoords, periodic, t))
+    return RValue::num(resultType, v);
   return g.forEachStringChoice(kindName, call.loc, [&](const std::string &k) {
     std::optional<NoiseKind> kind = noiseKindFromName(k);
     // Simplex noise has no periodic form: OSL reports it as an unknown

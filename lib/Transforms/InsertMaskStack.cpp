@@ -275,7 +275,7 @@ private:
     bool expensive = false;
     arm.walk([&](Operation *nested) {
       ++count;
-      expensive |= isa<scf::WhileOp, WhileOp, NoiseOp, SplineInverseOp, TextureOp,
+      expensive |= isa<scf::WhileOp, WhileOp, NoiseOp, NoiseByKindOp, SplineInverseOp, TextureOp,
                       StringCallOp, PrintOp, SetMessageOp, GetMessageOp, PointCloudOp>(nested);
     });
     return expensive || count > skipThreshold;

@@ -138,6 +138,10 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
     auto eraseUncalled = [&](ArrayRef<func::FuncOp> funcs) {
       DenseSet<StringAttr> called;
       module.walk([&](func::CallOp call) { called.insert(call.getCalleeAttr().getAttr()); });
+      for (auto func : module.getOps<func::FuncOp>())
+        if (auto callees = func->getAttrOfType<ArrayAttr>(kLibraryCalleesAttr))
+          for (auto callee : callees.getAsRange<FlatSymbolRefAttr>())
+            called.insert(callee.getAttr());
       for (func::FuncOp func : funcs)
         if (!called.contains(func.getSymNameAttr()))
           symbols.erase(func);

@@ -131,3 +131,23 @@ func.func @broadcast_of_varying() {
   osl.output "b" = %b : !osl.varying<f32>
   return
 }
+
+// -----
+
+// A noise by kind whose kind is a constant is that kind's noise; Gabor
+// keeps the derivatives for its filter, other kinds drop them. A periodic
+// simplex kind (0) is left to the lowering.
+// CHECK-LABEL: func.func @noise_of_constant_kind
+// CHECK: osl.noise cell(%arg0) : (vector<3xf32>) -> f32
+// CHECK: osl.noise gabor(%arg0) derivs(%arg1, %arg1 : vector<3xf32>, vector<3xf32>)
+// CHECK: osl.noise_by_kind %{{.+}} : i32(%arg0, %arg0) derivs({{.+}}) {periodic}
+func.func @noise_of_constant_kind(%p: vector<3xf32>, %d: vector<3xf32>) -> (f32, f32, f32) {
+  %cell = arith.constant 2 : i32
+  %gabor = arith.constant 6 : i32
+  %simplex = arith.constant 4 : i32
+  %a = osl.noise_by_kind %cell : i32(%p) derivs(%d, %d : vector<3xf32>, vector<3xf32>) : (vector<3xf32>) -> f32
+  %b = osl.noise_by_kind %gabor : i32(%p) derivs(%d, %d : vector<3xf32>, vector<3xf32>) : (vector<3xf32>) -> f32
+  %c = osl.noise_by_kind %simplex : i32(%p, %p) derivs(%d, %d : vector<3xf32>, vector<3xf32>) {periodic} : (vector<3xf32>, vector<3xf32>) -> f32
+  return %a, %b, %c : f32, f32, f32
+}
+

@@ -426,3 +426,28 @@ func.func @table_read_f64(%i: i32) {
   %0 = osl.table_read dense<[1.0, 2.0]> : tensor<2xf64>[%i] : i32 -> f32
   return
 }
+
+// -----
+
+func.func @noise_by_kind_float_kind(%k: f32, %p: vector<3xf32>) {
+  // expected-error @+1 {{kind must be an i32}}
+  %0 = osl.noise_by_kind %k : f32(%p) derivs(%p, %p : vector<3xf32>, vector<3xf32>) : (vector<3xf32>) -> f32
+  return
+}
+
+// -----
+
+func.func @noise_by_kind_without_derivs(%k: i32, %p: vector<3xf32>) {
+  // expected-error @+1 {{derivs must be Dx then Dy of each point coordinate}}
+  %0 = osl.noise_by_kind %k : i32(%p) : (vector<3xf32>) -> f32
+  return
+}
+
+// -----
+
+func.func @noise_by_kind_1d_with_derivs(%k: i32, %x: f32) {
+  // expected-error @+1 {{a 1D noise takes no derivs}}
+  %0 = osl.noise_by_kind %k : i32(%x) derivs(%x, %x : f32, f32) : (f32) -> f32
+  return
+}
+

@@ -151,3 +151,13 @@ func.func @table_read(%i: !osl.varying<i32>, %j: i32) {
   %f = osl.table_read dense<[0.5, 0.25]> : tensor<2xf32>[%j] : i32 -> f32
   return
 }
+
+// CHECK-LABEL: func.func @noise_by_kind
+func.func @noise_by_kind(%k: !osl.varying<i32>, %x: f32, %y: !osl.varying<f32>) -> (!osl.varying<f32>, !osl.varying<f32>) {
+  // CHECK: osl.noise_by_kind %{{.+}} : !osl.varying<i32>(%{{.+}}) : (f32) -> !osl.varying<f32>
+  %a = osl.noise_by_kind %k : !osl.varying<i32>(%x) : (f32) -> !osl.varying<f32>
+  // CHECK: osl.noise_by_kind %{{.+}} : !osl.varying<i32>(%{{.+}}, %{{.+}}, %{{.+}}, %{{.+}}) derivs(%{{.+}}, %{{.+}}, %{{.+}}, %{{.+}} : f32, !osl.varying<f32>, f32, !osl.varying<f32>) {periodic} : (f32, !osl.varying<f32>, f32, f32) -> !osl.varying<f32>
+  %b = osl.noise_by_kind %k : !osl.varying<i32>(%x, %y, %x, %x) derivs(%x, %y, %x, %y : f32, !osl.varying<f32>, f32, !osl.varying<f32>) {periodic} : (f32, !osl.varying<f32>, f32, f32) -> !osl.varying<f32>
+  return %a, %b : !osl.varying<f32>, !osl.varying<f32>
+}
+

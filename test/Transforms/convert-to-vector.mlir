@@ -777,3 +777,60 @@ func.func @splineinverse_region() {
   osl.output "y" = %y : !osl.varying<f32>
   return
 }
+
+// -----
+
+// A noise whose kind differs per point is one call of a noise_by_kind
+// routine, which tests each kind some lane has and calls its routine:
+// built when not compiled before, only declared when it is, with the
+// routines its object calls listed and declared beside it. Its uniform
+// operands (the zero derivatives here) are broadcast: one signature.
+// CHECK-LABEL: osl.shader_name = "noise_by_kind_is_one_call"
+// CHECK: call @[[BYKIND:osl.lib.noise_by_kind.[0-9a-f]+]](%{{.+}}, %{{.+}}, %{{.+}}, %{{.+}}) {osl.keep_call} : (vector<8xi32>, vector<3x8xf32>, vector<3x8xf32>, vector<3x8xf32>) -> vector<8xf32>
+// CHECK: func.func private @[[BYKIND]](
+// CHECK-SAME: osl.library_recipe = "noise by kind width 8 (!osl.varying<vector<3xf32>>) derivs (!osl.varying<vector<3xf32>>, !osl.varying<vector<3xf32>>) -> !osl.varying<f32>"
+// CHECK: arith.cmpi eq, %arg0, %{{.+}} : vector<8xi32>
+// CHECK: vector.reduction <or>
+// CHECK: scf.if
+// CHECK: call @osl.lib.noise_perlin.{{[0-9a-f]+}}(%arg1) {osl.keep_call}
+// CHECK: arith.select
+// CHECK-COUNT-6: call @osl.lib.noise_
+// CHECK: return
+// ASSUMED-LABEL: osl.shader_name = "noise_by_kind_is_one_call"
+// ASSUMED: call @[[BYKIND:osl.lib.noise_by_kind.[0-9a-f]+]](
+// ASSUMED: func.func private @[[BYKIND]](vector<8xi32>, vector<3x8xf32>, vector<3x8xf32>, vector<3x8xf32>) -> vector<8xf32>
+// ASSUMED-SAME: osl.library_callees = [@[[PERLIN:osl.lib.noise_perlin.[0-9a-f]+]], @osl.lib.noise_uperlin.{{[0-9a-f]+}}, @osl.lib.noise_cell.{{[0-9a-f]+}}, @osl.lib.noise_hash.{{[0-9a-f]+}}, @osl.lib.noise_gabor.{{[0-9a-f]+}}, @osl.lib.noise_simplex.{{[0-9a-f]+}}, @osl.lib.noise_usimplex.{{[0-9a-f]+}}]
+// ASSUMED: func.func private @[[PERLIN]](vector<3x8xf32>) -> vector<8xf32>
+// ASSUMED-NOT: scf.if
+func.func @noise_by_kind_is_one_call() {
+  %P = osl.global "P" : !osl.varying<vector<3xf32>>
+  %u = osl.global "u" : !osl.varying<f32>
+  %k = osl.convert %u : !osl.varying<f32> -> !osl.varying<i32>
+  %z = arith.constant dense<0.0> : vector<3xf32>
+  %n = osl.noise_by_kind %k : !osl.varying<i32>(%P) derivs(%z, %z : vector<3xf32>, vector<3xf32>) : (!osl.varying<vector<3xf32>>) -> !osl.varying<f32>
+  osl.output "n" = %n : !osl.varying<f32>
+  return
+}
+
+// -----
+
+// A derivative through a noise by kind goes through each kind's call:
+// the tests are made in place, in the kernel (osl-derivatives then
+// differentiates the calls one by one).
+// ASSUMED-LABEL: osl.shader_name = "derivative_through_noise_by_kind"
+// ASSUMED-NOT: noise_by_kind
+// ASSUMED: vector.reduction <or>
+// ASSUMED: scf.if
+// ASSUMED: call @osl.lib.noise_perlin_periodic.{{[0-9a-f]+}}(
+// ASSUMED-COUNT-4: call @osl.lib.noise_
+// ASSUMED: osl.lane_deriv x
+// ASSUMED-NOT: noise_by_kind
+func.func @derivative_through_noise_by_kind() {
+  %u = osl.global "u" : !osl.varying<f32>
+  %k = osl.convert %u : !osl.varying<f32> -> !osl.varying<i32>
+  %p = arith.constant 4.0 : f32
+  %n = osl.noise_by_kind %k : !osl.varying<i32>(%u, %p) {periodic} : (!osl.varying<f32>, f32) -> !osl.varying<f32>
+  %d = osl.deriv x %n : !osl.varying<f32>
+  osl.output "n" = %d : !osl.varying<f32>
+  return
+}

@@ -312,3 +312,26 @@ func.func private @osl.lib.noise_simplex.1(f32) -> f32 attributes {osl.library_r
 func.func private @osl.lib.noise_hash.1(%x: f32) -> f32 attributes {osl.library_recipe = "h"} {
   return %x : f32
 }
+
+// -----
+
+// A routine compiled before whose object calls others (noise_by_kind)
+// lists them: no call in the module is left to them, yet they stay
+// declared, so that their objects are linked beside it.
+// CHECK-LABEL: func.func @routine_callees_stay
+// CHECK: call @osl.lib.noise_by_kind.1(%arg0, %arg1) {osl.keep_call}
+// CHECK-DAG: func.func private @osl.lib.noise_perlin.2(f32) -> f32
+// CHECK-DAG: func.func private @osl.lib.noise_cell.2(f32) -> f32
+// CHECK-NOT: noise_hash
+// SMALL-LABEL: func.func @routine_callees_stay
+// INLINE-LABEL: func.func @routine_callees_stay
+// FOLDS-LABEL: func.func @routine_callees_stay
+func.func @routine_callees_stay(%k: i32, %x: f32) -> f32 {
+  %a = call @osl.lib.noise_by_kind.1(%k, %x) {osl.keep_call} : (i32, f32) -> f32
+  return %a : f32
+}
+func.func private @osl.lib.noise_by_kind.1(i32, f32) -> f32 attributes {osl.library_recipe = "k", osl.library_callees = [@osl.lib.noise_perlin.2, @osl.lib.noise_cell.2]}
+func.func private @osl.lib.noise_perlin.2(f32) -> f32 attributes {osl.library_recipe = "p"}
+func.func private @osl.lib.noise_cell.2(f32) -> f32 attributes {osl.library_recipe = "c"}
+func.func private @osl.lib.noise_hash.2(f32) -> f32 attributes {osl.library_recipe = "h"}
+

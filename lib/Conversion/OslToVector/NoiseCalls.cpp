@@ -62,6 +62,12 @@ struct NoiseRecipe {
   }
 };
 
+/// Gabor's options in the order its routine takes them.
+SmallVector<Value> gaborOptionList(const GaborOptions &options) {
+  return {options.anisotropic, options.direction[0], options.direction[1],
+          options.direction[2], options.bandwidth, options.impulses, options.doFilter};
+}
+
 /// The options of a Gabor noise as scalars (osl-lane-group-filter made them
 /// uniform), OSL's default for each one the call leaves out, in the order
 /// the routine takes them.
@@ -78,9 +84,7 @@ SmallVector<Value> gaborOptionValues(NoiseOp op, NoiseOp::Adaptor adaptor, Compo
     SmallVector<Value> dir = lanes.unpack(adaptor.getDirection(), op.getDirection().getType(), false);
     options.direction = {dir[0], dir[1], dir[2]};
   }
-  options = withGaborDefaults(lanes.b, lanes.loc, options);
-  return {options.anisotropic, options.direction[0], options.direction[1],
-          options.direction[2], options.bandwidth, options.impulses, options.doFilter};
+  return gaborOptionList(withGaborDefaults(lanes.b, lanes.loc, options));
 }
 
 /// Gabor noise: the point (and its derivatives and period) made 3D.
@@ -168,11 +172,114 @@ bool siteMayInline(Operation *op, const NoiseRecipe &recipe, ValueRange coords) 
          op->getParentOfType<LoopLikeOpInterface>() || op->getParentOfType<WhileOp>();
 }
 
-struct NoiseLowering : public OslPattern<NoiseOp> {
-  NoiseLowering(const VaryingTypeConverter &converter, MLIRContext *ctx,
-                const LibraryRoutineNeeds &needs)
-      : OslPattern(converter, ctx), needs(needs) {}
+/// One call of a noise routine: its recipe and operands (converted).
+struct NoiseCall {
+  NoiseRecipe recipe;
+  SmallVector<Value> coords, derivs, options;
+};
+
+/// A call of `kind` at `coords` (converted; of osl types `coordTypes`)
+/// for a noise of osl type `resultType`: a varying noise's uniform
+/// coordinates are broadcast before the call, which broadcast them first
+/// thing anyway, so its function takes varying operands only, as the
+/// prebuilt library's do. Gabor's derivs and options are added by
+/// addGaborOperands.
+NoiseCall noiseCall(NoiseKind kind, bool periodic, Type resultType, ValueRange coords,
+                    TypeRange coordTypes, Components &lanes, const TypeConverter &converter) {
+  NoiseCall call{{kind, periodic, resultType, {}, {}, std::nullopt, false}, {}, {}, {}};
+  for (auto [value, type] : llvm::zip(coords, coordTypes)) {
+    if (isVarying(resultType) && !isVarying(type)) {
+      Type varyingType = withUniformity(type, true);
+      call.coords.push_back(
+          lanes.pack(lanes.unpack(value, type, true), converter.convertType(varyingType)));
+      call.recipe.coordTypes.push_back(varyingType);
+    } else {
+      call.coords.push_back(value);
+      call.recipe.coordTypes.push_back(type);
+    }
+  }
+  return call;
+}
+
+/// A Gabor call's filter derivatives (converted, of osl types `derivTypes`)
+/// and options (gaborOptionList's order); a 4th coordinate and its period
+/// dropped.
+void addGaborOperands(NoiseCall &call, ValueRange derivs, TypeRange derivTypes,
+                      SmallVector<Value> options) {
+  NoiseRecipe &recipe = call.recipe;
+  if (isTriple(getUniformType(recipe.coordTypes[0])) &&
+      call.coords.size() == (recipe.periodic ? 4u : 2u)) {
+    // OSL's Gabor noise ignores a 4th coordinate and its period: the
+    // routine of a 3D point serves.
+    auto drop = [&](size_t i) {
+      call.coords.erase(call.coords.begin() + i);
+      recipe.coordTypes.erase(recipe.coordTypes.begin() + i);
+    };
+    if (recipe.periodic)
+      drop(3); // (point, time, point period, time period)
+    drop(1);
+  }
+  call.derivs.assign(derivs.begin(), derivs.end());
+  recipe.derivTypes.assign(derivTypes.begin(), derivTypes.end());
+  APInt known;
+  if (matchPattern(options[0], m_ConstantInt(&known)))
+    recipe.gaborMode = int32_t(known.getSExtValue());
+  recipe.gaborFilterOff = matchPattern(options[6], m_ConstantInt(&known)) && known.isZero();
+  call.options = std::move(options);
+}
+
+/// Emits `call` at `b` as a call of its recipe's library function (made in
+/// `anchor`'s module), of converted type `resultType`. `keepCall`: it
+/// stays a call (osl.keep_call); `differentiated`: a derivative goes
+/// through it.
+func::CallOp emitNoiseCall(OpBuilder &b, Location loc, Operation *anchor, const NoiseCall &call,
+                           Type resultType, int64_t width, const LibraryRoutineNeeds &needs,
+                           bool keepCall, bool differentiated) {
+  const NoiseRecipe &recipe = call.recipe;
+  SmallVector<Value> operands(call.coords);
+  llvm::append_range(operands, call.derivs);
+  llvm::append_range(operands, call.options);
+  auto type = FunctionType::get(b.getContext(), ValueRange(operands).getTypes(), resultType);
+  std::string text = recipe.text(width);
+  // A routine a derivative goes through is differentiated by its dual
+  // routine (osl-derivatives), built from its code unless compiled
+  // before; along z, by its code copied in place.
+  bool needCode = !keepCall || !needs.available ||
+                  (differentiated &&
+                   (needs.inPlaceDerivatives || !needs.available(dualRecipeOf(text))));
+  size_t ncoords = call.coords.size(), nderivs = call.derivs.size();
+  func::FuncOp func = libraryFunction(
+      b, anchor, recipe.name(), text, type, needCode, [&] { return needs.available(text); },
+      [&](OpBuilder &inner, ValueRange args) -> SmallVector<Value> {
+        Components lanes{inner, loc, width};
+        if (recipe.gabor())
+          return {buildGabor(recipe, args.take_front(ncoords),
+                             args.drop_front(ncoords).take_front(nderivs),
+                             args.drop_front(ncoords + nderivs), lanes, resultType)};
+        return {buildNoise(recipe, args, lanes, resultType)};
+      });
+  if (nderivs && !func->hasAttr(kDerivativeArgsAttr)) {
+    SmallVector<int64_t> indices;
+    for (size_t i = 0; i < nderivs; ++i)
+      indices.push_back(int64_t(ncoords + i));
+    func->setAttr(kDerivativeArgsAttr, b.getDenseI64ArrayAttr(indices));
+  }
+  auto callOp = b.create<func::CallOp>(loc, func, operands);
+  if (keepCall)
+    callOp->setAttr(kKeepCallAttr, b.getUnitAttr());
+  return callOp;
+}
+
+/// A pattern of a noise op, which knows which routines need their code.
+template <typename OpTy> struct NoisePattern : public OslPattern<OpTy> {
+  NoisePattern(const VaryingTypeConverter &converter, MLIRContext *ctx,
+               const LibraryRoutineNeeds &needs)
+      : OslPattern<OpTy>(converter, ctx), needs(needs) {}
   const LibraryRoutineNeeds &needs;
+};
+
+struct NoiseLowering : public NoisePattern<NoiseOp> {
+  using NoisePattern::NoisePattern;
 
   LogicalResult matchAndRewrite(NoiseOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
@@ -186,78 +293,156 @@ struct NoiseLowering : public OslPattern<NoiseOp> {
       return op.emitError("periodic '") << stringifyNoiseKind(kind) << "' noise is not defined";
     Location loc = op.getLoc();
     Components outer{rewriter, loc, width};
-    NoiseRecipe recipe{kind, op.getPeriodic(), op.getType(), {}, {}, std::nullopt, false};
-    // A varying noise's uniform coordinates are broadcast before the call,
-    // which broadcast them first thing anyway: its function then takes
-    // varying operands only, as the prebuilt library's do.
-    SmallVector<Value> coords;
-    for (auto [value, type] : llvm::zip(adaptor.getCoords(), op.getCoords().getTypes())) {
-      if (isVarying(op.getType()) && !isVarying(type)) {
-        Type varyingType = withUniformity(type, true);
-        coords.push_back(outer.pack(outer.unpack(value, type, true), convert(varyingType)));
-        recipe.coordTypes.push_back(varyingType);
-      } else {
-        coords.push_back(value);
-        recipe.coordTypes.push_back(type);
+    NoiseCall call = noiseCall(kind, op.getPeriodic(), op.getType(), adaptor.getCoords(),
+                               op.getCoords().getTypes(), outer, *getTypeConverter());
+    if (call.recipe.gabor())
+      addGaborOperands(call, adaptor.getDerivs(), op.getDerivs().getTypes(),
+                       gaborOptionValues(op, adaptor, outer));
+    bool keepCall = !siteMayInline(op, call.recipe, call.coords);
+    auto callOp = emitNoiseCall(rewriter, loc, op, call, convert(op.getType()), width, needs,
+                                keepCall, needs.derivativeOf.contains(op));
+    rewriter.replaceOp(op, callOp.getResults());
+    return success();
+  }
+};
+
+/// The kinds a noise_by_kind chooses among, in the order its code tests
+/// them: all of them, so that one routine per signature serves every shader
+/// (and the prebuilt library has it), whichever names the shader uses.
+SmallVector<NoiseKind> kindsByKind(bool periodic) {
+  SmallVector<NoiseKind> kinds{NoiseKind::perlin, NoiseKind::uperlin, NoiseKind::cell,
+                               NoiseKind::hash, NoiseKind::gabor};
+  if (!periodic)
+    llvm::append_range(kinds, ArrayRef<NoiseKind>{NoiseKind::simplex, NoiseKind::usimplex});
+  return kinds;
+}
+
+/// The noise of each lane's kind (`kind`: an i32, or W lanes of one): for
+/// each kind some lane has, a call of its routine, its lanes selected. A
+/// lane of no kind is 0.
+struct NoiseByKindBody {
+  bool periodic;
+  Type oslResultType;
+  SmallVector<Type> coordTypes; ///< the calls' osl types (made varying as the result)
+  SmallVector<Type> derivTypes;
+  Type resultType; ///< converted
+  int64_t width;
+  Operation *anchor;
+  const LibraryRoutineNeeds &needs;
+  const TypeConverter &converter;
+  bool differentiated;
+
+  Value build(OpBuilder &b, Location loc, Value kind, ValueRange coords,
+              ValueRange derivs) const {
+    bool varying = isVarying(oslResultType);
+    Value result = lane::constant(b, loc, resultType, 0.0);
+    for (NoiseKind k : kindsByKind(periodic)) {
+      Value isK = b.create<arith::CmpIOp>(
+          loc, arith::CmpIPredicate::eq, kind,
+          lane::constant(b, loc, kind.getType(), double(int32_t(k))));
+      Value any = varying ? b.create<vector::ReductionOp>(loc, vector::CombiningKind::OR, isK)
+                                .getResult()
+                          : isK;
+      auto guard = b.create<scf::IfOp>(loc, TypeRange{resultType}, any, true, true);
+      {
+        OpBuilder::InsertionGuard inThen(b);
+        b.setInsertionPointToStart(guard.thenBlock());
+        Components lanes{b, loc, width};
+        NoiseCall call = noiseCall(k, periodic, oslResultType, coords, coordTypes, lanes,
+                                   converter);
+        if (call.recipe.gabor())
+          addGaborOperands(call, derivs, derivTypes,
+                           gaborOptionList(withGaborDefaults(b, loc, GaborOptions{})));
+        Value value = emitNoiseCall(b, loc, anchor, call, resultType, width, needs,
+                                    /*keepCall=*/true, differentiated)
+                          .getResult(0);
+        Value mask = isK;
+        if (auto shaped = dyn_cast<VectorType>(resultType); varying && shaped.getRank() == 2)
+          mask = b.create<vector::BroadcastOp>(
+              loc, VectorType::get(shaped.getShape(), b.getI1Type()), isK);
+        b.create<scf::YieldOp>(loc, b.create<arith::SelectOp>(loc, mask, value, result)
+                                        .getResult());
+        b.setInsertionPointToStart(guard.elseBlock());
+        b.create<scf::YieldOp>(loc, result);
       }
+      result = guard.getResult(0);
     }
-    SmallVector<Value> derivs, options;
-    if (recipe.gabor() && isTriple(getUniformType(recipe.coordTypes[0])) &&
-        coords.size() == (recipe.periodic ? 4u : 2u)) {
-      // OSL's Gabor noise ignores a 4th coordinate and its period: the
-      // routine of a 3D point serves.
-      auto drop = [&](size_t i) {
-        coords.erase(coords.begin() + i);
-        recipe.coordTypes.erase(recipe.coordTypes.begin() + i);
-      };
-      if (recipe.periodic)
-        drop(3); // (point, time, point period, time period)
-      drop(1);
+    return result;
+  }
+
+  std::string recipe() const {
+    std::string s;
+    llvm::raw_string_ostream os(s);
+    os << "noise by kind" << (periodic ? " periodic" : "") << " width " << width << " (";
+    llvm::interleaveComma(coordTypes, os);
+    os << ") derivs (";
+    llvm::interleaveComma(derivTypes, os);
+    os << ") -> " << oslResultType;
+    return s;
+  }
+};
+
+struct NoiseByKindLowering : public NoisePattern<NoiseByKindOp> {
+  using NoisePattern::NoisePattern;
+
+  LogicalResult matchAndRewrite(NoiseByKindOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    Components outer{rewriter, loc, width};
+    bool varying = isVarying(op.getType());
+    // Every operand made as varying as the noise: one signature per domain.
+    auto operand = [&](Value converted, Type oslType, SmallVector<Value> &values,
+                       SmallVector<Type> &types) {
+      Type type = withUniformity(getUniformType(oslType), varying);
+      values.push_back(outer.pack(outer.unpack(converted, oslType, varying), convert(type)));
+      types.push_back(type);
+    };
+    SmallVector<Value> kind, coords, derivs;
+    SmallVector<Type> kindTypes, coordTypes, derivTypes;
+    operand(adaptor.getKind(), op.getKind().getType(), kind, kindTypes);
+    for (auto [value, original] : llvm::zip(adaptor.getCoords(), op.getCoords()))
+      operand(value, original.getType(), coords, coordTypes);
+    for (auto [value, original] : llvm::zip(adaptor.getDerivs(), op.getDerivs()))
+      operand(value, original.getType(), derivs, derivTypes);
+    bool differentiated = needs.derivativeOf.contains(op);
+    NoiseByKindBody body{op.getPeriodic(), op.getType(), coordTypes, derivTypes,
+                         convert(op.getType()), width, op, needs, *getTypeConverter(),
+                         differentiated};
+    if (differentiated) {
+      // A derivative goes through each kind's call: osl-derivatives takes
+      // them one by one, the tests in place.
+      rewriter.replaceOp(op, body.build(rewriter, loc, kind[0], coords, derivs));
+      return success();
     }
-    if (recipe.gabor()) {
-      derivs.assign(adaptor.getDerivs().begin(), adaptor.getDerivs().end());
-      for (Type t : op.getDerivs().getTypes())
-        recipe.derivTypes.push_back(t);
-      options = gaborOptionValues(op, adaptor, outer);
-      APInt known;
-      if (matchPattern(options[0], m_ConstantInt(&known)))
-        recipe.gaborMode = int32_t(known.getSExtValue());
-      recipe.gaborFilterOff = matchPattern(options[6], m_ConstantInt(&known)) && known.isZero();
-    }
-    SmallVector<Value> operands(coords);
+    SmallVector<Value> operands{kind[0]};
+    llvm::append_range(operands, coords);
     llvm::append_range(operands, derivs);
-    llvm::append_range(operands, options);
-    Type resultType = convert(op.getType());
-    auto type = FunctionType::get(getContext(), ValueRange(operands).getTypes(), resultType);
-    std::string text = recipe.text(width);
-    bool keepCall = !siteMayInline(op, recipe, coords);
-    // A routine a derivative goes through is differentiated by its dual
-    // routine (osl-derivatives), built from its code unless compiled
-    // before; along z, by its code copied in place.
-    bool needCode = !keepCall || !needs.available ||
-                    (needs.derivativeOf.contains(op) &&
-                     (needs.inPlaceDerivatives || !needs.available(dualRecipeOf(text))));
-    size_t ncoords = coords.size(), nderivs = derivs.size();
+    auto type = FunctionType::get(getContext(), ValueRange(operands).getTypes(),
+                                  body.resultType);
+    std::string text = body.recipe();
+    size_t ncoords = coords.size();
     func::FuncOp func = libraryFunction(
-        rewriter, op, recipe.name(), text, type, needCode,
-        [&] { return needs.available(text); },
+        rewriter, op, op.getPeriodic() ? "noise_by_kind_periodic" : "noise_by_kind", text, type,
+        /*needCode=*/!needs.available, [&] { return needs.available(text); },
         [&](OpBuilder &b, ValueRange args) -> SmallVector<Value> {
-          Components inner{b, loc, width};
-          if (recipe.gabor())
-            return {buildGabor(recipe, args.take_front(ncoords),
-                               args.drop_front(ncoords).take_front(nderivs),
-                               args.drop_front(ncoords + nderivs), inner, resultType)};
-          return {buildNoise(recipe, args, inner, resultType)};
+          return {body.build(b, loc, args[0], args.slice(1, ncoords),
+                             args.drop_front(1 + ncoords))};
         });
-    if (!derivs.empty() && !func->hasAttr(kDerivativeArgsAttr)) {
-      SmallVector<int64_t> indices;
-      for (size_t i = 0; i < nderivs; ++i)
-        indices.push_back(int64_t(ncoords + i));
-      func->setAttr(kDerivativeArgsAttr, rewriter.getDenseI64ArrayAttr(indices));
+    if (func.isDeclaration()) {
+      // Its object calls each kind's routine: theirs are linked beside it.
+      // The body is built in a scratch region and dropped, for the kinds'
+      // functions it makes (declarations where compiled before) and names.
+      SmallVector<Attribute> callees;
+      OpBuilder::InsertionGuard guard(rewriter);
+      auto scratch = rewriter.create<scf::ExecuteRegionOp>(loc, TypeRange{});
+      rewriter.setInsertionPointToStart(&scratch.getRegion().emplaceBlock());
+      body.build(rewriter, loc, kind[0], coords, derivs);
+      scratch.walk([&](func::CallOp call) { callees.push_back(call.getCalleeAttr()); });
+      rewriter.eraseOp(scratch);
+      func->setAttr(kLibraryCalleesAttr, rewriter.getArrayAttr(callees));
     }
     auto call = rewriter.create<func::CallOp>(loc, func, operands);
-    if (keepCall)
-      call->setAttr(kKeepCallAttr, rewriter.getUnitAttr());
+    call->setAttr(kKeepCallAttr, rewriter.getUnitAttr());
     rewriter.replaceOp(op, call.getResults());
     return success();
   }
@@ -299,12 +484,12 @@ LibraryRoutineNeeds::LibraryRoutineNeeds(Operation *root, LibraryObjectAvailable
     inPlaceDerivatives |= d.getAxis() == DerivAxis::z;
   });
   for (Operation *op : slice)
-    if (isa<NoiseOp>(op))
+    if (isa<NoiseOp, NoiseByKindOp>(op))
       derivativeOf.insert(op);
 }
 
 void mlir::osl::lowering::populateNoisePatterns(const VaryingTypeConverter &converter,
                                                 RewritePatternSet &patterns,
                                                 const LibraryRoutineNeeds &needs) {
-  patterns.add<NoiseLowering>(converter, patterns.getContext(), needs);
+  patterns.add<NoiseLowering, NoiseByKindLowering>(converter, patterns.getContext(), needs);
 }
