@@ -130,30 +130,49 @@ struct OutlineLibraryPass : public mlir::osl::impl::OutlineLibraryBase<OutlineLi
     llvm::MapVector<func::FuncOp, SmallVector<func::CallOp>> recipeCalls;
     module.walk([&](func::CallOp call) {
       auto callee = symbols.lookup<func::FuncOp>(call.getCallee());
-      if (callee && callee->hasAttr(kLibraryRecipeAttr) &&
-          (!outline || !call->hasAttr(kKeepCallAttr)))
+      if (callee && callee->hasAttr(kLibraryRecipeAttr) && !call->hasAttr(kKeepCallAttr))
         recipeCalls[callee].push_back(call);
     });
-    // Erases those of `funcs` no call is left to (one walk for all).
+    // Erases those of `funcs` no call is left to (one walk a round), again
+    // while erasing one leaves others uncalled (calls between routines).
     auto eraseUncalled = [&](ArrayRef<func::FuncOp> funcs) {
-      DenseSet<StringAttr> called;
-      module.walk([&](func::CallOp call) { called.insert(call.getCalleeAttr().getAttr()); });
-      for (auto func : module.getOps<func::FuncOp>())
-        if (auto callees = func->getAttrOfType<ArrayAttr>(kLibraryCalleesAttr))
-          for (auto callee : callees.getAsRange<FlatSymbolRefAttr>())
-            called.insert(callee.getAttr());
-      for (func::FuncOp func : funcs)
-        if (!called.contains(func.getSymNameAttr()))
-          symbols.erase(func);
+      SmallVector<func::FuncOp> left(funcs);
+      for (bool erased = true; erased;) {
+        erased = false;
+        DenseSet<StringAttr> called;
+        module.walk([&](func::CallOp call) { called.insert(call.getCalleeAttr().getAttr()); });
+        for (auto func : module.getOps<func::FuncOp>())
+          if (auto callees = func->getAttrOfType<ArrayAttr>(kLibraryCalleesAttr))
+            for (auto callee : callees.getAsRange<FlatSymbolRefAttr>())
+              called.insert(callee.getAttr());
+        for (func::FuncOp &func : left)
+          if (func && !called.contains(func.getSymNameAttr())) {
+            symbols.erase(func);
+            func = nullptr;
+            erased = true;
+          }
+      }
     };
     if (!outline) {
       for (scf::ExecuteRegionOp region : regions)
         inlineLibraryRegion(region);
-      // (A routine compiled before has no code here: its calls stay.)
-      for (auto &[func, calls] : recipeCalls)
-        if (!func.isDeclaration())
-          for (func::CallOp call : calls)
-            inlineCall(call, func);
+      // (A routine compiled before has no code here: its calls stay.) Until
+      // none is left: a routine's code may call others (noise_by_kind
+      // calls each kind's), whose calls come in place with it.
+      for (;;) {
+        SmallVector<std::pair<func::CallOp, func::FuncOp>> inKernels;
+        module.walk([&](func::CallOp call) {
+          auto callee = symbols.lookup<func::FuncOp>(call.getCallee());
+          auto caller = call->getParentOfType<func::FuncOp>();
+          if (callee && callee->hasAttr(kLibraryRecipeAttr) && !callee.isDeclaration() &&
+              !caller->hasAttr(kLibraryRecipeAttr))
+            inKernels.push_back({call, callee});
+        });
+        if (inKernels.empty())
+          break;
+        for (auto [call, callee] : inKernels)
+          inlineCall(call, callee);
+      }
       eraseUncalled(recipeFunctions);
       return;
     }

@@ -335,3 +335,31 @@ func.func private @osl.lib.noise_perlin.2(f32) -> f32 attributes {osl.library_re
 func.func private @osl.lib.noise_cell.2(f32) -> f32 attributes {osl.library_recipe = "c"}
 func.func private @osl.lib.noise_hash.2(f32) -> f32 attributes {osl.library_recipe = "h"}
 
+// -----
+
+// Without outlining (the double-precision reference), a routine whose
+// code calls other routines comes in place with their code too: no call
+// is left to a function with code.
+// INLINE-LABEL: func.func @nested_routines_inline
+// INLINE-NOT: call @
+// INLINE: arith.mulf %arg0, %arg0
+// INLINE-NOT: call @
+// INLINE: return
+// INLINE-NOT: func.func private @osl.lib
+// CHECK-LABEL: func.func @nested_routines_inline
+// SMALL-LABEL: func.func @nested_routines_inline
+// FOLDS-LABEL: func.func @nested_routines_inline
+// BUDGET-LABEL: func.func @nested_routines_inline
+func.func @nested_routines_inline(%x: f32) -> f32 {
+  %a = call @osl.lib.noise_by_kind.3(%x) {osl.keep_call} : (f32) -> f32
+  return %a : f32
+}
+func.func private @osl.lib.noise_by_kind.3(%x: f32) -> f32 attributes {osl.library_recipe = "k3"} {
+  %m = call @osl.lib.noise_perlin.3(%x) {osl.keep_call} : (f32) -> f32
+  return %m : f32
+}
+func.func private @osl.lib.noise_perlin.3(%x: f32) -> f32 attributes {osl.library_recipe = "p3"} {
+  %m = arith.mulf %x, %x : f32
+  return %m : f32
+}
+
