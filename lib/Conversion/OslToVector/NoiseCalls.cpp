@@ -428,10 +428,11 @@ struct NoiseByKindLowering : public NoisePattern<NoiseByKindOp> {
           return {body.build(b, loc, args[0], args.slice(1, ncoords),
                              args.drop_front(1 + ncoords))};
         });
-    if (func.isDeclaration()) {
+    if (func.isDeclaration() && !func->hasAttr(kLibraryCalleesAttr)) {
       // Its object calls each kind's routine: theirs are linked beside it.
       // The body is built in a scratch region and dropped, for the kinds'
-      // functions it makes (declarations where compiled before) and names.
+      // functions it makes (declarations where compiled before) and names;
+      // once per kernel, the first call site's.
       SmallVector<Attribute> callees;
       OpBuilder::InsertionGuard guard(rewriter);
       auto scratch = rewriter.create<scf::ExecuteRegionOp>(loc, TypeRange{});
