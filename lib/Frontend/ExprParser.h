@@ -40,8 +40,12 @@ protected:
         return nullptr;
       list->args.push_back(std::move(e));
       if (acceptPunct(",")) {
-        if (acceptPunct("}"))
-          return finish(*list) ? std::move(list) : nullptr;
+        // oslc's grammar has no trailing comma here (unlike after the last
+        // parameter): a shader that has one does not compile with OSL.
+        if (cur().isPunct("}")) {
+          errorExpected("an expression after ',' in initializer list");
+          return nullptr;
+        }
         continue;
       }
       if (acceptPunct("}"))

@@ -756,22 +756,29 @@ func.func @messages() {
 
 // -----
 
-// splineinverse is a library routine: its bisection is lowered inside a
-// region marked with its basis, which osl-outline-library makes one
-// function per basis and signature. spline itself stays inline (constant
-// knots fold into it).
-// CHECK-LABEL: osl.shader_name = "splineinverse_region"
-// CHECK: scf.execute_region -> vector<8xf32>
+// splineinverse is a call of a library function per basis, knot count and
+// signature (its bisection is a loop around a whole spline evaluation).
+// Each knot is an argument of its own, equal knots too, so that its code is
+// the same whatever the knots and its recipe can name a prebuilt object:
+// assumed compiled, the function is only declared. spline itself stays
+// inline (constant knots fold into it).
+// CHECK-LABEL: osl.shader_name = "splineinverse_call"
+// CHECK: %[[K1:.+]] = arith.constant 2.500000e-01 : f32
+// CHECK: call @[[INV:osl.lib.splineinverse_catmull_rom.[0-9a-f]+]](%{{.+}}, %{{.+}}, %[[K1]], %[[K1]], %{{.+}}, %{{.+}}) {osl.keep_call} : (vector<8xf32>, f32, f32, f32, f32, f32) -> vector<8xf32>
+// CHECK-NOT: osl.library =
+// CHECK: func.func private @[[INV]](
+// CHECK-SAME: osl.library_recipe = "splineinverse catmull-rom width 8 (vector<8xf32>, f32, f32, f32, f32, f32) -> vector<8xf32>"
 // CHECK: scf.while
-// CHECK: } {osl.library = "splineinverse_catmull_rom"}
-// CHECK-NOT: osl.library
-func.func @splineinverse_region() {
+// ASSUMED-LABEL: osl.shader_name = "splineinverse_call"
+// ASSUMED: func.func private @osl.lib.splineinverse_catmull_rom.{{[0-9a-f]+}}(vector<8xf32>, f32, f32, f32, f32, f32) -> vector<8xf32>
+// ASSUMED-NOT: scf.while
+func.func @splineinverse_call() {
   %u = osl.global "u" : !osl.varying<f32>
   %k0 = arith.constant 0.0 : f32
   %k1 = arith.constant 0.25 : f32
   %k2 = arith.constant 0.75 : f32
   %k3 = arith.constant 1.0 : f32
-  %x = osl.splineinverse catmullrom %u [%k0, %k1, %k2, %k3] : !osl.varying<f32>, f32, f32, f32, f32 -> !osl.varying<f32>
+  %x = osl.splineinverse catmullrom %u [%k0, %k1, %k1, %k2, %k3] : !osl.varying<f32>, f32, f32, f32, f32, f32 -> !osl.varying<f32>
   %y = osl.spline catmullrom %u [%k0, %k1, %k2, %k3] : !osl.varying<f32>, f32, f32, f32, f32 -> !osl.varying<f32>
   osl.output "x" = %x : !osl.varying<f32>
   osl.output "y" = %y : !osl.varying<f32>

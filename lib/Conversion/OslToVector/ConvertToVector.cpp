@@ -78,6 +78,7 @@ struct ConvertToVectorPass
     populateLaneOpPatterns(converter, patterns, referenceMode);
     populateLibraryCallPatterns(converter, patterns);
     populateNoisePatterns(converter, patterns, needs);
+    populateSplineInversePatterns(converter, patterns, needs);
     populateClosurePatterns(converter, patterns);
     populateRuntimeCallPatterns(converter, patterns);
     scf::populateSCFStructuralTypeConversionsAndLegality(converter, patterns, target);

@@ -184,47 +184,104 @@ struct ColorLowering : public OslPattern<Op> {
   }
 };
 
-/// spline and splineinverse: x (or y) and the count take the result's
-/// shape; knots stay as they are (the builder broadcasts them).
+/// The lanes of spline's or splineinverse's x (or y), count and knots: x
+/// and the count take the result's shape; knots stay as they are (the
+/// builder broadcasts them). Fails (reported) below 4 knots.
 template <typename Op>
-struct SplineFamilyLowering : public OslPattern<Op> {
-  using OslPattern<Op>::OslPattern;
-  LogicalResult matchAndRewrite(Op op, typename Op::Adaptor adaptor,
+LogicalResult splineOperands(Op op, typename Op::Adaptor adaptor, Components &lanes, Value &x,
+                             Value &count, SmallVector<SmallVector<Value>> &knots) {
+  bool varying = isVarying(op.getType());
+  x = lanes.unpack(adaptor.getOperands()[0], op->getOperand(0).getType(), varying)[0];
+  // (A constant count out of range was reported before the conversion:
+  // checkSplineKnotCounts.)
+  if (op.getCount())
+    count = lanes.unpack(adaptor.getCount(), op.getCount().getType(), varying)[0];
+  knots = lanes.unpackAll(adaptor.getKnots(), op.getKnots(), false);
+  if (knots.size() < 4)
+    return op.emitError("spline basis '")
+           << splineBasisName(op.getBasis()) << "' needs at least 4 knots";
+  return success();
+}
+
+/// spline, inline: a color ramp's constant knots fold into its code.
+struct SplineLowering : public OslPattern<SplineOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(SplineOp op, OpAdaptor adaptor,
                                 ConversionPatternRewriter &rewriter) const override {
-    Location loc = op.getLoc();
-    bool varying = isVarying(op.getType());
-    Components lanes{rewriter, loc, this->width};
-    Value x = lanes.unpack(adaptor.getOperands()[0], op->getOperand(0).getType(), varying)[0];
-    Value count;
-    // (A constant count out of range was reported before the conversion:
-    // checkSplineKnotCounts.)
-    if (op.getCount())
-      count = lanes.unpack(adaptor.getCount(), op.getCount().getType(), varying)[0];
-    SmallVector<SmallVector<Value>> knots =
-        lanes.unpackAll(adaptor.getKnots(), op.getKnots(), false);
-    if (knots.size() < 4)
-      return op.emitError("spline basis '")
-             << splineBasisName(op.getBasis()) << "' needs at least 4 knots";
-    FailureOr<SmallVector<Value>> r;
-    if constexpr (std::is_same_v<Op, SplineOp>) {
-      // Inline: a color ramp's constant knots fold into its code.
-      r = buildSpline(rewriter, loc, op.getBasis(), x, count, knots);
-    } else {
-      // A library function (LibraryRegion.h) per basis and signature: its
-      // bisection is a loop around a whole spline evaluation, costly to
-      // compile at every call and cheap to call.
-      Type resultType = x.getType();
-      std::string name = ("splineinverse_" + splineBasisName(op.getBasis())).str();
-      std::replace(name.begin(), name.end(), '-', '_');
-      r = buildLibraryRegion(rewriter, loc, name, resultType,
-                             [&](OpBuilder &b) -> SmallVector<Value> {
-                               return {*buildSplineInverse(b, loc, op.getBasis(), x, count,
-                                                           knots)};
-                             });
-    }
-    rewriter.replaceOp(op, lanes.pack(*r, this->convert(op.getType())));
+    Components lanes{rewriter, op.getLoc(), width};
+    Value x, count;
+    SmallVector<SmallVector<Value>> knots;
+    if (failed(splineOperands(op, adaptor, lanes, x, count, knots)))
+      return failure();
+    FailureOr<SmallVector<Value>> r =
+        buildSpline(rewriter, op.getLoc(), op.getBasis(), x, count, knots);
+    rewriter.replaceOp(op, lanes.pack(*r, convert(op.getType())));
     return success();
   }
+};
+
+/// splineinverse, a call of a library function per basis, knot count and
+/// signature: its bisection is a loop around a whole spline evaluation,
+/// costly to compile at every call and cheap to call. Each knot is an
+/// argument of its own (equal knots too), so the routine's code is the
+/// same whatever the knots are, and a recipe names it: the prebuilt
+/// library holds the common ones (noise_catalog.osl).
+struct SplineInverseLowering : public OslPattern<SplineInverseOp> {
+  SplineInverseLowering(const VaryingTypeConverter &converter, MLIRContext *ctx,
+                        const LibraryRoutineNeeds &needs)
+      : OslPattern(converter, ctx), needs(needs) {}
+
+  LogicalResult matchAndRewrite(SplineInverseOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    Components lanes{rewriter, loc, width};
+    Value y, count;
+    SmallVector<SmallVector<Value>> knots;
+    if (failed(splineOperands(op, adaptor, lanes, y, count, knots)))
+      return failure();
+    SmallVector<Value> operands{y};
+    if (count)
+      operands.push_back(count);
+    SmallVector<size_t> knotSizes;
+    for (const SmallVector<Value> &knot : knots) {
+      llvm::append_range(operands, knot);
+      knotSizes.push_back(knot.size());
+    }
+    auto type = FunctionType::get(getContext(), ValueRange(operands).getTypes(), y.getType());
+    std::string name = ("splineinverse_" + splineBasisName(op.getBasis())).str();
+    std::replace(name.begin(), name.end(), '-', '_');
+    std::string text;
+    llvm::raw_string_ostream os(text);
+    os << "splineinverse " << splineBasisName(op.getBasis()) << " width " << width << " (";
+    llvm::interleaveComma(type.getInputs(), os);
+    os << ") -> " << y.getType();
+    // A derivative through it goes through its dual routine, built from its
+    // code unless compiled before (osl-derivatives), as for noise.
+    bool differentiated = needs.derivativeOf.contains(op);
+    bool needCode = !needs.available ||
+                    (differentiated &&
+                     (needs.inPlaceDerivatives || !needs.available(dualRecipeOf(text))));
+    SplineBasis basis = op.getBasis();
+    bool counted = bool(count);
+    func::FuncOp func = libraryFunction(
+        rewriter, op, name, text, type, needCode, [&] { return needs.available(text); },
+        [&](OpBuilder &b, ValueRange args) -> SmallVector<Value> {
+          ValueRange rest = args.drop_front(counted ? 2 : 1);
+          SmallVector<SmallVector<Value>> knotArgs;
+          for (size_t size : knotSizes) {
+            knotArgs.emplace_back(rest.take_front(size));
+            rest = rest.drop_front(size);
+          }
+          return {*buildSplineInverse(b, loc, basis, args[0], counted ? args[1] : Value(),
+                                      knotArgs)};
+        });
+    auto call = rewriter.create<func::CallOp>(loc, func, operands);
+    call->setAttr(kKeepCallAttr, rewriter.getUnitAttr());
+    rewriter.replaceOp(op, lanes.pack({call.getResult(0)}, convert(op.getType())));
+    return success();
+  }
+
+  const LibraryRoutineNeeds &needs;
 };
 
 } // namespace
@@ -251,13 +308,19 @@ LogicalResult mlir::osl::lowering::checkSplineKnotCounts(Operation *root) {
   return success(ok);
 }
 
+void mlir::osl::lowering::populateSplineInversePatterns(const VaryingTypeConverter &converter,
+                                                        RewritePatternSet &patterns,
+                                                        const LibraryRoutineNeeds &needs) {
+  patterns.add<SplineInverseLowering>(converter, patterns.getContext(), needs);
+}
+
 void mlir::osl::lowering::populateLibraryCallPatterns(const VaryingTypeConverter &converter,
                                                       RewritePatternSet &patterns) {
   patterns.add<GeometryLowering<DotOp>, GeometryLowering<LengthOp>,
                GeometryLowering<DistanceOp>, GeometryLowering<CrossOp>,
                GeometryLowering<NormalizeOp>, HashLowering, TableReadLowering,
                TransformLowering,
-               SplineFamilyLowering<SplineOp>, SplineFamilyLowering<SplineInverseOp>,
+               SplineLowering,
                ColorLowering<TransformcOp>, ColorLowering<BlackbodyOp>,
                ColorLowering<WavelengthColorOp>, ColorLowering<LuminanceOp>>(
       converter, patterns.getContext());

@@ -391,19 +391,21 @@ struct NoiseByKindLowering : public NoisePattern<NoiseByKindOp> {
     Components outer{rewriter, loc, width};
     bool varying = isVarying(op.getType());
     // Every operand made as varying as the noise: one signature per domain.
+    // (The body needs the osl types of the coordinates and derivatives.)
     auto operand = [&](Value converted, Type oslType, SmallVector<Value> &values,
-                       SmallVector<Type> &types) {
+                       SmallVector<Type> *types = nullptr) {
       Type type = withUniformity(getUniformType(oslType), varying);
       values.push_back(outer.pack(outer.unpack(converted, oslType, varying), convert(type)));
-      types.push_back(type);
+      if (types)
+        types->push_back(type);
     };
     SmallVector<Value> kind, coords, derivs;
-    SmallVector<Type> kindTypes, coordTypes, derivTypes;
-    operand(adaptor.getKind(), op.getKind().getType(), kind, kindTypes);
+    SmallVector<Type> coordTypes, derivTypes;
+    operand(adaptor.getKind(), op.getKind().getType(), kind);
     for (auto [value, original] : llvm::zip(adaptor.getCoords(), op.getCoords()))
-      operand(value, original.getType(), coords, coordTypes);
+      operand(value, original.getType(), coords, &coordTypes);
     for (auto [value, original] : llvm::zip(adaptor.getDerivs(), op.getDerivs()))
-      operand(value, original.getType(), derivs, derivTypes);
+      operand(value, original.getType(), derivs, &derivTypes);
     bool differentiated = needs.derivativeOf.contains(op);
     NoiseByKindBody body{op.getPeriodic(), op.getType(), coordTypes, derivTypes,
                          convert(op.getType()), width, op, needs, *getTypeConverter(),
@@ -477,15 +479,15 @@ void addBackwardSlice(Value v, DenseSet<Operation *> &slice) {
 LibraryRoutineNeeds::LibraryRoutineNeeds(Operation *root, LibraryObjectAvailable available,
                                          bool referenceMode)
     : inPlaceDerivatives(referenceMode), available(std::move(available)) {
-  // osl-derivatives differentiates through a routine's code: a noise any
-  // derivative request depends on keeps its code.
+  // osl-derivatives differentiates through a routine's code: a noise (or
+  // splineinverse) any derivative request depends on keeps its code.
   DenseSet<Operation *> slice;
   root->walk([&](DerivOp d) {
     addBackwardSlice(d.getValue(), slice);
     inPlaceDerivatives |= d.getAxis() == DerivAxis::z;
   });
   for (Operation *op : slice)
-    if (isa<NoiseOp, NoiseByKindOp>(op))
+    if (isa<NoiseOp, NoiseByKindOp, SplineInverseOp>(op))
       derivativeOf.insert(op);
 }
 

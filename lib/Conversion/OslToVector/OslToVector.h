@@ -212,6 +212,10 @@ struct LibraryRoutineNeeds {
 void populateNoisePatterns(const VaryingTypeConverter &converter, RewritePatternSet &patterns,
                            const LibraryRoutineNeeds &needs);
 
+/// splineinverse as calls of a library function per recipe (LibraryCalls.cpp).
+void populateSplineInversePatterns(const VaryingTypeConverter &converter,
+                                   RewritePatternSet &patterns, const LibraryRoutineNeeds &needs);
+
 /// Closure construction, products and sums (Closures.cpp).
 void populateClosurePatterns(const VaryingTypeConverter &converter,
                              RewritePatternSet &patterns);
