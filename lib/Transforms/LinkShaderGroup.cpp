@@ -185,7 +185,11 @@ struct LinkShaderGroupPass
 
   LogicalResult checkConnections() {
     bool ok = true;
-    for (auto [index, l] : llvm::enumerate(layers))
+    // (Named variables, not structured bindings: C++17 lambdas cannot
+    // capture those.)
+    for (auto entry : llvm::enumerate(layers)) {
+      size_t index = entry.index();
+      auto &l = entry.value();
       l.func.walk([&](ParamOp param) {
         auto from = connection(param);
         if (!from)
@@ -206,7 +210,9 @@ struct LinkShaderGroupPass
           ok = false;
           return;
         }
-        auto [outputName, component] = splitComponentName(fromOutput);
+        std::pair<StringRef, int> split = splitComponentName(fromOutput);
+        StringRef outputName = split.first;
+        int component = split.second;
         func::FuncOp fromFunc = layers[it->second].func;
         std::optional<int64_t> element = elementIndex(param);
         bool exists = false;
@@ -254,6 +260,7 @@ struct LinkShaderGroupPass
           ok = false;
         }
       });
+    }
     return success(ok);
   }
 
