@@ -239,14 +239,12 @@ struct SplineInverseLowering : public OslPattern<SplineInverseOp> {
     SmallVector<SmallVector<Value>> knots;
     if (failed(splineOperands(op, adaptor, lanes, y, count, knots)))
       return failure();
+    // (Its knots are floats, one value each: the op's verifier.)
     SmallVector<Value> operands{y};
     if (count)
       operands.push_back(count);
-    SmallVector<size_t> knotSizes;
-    for (const SmallVector<Value> &knot : knots) {
-      llvm::append_range(operands, knot);
-      knotSizes.push_back(knot.size());
-    }
+    for (const SmallVector<Value> &knot : knots)
+      operands.push_back(knot[0]);
     auto type = FunctionType::get(getContext(), ValueRange(operands).getTypes(), y.getType());
     std::string name = ("splineinverse_" + splineBasisName(op.getBasis())).str();
     std::replace(name.begin(), name.end(), '-', '_');
@@ -255,23 +253,15 @@ struct SplineInverseLowering : public OslPattern<SplineInverseOp> {
     os << "splineinverse " << splineBasisName(op.getBasis()) << " width " << width << " (";
     llvm::interleaveComma(type.getInputs(), os);
     os << ") -> " << y.getType();
-    // A derivative through it goes through its dual routine, built from its
-    // code unless compiled before (osl-derivatives), as for noise.
-    bool differentiated = needs.derivativeOf.contains(op);
-    bool needCode = !needs.available ||
-                    (differentiated &&
-                     (needs.inPlaceDerivatives || !needs.available(dualRecipeOf(text))));
+    bool needCode = needs.needCode(text, needs.derivativeOf.contains(op));
     SplineBasis basis = op.getBasis();
     bool counted = bool(count);
     func::FuncOp func = libraryFunction(
         rewriter, op, name, text, type, needCode, [&] { return needs.available(text); },
         [&](OpBuilder &b, ValueRange args) -> SmallVector<Value> {
-          ValueRange rest = args.drop_front(counted ? 2 : 1);
           SmallVector<SmallVector<Value>> knotArgs;
-          for (size_t size : knotSizes) {
-            knotArgs.emplace_back(rest.take_front(size));
-            rest = rest.drop_front(size);
-          }
+          for (Value knot : args.drop_front(counted ? 2 : 1))
+            knotArgs.push_back({knot});
           return {*buildSplineInverse(b, loc, basis, args[0], counted ? args[1] : Value(),
                                       knotArgs)};
         });

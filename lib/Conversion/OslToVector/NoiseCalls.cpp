@@ -241,12 +241,7 @@ func::CallOp emitNoiseCall(OpBuilder &b, Location loc, Operation *anchor, const 
   llvm::append_range(operands, call.options);
   auto type = FunctionType::get(b.getContext(), ValueRange(operands).getTypes(), resultType);
   std::string text = recipe.text(width);
-  // A routine a derivative goes through is differentiated by its dual
-  // routine (osl-derivatives), built from its code unless compiled
-  // before; along z, by its code copied in place.
-  bool needCode = !keepCall || !needs.available ||
-                  (differentiated &&
-                   (needs.inPlaceDerivatives || !needs.available(dualRecipeOf(text))));
+  bool needCode = !keepCall || needs.needCode(text, differentiated);
   size_t ncoords = call.coords.size(), nderivs = call.derivs.size();
   func::FuncOp func = libraryFunction(
       b, anchor, recipe.name(), text, type, needCode, [&] { return needs.available(text); },
@@ -489,6 +484,14 @@ LibraryRoutineNeeds::LibraryRoutineNeeds(Operation *root, LibraryObjectAvailable
   for (Operation *op : slice)
     if (isa<NoiseOp, NoiseByKindOp, SplineInverseOp>(op))
       derivativeOf.insert(op);
+}
+
+bool LibraryRoutineNeeds::needCode(StringRef recipe, bool differentiated) const {
+  // A routine a derivative goes through is differentiated by its dual
+  // routine (osl-derivatives), built from its code unless compiled
+  // before; along z, by its code copied in place.
+  return !available ||
+         (differentiated && (inPlaceDerivatives || !available(dualRecipeOf(recipe))));
 }
 
 void mlir::osl::lowering::populateNoisePatterns(const VaryingTypeConverter &converter,

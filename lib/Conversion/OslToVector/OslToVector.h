@@ -196,11 +196,17 @@ LogicalResult checkSplineKnotCounts(Operation *root);
 void populateLibraryCallPatterns(const VaryingTypeConverter &converter,
                                  RewritePatternSet &patterns);
 
-/// What decides whether a noise routine's code is built (NoiseCalls.cpp):
-/// the noises a derivative request depends on (their code is
-/// differentiated), and which compiled routines are at hand.
+/// What decides whether a library routine's code is built (NoiseCalls.cpp):
+/// the noises and splineinverses a derivative request depends on (their
+/// code is differentiated), and which compiled routines are at hand.
 struct LibraryRoutineNeeds {
   LibraryRoutineNeeds(Operation *root, LibraryObjectAvailable available, bool referenceMode);
+  /// Whether the routine of `recipe`, kept as a call, needs its code: when
+  /// nothing compiled is at hand, or when a derivative goes through it
+  /// (`differentiated`) that its compiled dual cannot serve
+  /// (osl-derivatives builds the dual from the code, or copies the code in
+  /// place along z).
+  bool needCode(StringRef recipe, bool differentiated) const;
   DenseSet<Operation *> derivativeOf;
   /// Whether derivatives go through routines' code in place rather than
   /// dual routines (osl-derivatives): along z, or in reference mode.
