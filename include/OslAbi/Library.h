@@ -1,7 +1,7 @@
 //===- Library.h - Library functions shared by kernels ----------*- C++ -*-===//
 //
-// osl-outline-library names each library function of a kernel (a noise
-// routine for one signature) with this prefix; the compiler moves the
+// Each library function of a kernel (a noise routine for one signature)
+// is named with this prefix; the compiler moves the
 // definitions so named out of the kernel and compiles each once
 // (OslCompiler/LibraryObjects.h).
 //

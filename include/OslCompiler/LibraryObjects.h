@@ -1,29 +1,26 @@
 //===- LibraryObjects.h - Library functions compiled once -------*- C++ -*-===//
 //
-// osl-outline-library makes each library routine (noise of every kind) of a
-// kernel one function named `osl.lib.*` (OslAbi/Library.h), compiled once
+// Each library routine (noise of every kind, spline inversion) of a kernel
+// is one function named `osl.lib.*` (OslAbi/Library.h), compiled once
 // per process and host and kept as an object: in memory for the process,
 // and in the kernel cache's directory (under library/) for later runs.
 // Every kernel calling the same function (same routine, signature, math and
 // host) links the same object, much as OSL's batched backend calls its
 // precompiled library.
 //
-// A noise routine is keyed by its recipe (what its code is built from,
-// OslLanes/LibraryRegion.h) and looked up while the kernel is converted:
-// one found is declared, its code never built. Other routines (outlined
-// from library regions) are looked up as soon as their function exists
-// (right after osl-outline-library), keyed by their MLIR: a function whose
-// object is already known becomes a declaration there, so the rest of the
-// lowering, the translation and LLVM never see its body (most of a
-// noise-heavy shader's compile time). The others are split from the kernel after the
-// lowering, each into a module of its own, and compiled on the compile
-// threads beside the kernel.
+// A routine is keyed by its recipe (what its code is built from,
+// OslLanes/LibraryFunctions.h) and looked up while the kernel is converted:
+// one found is declared, its code never built, so the lowering, the
+// translation and LLVM never see its body (most of a noise-heavy shader's
+// compile time). The others are split from the kernel after the lowering,
+// each into a module of its own, and compiled on the compile threads beside
+// the kernel.
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLCOMPILER_LIBRARYOBJECTS_H
 #define OSLCOMPILER_LIBRARYOBJECTS_H
 
-#include "OslLanes/LibraryRegion.h"
+#include "OslLanes/LibraryFunctions.h"
 #include "OslRuntime/Jit.h"
 
 #include "llvm/ADT/StringMap.h"
@@ -86,12 +83,11 @@ mlir::osl::LibraryObjectAvailable libraryObjectFinder(const LibraryKeyOptions &o
                                                       LibraryUse &use);
 
 /// For each library function defined in `module` (after
-/// osl-outline-library): the object this process, the cache or the
+/// osl-inline-library): the object this process, the cache or the
 /// prebuilt library already has (the function becomes a declaration), else
 /// its key in `toCompile`; added to `use`.
-/// The key is the routine's recipe, or for a function outlined from a
-/// library region its MLIR with the symbols it references; and the
-/// compiler's identity, the LLVM version, the host and `options`.
+/// The key is the routine's recipe, the compiler's identity, the LLVM
+/// version, the host and `options`.
 void findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &options, Stats *stats,
                         LibraryUse &use);
 

@@ -15,7 +15,7 @@
 #include "mlir/Dialect/Math/IR/Math.h"
 #include "mlir/Dialect/SCF/IR/SCF.h"
 #include "mlir/Dialect/Vector/IR/VectorOps.h"
-#include "OslLanes/LibraryRegion.h"
+#include "OslLanes/LibraryFunctions.h"
 #include "mlir/Pass/Pass.h"
 
 namespace mlir::osl {
@@ -24,7 +24,7 @@ namespace mlir::osl {
 #include "OslConversion/Passes.h.inc"
 
 /// osl-convert-to-vector told which library routines are compiled already:
-/// their code is not built where nothing needs it (OslLanes/LibraryRegion.h).
+/// their code is not built where nothing needs it (OslLanes/LibraryFunctions.h).
 std::unique_ptr<Pass> createConvertToVector(const ConvertToVectorOptions &options,
                                             LibraryObjectAvailable available);
 

@@ -8,7 +8,7 @@
 #ifndef OSLPIPELINE_PIPELINE_H
 #define OSLPIPELINE_PIPELINE_H
 
-#include "OslLanes/LibraryRegion.h"
+#include "OslLanes/LibraryFunctions.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Pass/PassManager.h"
@@ -31,15 +31,15 @@ struct OslToLLVMPipelineOptions {
   /// runs osl-evaluate-in-double).
   MathLevel math = MathLevel::Default;
   /// Library routines (noise) inline at each call, not in functions the
-  /// JIT compiles once (osl-outline-library's outline=false).
+  /// JIT compiles once (osl-inline-library's keep-calls=false).
   bool inlineLibrary = false;
-  /// Every library routine a function, however small (osl-outline-library's
+  /// Every library routine a function, however small (osl-inline-library's
   /// inline-ops=0): how the prebuilt library is built, so that it holds the
   /// routines a shader calls too often to inline.
   bool outlineEveryRoutine = false;
   /// Which library routines are compiled already, by recipe (the
   /// compiler's library objects): those no call needs the code of are
-  /// declared, not built (OslLanes/LibraryRegion.h). Null: all are built.
+  /// declared, not built (OslLanes/LibraryFunctions.h). Null: all are built.
   LibraryObjectAvailable libraryAvailable;
 };
 
@@ -55,11 +55,11 @@ void buildOslLevelPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &op
 void buildLoweringPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &options);
 
 /// The lowering's two steps: to the vector dialect with each library
-/// routine a function (osl-outline-library), then on to the LLVM dialect.
+/// routine a function (osl-inline-library keeps the calls that gain), then on to the LLVM dialect.
 /// Between them a JIT turns the library functions whose objects it already
 /// has into declarations (OslCompiler/LibraryObjects.h), so the second step
 /// never lowers their bodies.
-void buildLibraryOutliningPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &options);
+void buildVectorLevelPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &options);
 void buildLLVMDialectPipeline(OpPassManager &pm, const OslToLLVMPipelineOptions &options);
 
 

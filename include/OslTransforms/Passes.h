@@ -2,7 +2,7 @@
 #ifndef OSLTRANSFORMS_PASSES_H
 #define OSLTRANSFORMS_PASSES_H
 
-#include "OslLanes/LibraryRegion.h"
+#include "OslLanes/LibraryFunctions.h"
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/ControlFlow/IR/ControlFlow.h"
 #include "mlir/Dialect/Func/IR/FuncOps.h"
@@ -40,7 +40,7 @@ void populateFoldConstantsPatterns(RewritePatternSet &patterns);
 #include "OslTransforms/Passes.h.inc"
 
 /// osl-derivatives told which dual routines are compiled already: those
-/// are declared, not built (OslLanes/LibraryRegion.h).
+/// are declared, not built (OslLanes/LibraryFunctions.h).
 std::unique_ptr<Pass> createDerivatives(const DerivativesOptions &options,
                                         LibraryObjectAvailable available);
 

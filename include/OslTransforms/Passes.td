@@ -210,44 +210,40 @@ def Derivatives : Pass<"osl-derivatives", "::mlir::ModuleOp"> {
                            "::mlir::func::FuncDialect"];
 }
 
-def OutlineLibrary : Pass<"osl-outline-library", "::mlir::ModuleOp"> {
-  let summary = "Make each library region one private function of the kernel; inline small ones";
+def InlineLibrary : Pass<"osl-inline-library", "::mlir::ModuleOp"> {
+  let summary = "Put small library routines' code in place of their calls";
   let description = [{
-    osl-convert-to-vector lowers library routines (noise of every kind)
-    inside `scf.execute_region` ops marked
-    `osl.library = "name"`, and osl-derivatives inlines those a derivative
-    needs. This pass replaces the others by calls: each region becomes a
-    private function taking the values it uses from outside, named after the
-    routine and a hash of its signature, its ops and how they use those
-    values, so that call sites of one routine with one signature share one
-    function (a body that differs only in attributes, e.g. a builder's
-    constant option, gets the same name numbered .1, .2, ...). The JIT compiles a function once and keeps its object across
-    shaders (OslCompiler/LibraryObjects.h), so a shader's compile time no
-    longer grows with each noise call it makes. Run after osl-derivatives
-    and before canonicalization (which would inline the regions).
+    osl-convert-to-vector lowers library routines (noise of every kind,
+    spline inversion) to calls of private functions built from a recipe
+    (`osl.library_recipe`), one per routine and signature, which the JIT
+    compiles once and keeps as objects across shaders
+    (OslCompiler/LibraryObjects.h): a shader's compile time does not grow
+    with each noise call it makes. A routine found compiled is a
+    declaration. This pass chooses which calls of routines with code go
+    back in place, and erases the routines no call is left to. Run after
+    osl-derivatives (which copies in place the routines a derivative needs
+    where no dual routine serves).
 
-    Noise is lowered to calls of functions built from a recipe
-    (`osl.library_recipe`) instead: the choice below of which calls go
-    back in place applies to them too, except for calls their site marked
-    `osl.keep_call` (and a routine found compiled is a declaration), and a
-    routine no call is left to is erased.
-
-    With `outline=false` (--math=double, whose f64 rewrite stays within
-    the kernel) every region's code is moved in place instead. A function
-    without loops or branches whose ops times its calls is at most
-    `inline-ops` (cell and hash noise called once or twice) goes back in
-    place while the copies made, cheapest function first, fit in
+    A function without loops or branches whose ops times its calls is at
+    most `inline-ops` (cell and hash noise called once or twice) goes back
+    in place while the copies made, cheapest function first, fit in
     `inline-budget` for the kernel: a call clobbers every vector register,
     so the caller spills its live values around it, which costs more than
     such a body (and inlined constant arguments fold). A body of more than
     `inline-always-ops` ops goes back only where a call passes it a
     constant or runs in a loop: copies of it that do not fold cost codegen
-    time and gain little over a call made once. The bounds keep
-    unrolled loops of calls, or many different routines called once each
-    (a noise name chosen per point), from growing the kernel.
+    time and gain little over a call made once. The bounds keep unrolled
+    loops of calls, or many different routines called once each (a noise
+    name chosen per point), from growing the kernel. Calls their site
+    marked `osl.keep_call` stay calls.
+
+    With `keep-calls=false` (--math=double, whose f64 rewrite stays within
+    the kernel, and osl-run --inline-library) every call of a routine with
+    code is replaced by the code, calls in that code too.
   }];
-  let options = [Option<"outline", "outline", "bool", "true",
-                        "make functions; false: inline every library region">,
+  let options = [Option<"keepCalls", "keep-calls", "bool", "true",
+                        "keep the calls it does not gain to inline; false: inline "
+                        "every call of a routine with code">,
                  Option<"inlineOps", "inline-ops", "unsigned", "500",
                         "inline a straight-line function whose ops times its calls "
                         "is at most this">,

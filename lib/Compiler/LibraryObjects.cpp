@@ -1,10 +1,9 @@
 //===- LibraryObjects.cpp - Library functions compiled once ---------------===//
 #include "OslCompiler/LibraryObjects.h"
-#include "IRFingerprint.h"
 #include "OslAbi/Library.h"
 #include "OslCompiler/KernelCache.h"
 #include "OslRuntime/Stats.h"
-#include "OslLanes/LibraryRegion.h"
+#include "OslLanes/LibraryFunctions.h"
 
 #include "mlir/Dialect/Func/IR/FuncOps.h"
 #include "mlir/Dialect/LLVMIR/LLVMDialect.h"
@@ -109,7 +108,7 @@ void keyHeader(llvm::raw_ostream &os, llvm::StringRef version,
      << int(options.pipeline) << "\nmath " << options.math << "\n";
 }
 
-/// The key of a routine built from `recipe` (OslLanes/LibraryRegion.h): its
+/// The key of a routine built from `recipe` (OslLanes/LibraryFunctions.h): its
 /// code is decided by the recipe and the compiler, so the recipe stands for
 /// it, and it can be found before its code is built.
 std::string recipeKey(llvm::StringRef recipe, const LibraryKeyOptions &options) {
@@ -117,27 +116,6 @@ std::string recipeKey(llvm::StringRef recipe, const LibraryKeyOptions &options) 
   llvm::raw_string_ostream os(key);
   keyHeader(os, "recipe 1", options);
   os << "recipe " << recipe << "\n";
-  return key;
-}
-
-/// Everything that decides `func`'s object: the options, the compiler and
-/// the IR of the function and of every symbol it references (runtime
-/// entry points, constant strings).
-std::string objectKey(mlir::func::FuncOp func, mlir::SymbolTable &symbols,
-                      IRFingerprint &fingerprint, const LibraryKeyOptions &options) {
-  std::string key;
-  llvm::raw_string_ostream os(key);
-  keyHeader(os, "2", options);
-  os << "function " << func.getSymName() << " " << fingerprint.of(func) << "\n";
-  llvm::StringSet<> referenced;
-  if (auto uses = mlir::SymbolTable::getSymbolUses(&func.getBody()))
-    for (const mlir::SymbolTable::SymbolUse &use : *uses) {
-      llvm::StringRef name = use.getSymbolRef().getRootReference().getValue();
-      if (!referenced.insert(name).second)
-        continue;
-      mlir::Operation *symbol = symbols.lookup(name);
-      os << "uses " << name << " " << (symbol ? fingerprint.of(symbol) : "?") << "\n";
-    }
   return key;
 }
 
@@ -276,9 +254,7 @@ mlir::osl::LibraryObjectAvailable osl::libraryObjectFinder(const LibraryKeyOptio
 void osl::findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &options,
                              Stats *stats, LibraryUse &use) {
   ScopedTimer timer(stats, "library");
-  mlir::SymbolTable symbols(module);
   std::string directory = libraryDirectory(options);
-  IRFingerprint fingerprint;
   for (auto func : llvm::make_early_inc_range(module.getOps<mlir::func::FuncOp>())) {
     if (!func.getSymName().starts_with(abi::kLibrarySymbolPrefix))
       continue;
@@ -295,10 +271,11 @@ void osl::findLibraryObjects(mlir::ModuleOp module, const LibraryKeyOptions &opt
         func.eraseBody();
       continue;
     }
-    if (func.isDeclaration())
+    // (A function without a recipe is hand-written IR: it stays in the
+    // kernel.)
+    if (func.isDeclaration() || !recipe)
       continue;
-    std::string key = recipe ? recipeKey(recipe.getValue(), options)
-                             : objectKey(func, symbols, fingerprint, options);
+    std::string key = recipeKey(recipe.getValue(), options);
     if (auto object = lookupObject(key, directory, use)) {
       use.objects.push_back(std::move(object));
       // Its callers need only its signature.

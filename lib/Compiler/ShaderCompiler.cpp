@@ -133,7 +133,7 @@ bool ShaderCompiler::parse(llvm::StringRef source, llvm::StringRef filename) {
     mlirModule = mlir::parseSourceFile<mlir::ModuleOp>(sourceMgr, &context);
   } else {
     mlirModule = parseSource(source, filename, options.params, "", 0,
-                             LayerConnections{{}, options.rendererOutputs});
+                             LayerConnections{{}, options.rendererOutputs, {}, {}});
   }
   if (!mlirModule)
     return false;
@@ -177,9 +177,9 @@ bool ShaderCompiler::lower() {
     pipeline.libraryAvailable = libraryObjectFinder(libraryKeyOptions(), library);
   mlir::PassManager oslLevel(&context);
   mlir::osl::buildOslLevelPipeline(oslLevel, pipeline);
-  mlir::PassManager outlining(&context), lowering(&context);
-  outlining.enableVerifier(options.verifyEachPass);
-  mlir::osl::buildLibraryOutliningPipeline(outlining, pipeline);
+  mlir::PassManager vectorLevel(&context), lowering(&context);
+  vectorLevel.enableVerifier(options.verifyEachPass);
+  mlir::osl::buildVectorLevelPipeline(vectorLevel, pipeline);
   lowering.enableVerifier(options.verifyEachPass);
   mlir::osl::buildLLVMDialectPipeline(lowering, pipeline);
   // Pass failures report through the context's diagnostics, with the
@@ -201,7 +201,7 @@ bool ShaderCompiler::lower() {
     errs << needed;
     reports += needed;
   }
-  if (mlir::failed(outlining.run(*mlirModule)))
+  if (mlir::failed(vectorLevel.run(*mlirModule)))
     return false;
   if (splitLibrary) {
     // Known library functions lose their bodies before the rest lowers.
@@ -540,7 +540,8 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
   groupCounts = GroupStats();
   groupCounts.layersBefore = int(group.layers.size());
   OutputLengths outputLengths;
-  for (const auto &[layerIndex, layer] : llvm::enumerate(group.layers)) {
+  for (size_t layerIndex = 0; layerIndex < group.layers.size(); ++layerIndex) {
+    const auto &layer = group.layers[layerIndex];
     auto buffer = llvm::MemoryBuffer::getFile(layer.shaderPath, /*IsText=*/true);
     if (!buffer) {
       errs << "error: layer '" << layer.name << "': cannot read '" << layer.shaderPath

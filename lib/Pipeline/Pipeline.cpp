@@ -73,31 +73,31 @@ void mlir::osl::buildOslLevelPipeline(OpPassManager &pm,
 
 void mlir::osl::buildLoweringPipeline(OpPassManager &pm,
                                       const OslToLLVMPipelineOptions &options) {
-  buildLibraryOutliningPipeline(pm, options);
+  buildVectorLevelPipeline(pm, options);
   buildLLVMDialectPipeline(pm, options);
 }
 
-void mlir::osl::buildLibraryOutliningPipeline(OpPassManager &pm,
-                                              const OslToLLVMPipelineOptions &options) {
+void mlir::osl::buildVectorLevelPipeline(OpPassManager &pm,
+                                         const OslToLLVMPipelineOptions &options) {
   MathLevel math = options.math;
   ConvertToVectorOptions vectorOptions;
   vectorOptions.width = options.reference ? 1 : options.width;
   vectorOptions.referenceMode = options.reference;
   // Not in double evaluation: its rewrite of every f32 value stays within
   // one function.
-  OutlineLibraryOptions outlineOptions;
-  outlineOptions.outline = math != MathLevel::Double && !options.inlineLibrary;
+  InlineLibraryOptions inlineOptions;
+  inlineOptions.keepCalls = math != MathLevel::Double && !options.inlineLibrary;
   // A routine compiled already is linked, not built, where it stays a call.
   // Reference mode differentiates routines in place: its values are all
   // uniform, which a dual routine's tangents are not.
   DerivativesOptions derivativeOptions;
   derivativeOptions.dualRoutines = !options.reference;
-  LibraryObjectAvailable available = outlineOptions.outline ? options.libraryAvailable : nullptr;
+  LibraryObjectAvailable available = inlineOptions.keepCalls ? options.libraryAvailable : nullptr;
   pm.addPass(createConvertToVector(vectorOptions, available));
   pm.addPass(createDerivatives(derivativeOptions, available));
   if (options.outlineEveryRoutine)
-    outlineOptions.inlineOps = 0;
-  pm.addPass(createOutlineLibrary(outlineOptions));
+    inlineOptions.inlineOps = 0;
+  pm.addPass(createInlineLibrary(inlineOptions));
 }
 
 void mlir::osl::buildLLVMDialectPipeline(OpPassManager &pm,

@@ -5,16 +5,16 @@
 // loads of shader globals, whose derivative rows (dPdx, dudx, ...) are in
 // the globals block, and applies the chain rule forward. Only the values a
 // derivative is asked of are differentiated (null means "derivative 0"), so
-// a shader without Dx pays nothing. Library functions (noise, splines) are
-// already arithmetic here, so they differentiate like anything else (a
-// library region or call a derivative needs is inlined first).
+// a shader without Dx pays nothing. Library routines (noise, spline inversion)
+// are calls here: a derivative through one calls its dual routine, or
+// differentiates a copy of its code like anything else.
 //
 //===----------------------------------------------------------------------===//
 #include "OslDialect/OslDialect.h"
 #include "OslAbi/GlobalsLayout.h"
 #include "OslAbi/Texture.h"
 #include "OslLanes/LaneMath.h"
-#include "OslLanes/LibraryRegion.h"
+#include "OslLanes/LibraryFunctions.h"
 #include "OslAbi/Library.h"
 #include "OslTransforms/Passes.h"
 
@@ -64,14 +64,8 @@ public:
       return Value();
     if (auto it = memo.find(v); it != memo.end())
       return it->second;
-    // A library routine differentiates as the code it holds, moved in
-    // place (that call site is then not outlined).
-    if (scf::ExecuteRegionOp region = libraryRegionDefining(v)) {
-      unsigned i = cast<OpResult>(v).getResultNumber();
-      return derive(inlineLibraryRegion(region)[i], user);
-    }
-    // Likewise a call of a library function (its code copied in place),
-    // unless a call of its dual routine replaces it.
+    // A call of a library function differentiates as its code copied in
+    // place, unless a call of its dual routine replaces it.
     if (auto call = v.getDefiningOp<func::CallOp>())
       if (func::FuncOp callee = libraryCallee(call)) {
         unsigned i = cast<OpResult>(v).getResultNumber();

@@ -124,7 +124,7 @@ func.func @noise_is_a_library_function() {
 // A varying noise's uniform coordinate (a constant here) is broadcast before the
 // call, so that the routine takes varying values only (the prebuilt
 // library's signature). A call passing a constant may be inlined to fold
-// it (osl-outline-library), so it is not kept a call, and the routine is
+// it (osl-inline-library), so it is not kept a call, and the routine is
 // built even where it is compiled already.
 // CHECK-LABEL: osl.shader_name = "uniform_coordinate_broadcast_before_call"
 // CHECK: %[[Y:.+]] = vector.broadcast %{{.+}} : f32 to vector<8xf32>

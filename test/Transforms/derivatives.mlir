@@ -351,42 +351,10 @@ func.func @derivative_of_derivative(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i
 
 // -----
 
-// A library region whose result a derivative needs is inlined, and the
-// chain rule goes through its code (here u + u, so d/dx is dudx + dudx);
-// the other region stays for osl-outline-library.
-// CHECK-LABEL: func.func @library_region_inlined
-// CHECK: %[[DU:.+]] = llvm.getelementptr %arg0[140]
-// CHECK: %[[D:.+]] = llvm.load %[[DU]]
-// CHECK: %[[U:.+]] = llvm.load
-// CHECK: scf.execute_region
-// CHECK: osl.library = "untouched"
-// CHECK-NOT: scf.execute_region
-// CHECK: arith.addf %[[U]], %[[U]]
-// CHECK: arith.addf %[[D]], %[[D]]
-// CHECK-NOT: osl.lane_deriv
-func.func @library_region_inlined(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
-  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
-  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
-  %kept = scf.execute_region -> vector<4xf32> {
-    %k = arith.mulf %u, %u : vector<4xf32>
-    scf.yield %k : vector<4xf32>
-  } {osl.library = "untouched"}
-  %twice = scf.execute_region -> vector<4xf32> {
-    %t = arith.addf %u, %u : vector<4xf32>
-    scf.yield %t : vector<4xf32>
-  } {osl.library = "twice"}
-  %d = osl.lane_deriv x %twice : vector<4xf32>
-  %sum = arith.addf %d, %kept : vector<4xf32>
-  %m = arith.constant dense<true> : vector<4xi1>
-  llvm.intr.masked.store %sum, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
-  return
-}
-
-// -----
-
-// Likewise a call of a library function built from a recipe that its site
-// may inline (no osl.keep_call): its code is copied in place of the call a
-// derivative needs; the other call stays.
+// A call of a library function built from a recipe that its site may
+// inline (no osl.keep_call): its code is copied in place of the call a
+// derivative needs, and the chain rule goes through it (here u + u, so
+// d/dx is dudx + dudx); the other call stays.
 // CHECK-LABEL: func.func @library_call_inlined
 // CHECK: %[[DU:.+]] = llvm.getelementptr %arg0[140]
 // CHECK: %[[D:.+]] = llvm.load %[[DU]]

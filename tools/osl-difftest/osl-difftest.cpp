@@ -12,7 +12,8 @@
 //
 //   osl-difftest [-g X Y] [--quiet] [--reference-only] FILE...
 //
-// --reference-only compiles and shades the reference alone: a quick way to
+// --quiet leaves out the closing count (mismatches and rejections are
+// still reported). --reference-only compiles and shades the reference alone: a quick way to
 // find which of many generated shaders the compiler rejects, and why.
 //
 // Exits 1 at the first mismatch, naming the file, output, width and pixel,
@@ -158,6 +159,8 @@ int main(int argc, char **argv) {
     }
     ++compared;
   }
+  if (quiet)
+    return rejected ? 1 : 0;
   if (referenceOnly)
     llvm::outs() << "osl-difftest: " << compared << " shaders compiled and shaded in reference "
                  << "mode; " << rejected << " rejected by the compiler\n";

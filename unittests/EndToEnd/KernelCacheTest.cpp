@@ -36,7 +36,9 @@ CachedKernel sampleEntry() {
   return {"sample",
           {{"Cout", 3}, {"f", 1}},
           std::string("\x7f" "ELF object bytes", 17),
-          {"library object one", std::string("two\0bytes", 9)}};
+          {"library object one", std::string("two\0bytes", 9)},
+          /*warnings=*/"",
+          /*reports=*/""};
 }
 
 TEST(KernelCacheTest, StoredEntryReadsBack) {

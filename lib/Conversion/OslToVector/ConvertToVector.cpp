@@ -66,8 +66,6 @@ struct ConvertToVectorPass
     ConversionTarget target(*ctx);
     target.addIllegalDialect<OslDialect>();
     target.addLegalOp<LaneDerivOp>();
-    // Library regions (OslLanes/LibraryRegion.h) hold converted code.
-    target.addLegalOp<scf::ExecuteRegionOp>();
     LibraryRoutineNeeds needs(shaders[0], orAssumedCompiled(available, assumeCompiled),
                               referenceMode);
     target.addLegalDialect<arith::ArithDialect, math::MathDialect,

@@ -13,7 +13,7 @@
 #include "OslLanes/LaneMath.h"
 #include "OslLanes/LibraryBuilders.h"
 #include "OslLanes/NoiseBuilder.h"
-#include "OslLanes/LibraryRegion.h"
+#include "OslLanes/LibraryFunctions.h"
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/Dialect/Math/IR/Math.h"
 #include "mlir/IR/Matchers.h"

@@ -13,8 +13,9 @@
 #include "OslToVector.h"
 
 #include "OslLanes/GaborBuilder.h"
-#include "OslLanes/LibraryRegion.h"
+#include "OslLanes/LibraryFunctions.h"
 #include "OslLanes/NoiseBuilder.h"
+#include "mlir/Dialect/SCF/IR/SCF.h"
 #include "mlir/IR/Matchers.h"
 #include "mlir/Interfaces/LoopLikeInterface.h"
 
@@ -161,7 +162,7 @@ Value buildNoise(const NoiseRecipe &recipe, ValueRange coordValues, Components &
 
 /// Whether a call at `op` would be inlined for its site: it passes a
 /// constant (its copy folds) or runs in a loop (the spills around a call
-/// repeat), as osl-outline-library judges; cell and hash noise are small
+/// repeat), as osl-inline-library judges; cell and hash noise are small
 /// enough that it may inline them anywhere.
 bool siteMayInline(Operation *op, const NoiseRecipe &recipe, ValueRange coords) {
   if (recipe.gabor()) // a loop itself: never inlined

@@ -13,7 +13,7 @@
 #include "OslAbi/EntryPoints.h"
 #include "OslDialect/OslDialect.h"
 #include "OslLanes/LaneMath.h"
-#include "OslLanes/LibraryRegion.h"
+#include "OslLanes/LibraryFunctions.h"
 
 #include "mlir/Dialect/Func/IR/FuncOps.h"
 #include "mlir/Dialect/LLVMIR/LLVMDialect.h"

@@ -1,36 +1,28 @@
-//===- LibraryRegion.h - Library routines marked for outlining --*- C++ -*-===//
+//===- LibraryFunctions.h - Library routines as functions -------*- C++ -*-===//
 //
-// A library routine is lowered in one of two forms, both of which
-// osl-derivatives can still differentiate through (it inlines the code it
-// needs) and osl-outline-library makes one function per routine and
-// signature, which the JIT compiles once and caches as an object across
-// shaders:
-//
-// - inline, inside an scf.execute_region marked `osl.library = "name"`
-//   (spline inversion), identified by its code once outlined;
-// - as a call to a private function built from a recipe (noise): a string
-//   naming everything its code is built from. Two calls of one recipe share
-//   the function, and its compiled object is keyed by the recipe, so a
-//   routine compiled before need not be built at all: its function is then
-//   a declaration (see LibraryRoutineNeeds).
+// A library routine (noise of every kind, spline inversion) is lowered to a
+// call of a private function built from a recipe: a string naming
+// everything its code is built from. Two calls of one recipe share the
+// function, and its compiled object is keyed by the recipe, so a routine
+// compiled before need not be built at all: its function is then a
+// declaration (see LibraryRoutineNeeds). osl-derivatives differentiates
+// through a call by its dual routine or a copy of its code, and
+// osl-inline-library puts small routines back in place.
 //
 //===----------------------------------------------------------------------===//
-#ifndef OSLLANES_LIBRARYREGION_H
-#define OSLLANES_LIBRARYREGION_H
+#ifndef OSLLANES_LIBRARYFUNCTIONS_H
+#define OSLLANES_LIBRARYFUNCTIONS_H
 
 #include "mlir/Dialect/Func/IR/FuncOps.h"
-#include "mlir/Dialect/SCF/IR/SCF.h"
 #include "mlir/IR/Builders.h"
 
 #include <functional>
 
 namespace mlir::osl {
 
-/// The attribute naming a library region's routine.
-constexpr const char *kLibraryAttr = "osl.library";
 /// On a library function: the recipe its code is built from.
 constexpr const char *kLibraryRecipeAttr = "osl.library_recipe";
-/// On a call of a library function: it stays a call (osl-outline-library
+/// On a call of a library function: it stays a call (osl-inline-library
 /// does not inline it), decided at the call site alone, so that the kernel
 /// is the same whether the function's code was built or found compiled.
 constexpr const char *kKeepCallAttr = "osl.keep_call";
@@ -48,19 +40,6 @@ constexpr const char *kDerivativeArgsAttr = "osl.derivative_args";
 /// Whether a recipe's compiled object is at hand (the compiler's library
 /// cache answers; null: never, every routine is built).
 using LibraryObjectAvailable = std::function<bool(StringRef recipe)>;
-
-/// Emits `build`'s code in a region marked as library routine `name`; the
-/// region's results (of `resultTypes`) are what `build` returns.
-SmallVector<Value>
-buildLibraryRegion(OpBuilder &b, Location loc, StringRef name, TypeRange resultTypes,
-                   function_ref<SmallVector<Value>(OpBuilder &)> build);
-
-/// The library region defining `v`, if any.
-scf::ExecuteRegionOp libraryRegionDefining(Value v);
-
-/// Moves a library region's code in place of the region and returns what
-/// replaces its results.
-SmallVector<Value> inlineLibraryRegion(scf::ExecuteRegionOp region);
 
 /// The function of library routine `routine` built from `recipe`, in the
 /// module around `anchor`: found, or made now. It gets its code from
@@ -105,4 +84,4 @@ bool isConstantOperand(Value v);
 
 } // namespace mlir::osl
 
-#endif // OSLLANES_LIBRARYREGION_H
+#endif // OSLLANES_LIBRARYFUNCTIONS_H

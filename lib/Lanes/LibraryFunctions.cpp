@@ -1,5 +1,5 @@
-//===- LibraryRegion.cpp - Library routines marked for outlining ----------===//
-#include "OslLanes/LibraryRegion.h"
+//===- LibraryFunctions.cpp - Library routines as functions ---------------===//
+#include "OslLanes/LibraryFunctions.h"
 #include "OslAbi/Library.h"
 
 #include "mlir/Dialect/Vector/IR/VectorOps.h"
@@ -11,35 +11,6 @@
 #include "llvm/Support/xxhash.h"
 
 using namespace mlir;
-
-SmallVector<Value>
-mlir::osl::buildLibraryRegion(OpBuilder &b, Location loc, StringRef name, TypeRange resultTypes,
-                        function_ref<SmallVector<Value>(OpBuilder &)> build) {
-  auto region = b.create<scf::ExecuteRegionOp>(loc, resultTypes);
-  region->setAttr(kLibraryAttr, b.getStringAttr(name));
-  OpBuilder::InsertionGuard guard(b);
-  b.createBlock(&region.getRegion());
-  SmallVector<Value> results = build(b);
-  b.create<scf::YieldOp>(loc, results);
-  return SmallVector<Value>(region.getResults());
-}
-
-scf::ExecuteRegionOp mlir::osl::libraryRegionDefining(Value v) {
-  auto region = v.getDefiningOp<scf::ExecuteRegionOp>();
-  return region && region->hasAttr(kLibraryAttr) ? region : scf::ExecuteRegionOp();
-}
-
-SmallVector<Value> mlir::osl::inlineLibraryRegion(scf::ExecuteRegionOp region) {
-  // The builders emit structured control flow only: one block.
-  Block &body = region.getRegion().front();
-  auto yield = cast<scf::YieldOp>(body.getTerminator());
-  SmallVector<Value> results(yield.getOperands());
-  yield.erase();
-  region->getBlock()->getOperations().splice(Block::iterator(region), body.getOperations());
-  region.replaceAllUsesWith(results);
-  region.erase();
-  return results;
-}
 
 func::FuncOp mlir::osl::libraryFunction(
     OpBuilder &b, Operation *anchor, StringRef routine, StringRef recipe, FunctionType type,
