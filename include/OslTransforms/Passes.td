@@ -45,8 +45,16 @@ def LinkShaderGroup : Pass<"osl-link-group", "::mlir::ModuleOp"> {
     assigns Ci is not lazy either: it runs at the top level in group order,
     and the layers after it read the Ci it left. With `lazy-error=false`
     (OSL's lazyerror=0) neither is a layer that calls error(), so that its
-    errors are reported whether or not its outputs are read. (OSL decides
-    after folding; here a call that folding would remove counts too.)
+    errors are reported whether or not its outputs are read. Both are
+    decided as OSL decides, on the layer folded with its parameters bound
+    (`if (set_Ci) Ci = ...` with set_Ci 0 assigns nothing), and neither
+    applies when the group names its entry layers: those run alone, with
+    the layers they read, as OSL's execute_layer runs them.
+
+    A parameter marked `userdata` (per-geometry data, lockgeom=0 in its
+    declaration or on the command line) is never taken as constant: an
+    upstream layer whose output would fold only through it still runs
+    where that output is read (its printf and all), as in OSL.
 
     Errors: an unknown layer or output, a connection to the same or an
     earlier layer (a cycle), and a type mismatch between output and input.

@@ -358,7 +358,7 @@ private:
   std::optional<RValue> paramDefault(const Param &p, OslType &t, const ParamOverride *ov,
                                      bool runDefault);
   const ParamOverride *overrideOf(const std::string &name) const;
-  void wrapInParamOps(RValue &v, const std::string &name, SrcLoc at);
+  void wrapInParamOps(RValue &v, const std::string &name, bool perGeometry, SrcLoc at);
 
   std::optional<RValue> overrideValue(const Param &p, const std::string &text);
   /// Calls fn on each leaf of a struct value (nested structs flattened),

@@ -264,16 +264,23 @@ const ::osl::ParamOverride *IRGen::overrideOf(const std::string &name) const {
 }
 
 /// Each value of `v` (each element of an array) becomes an osl.param named
-/// `name` with that value as its default.
-void IRGen::wrapInParamOps(RValue &v, const std::string &name, SrcLoc at) {
+/// `name` with that value as its default; `perGeometry` marks it as data
+/// the renderer may supply per point (lockgeom=0), which a group never
+/// specialises on, as OSL's optimizer does not.
+void IRGen::wrapInParamOps(RValue &v, const std::string &name, bool perGeometry, SrcLoc at) {
+  auto wrap = [&](Value value) {
+    auto op = b.create<ParamOp>(loc(at), value.getType(), name, value);
+    op.setUserdata(perGeometry);
+    return op;
+  };
   if (v.type.hasElems()) {
     for (size_t i = 0; i < v.elems.size(); ++i) {
-      auto op = b.create<ParamOp>(loc(at), v.elems[i].getType(), name, v.elems[i]);
+      ParamOp op = wrap(v.elems[i]);
       op.setIndex(int64_t(i));
       v.elems[i] = op.getResult();
     }
   } else {
-    v.value = b.create<ParamOp>(loc(at), v.value.getType(), name, v.value).getResult();
+    v.value = wrap(v.value).getResult();
   }
 }
 
@@ -311,7 +318,7 @@ bool IRGen::emitParam(const Param &p, Scope *scope, bool runDefault) {
   }
   // (A closure parameter takes no instance value, but may be connected.)
   if (t.hasElems() || !t.isString()) {
-    wrapInParamOps(val, p.name, p.loc);
+    wrapInParamOps(val, p.name, isPerGeometry(p), p.loc);
     // Per-geometry data (lockgeom=0) the renderer has takes precedence.
     if (!t.hasElems() && isPerGeometry(p))
       if (auto data = testshadeUserdata(*this, p.name, t, p.loc))
@@ -369,7 +376,7 @@ bool IRGen::emitStructParam(const Param &p, Scope *scope) {
       }
       leaf = *given;
     }
-    wrapInParamOps(leaf, name, p.loc);
+    wrapInParamOps(leaf, name, isPerGeometry(p), p.loc);
   });
   if (!ok)
     return false;

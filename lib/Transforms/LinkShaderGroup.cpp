@@ -107,13 +107,23 @@ struct LinkShaderGroupPass
     bool anyEntry = false;
     for (Layer &l : layers) {
       anyEntry |= l.entry = l.func->hasAttr(kEntryAttr);
-      if (!lazyGlobals)
-        l.func.walk([&](OutputOp out) { l.writesCi |= out.getName() == "Ci"; });
-      if (!lazyError)
-        l.func.walk([&](PrintOp print) { l.callsError |= print.isErrorCall(); });
+      // As OSL decides, once the layer's parameters are bound and folded: a
+      // Ci or error() under a parameter that turns it off does not count.
+      if (!lazyGlobals || !lazyError) {
+        func::FuncOp folded = foldedCopy(l);
+        if (!lazyGlobals)
+          folded.walk([&](OutputOp out) {
+            auto initial = out.getValue().getDefiningOp<ClosureEmptyOp>();
+            l.writesCi |= out.getName() == "Ci" && !(initial && initial.getInitialCi());
+          });
+        if (!lazyError)
+          folded.walk([&](PrintOp print) { l.callsError |= print.isErrorCall(); });
+        folded.erase();
+      }
     }
     if (!anyEntry)
       layers.back().entry = true;
+    explicitEntries = anyEntry;
     // Asking for "layer.name" makes that layer run for it; asking for
     // "name", every layer with an output of that name (testshade makes each
     // a renderer output, which OSL never skips).
@@ -148,14 +158,15 @@ struct LinkShaderGroupPass
 
     // Entries and, without lazy globals, layers that assign Ci and, without
     // lazy errors, layers that call error() (every layer when not lazy) run
-    // unconditionally, in order.
+    // unconditionally, in order. Entry layers named explicitly run alone
+    // (with what they read), as OSL's execute_layer runs them.
     auto eager = [&](const Layer &l) {
-      return l.entry || l.writesCi || l.callsError || !lazy;
+      return l.entry || (!explicitEntries && (l.writesCi || l.callsError)) || !lazy;
     };
     for (Layer &l : layers)
       if (eager(l)) {
         b.setInsertionPoint(ret);
-        placed[l.name] = inlineLayer(l, b);
+        placed[l.name] = inlineLayer(l, b, /*inOrder=*/true);
       }
     // The others, last first: by then every layer that reads one is placed.
     // Dead code goes first, as OSL optimizes a layer before it decides what
@@ -370,8 +381,11 @@ struct LinkShaderGroupPass
   }
 
   /// Clones layer `l` at `b`; returns its outputs' final values. Entry
-  /// layers keep the outputs the group asks for.
-  llvm::StringMap<Value> inlineLayer(Layer &l, OpBuilder &b) {
+  /// layers keep the outputs the group asks for. Without lazy globals, a
+  /// layer placed at the top level (`inOrder`) starts from the Ci the
+  /// layers before it left and leaves its own to those after it; a layer
+  /// placed where it is read writes no Ci (else it would not be lazy).
+  llvm::StringMap<Value> inlineLayer(Layer &l, OpBuilder &b, bool inOrder) {
     IRMapping map;
     llvm::StringMap<Value> outputs;
     SmallVector<ParamOp> reads;
@@ -380,7 +394,7 @@ struct LinkShaderGroupPass
       // Ci as the layers placed before left it (the front end marks the
       // value a shader's Ci starts with).
       auto empty = dyn_cast<ClosureEmptyOp>(op);
-      if (empty && empty.getInitialCi() && currentCi && !lazyGlobals) {
+      if (empty && empty.getInitialCi() && currentCi && !lazyGlobals && inOrder) {
         map.map(op.getResult(0), currentCi);
         continue;
       }
@@ -392,7 +406,7 @@ struct LinkShaderGroupPass
       if (!out)
         continue;
       outputs[outputKey(out.getName(), elementIndex(out))] = out.getValue();
-      if (out.getName() == "Ci")
+      if (out.getName() == "Ci" && inOrder)
         currentCi = out.getValue();
       std::string groupName = &l == &layers.back()
                                   ? out.getName().str()
@@ -424,6 +438,25 @@ struct LinkShaderGroupPass
   /// OSL's optimizer folds such a connection into the reading layer, and
   /// then never runs the upstream layer for it (its printf and all).
   llvm::StringMap<TypedAttr> constantOutputs(Layer &l) {
+    func::FuncOp copy = foldedCopy(l);
+    llvm::StringMap<TypedAttr> constants;
+    for (Operation &op : copy.front().without_terminator())
+      if (auto out = dyn_cast<OutputOp>(op)) {
+        std::string key = outputKey(out.getName(), elementIndex(out));
+        auto constant = out.getValue().getDefiningOp<arith::ConstantOp>();
+        if (constant)
+          constants[key] = constant.getValue();
+        else
+          constants.erase(key);
+      }
+    copy.erase();
+    return constants;
+  }
+
+  /// A copy of `l` (for the caller to erase) with its unconnected
+  /// parameters bound to their values (per-geometry ones excepted: they may
+  /// change per point) and folded, as OSL's optimizer sees the layer.
+  func::FuncOp foldedCopy(Layer &l) {
     OpBuilder b(l.func);
     auto copy = cast<func::FuncOp>(b.clone(*l.func));
     copy.setSymName((l.func.getSymName() + ".folded").str());
@@ -436,19 +469,13 @@ struct LinkShaderGroupPass
     OpPassManager fold(func::FuncOp::getOperationName());
     fold.addPass(createFoldConstants());
     fold.addPass(createCanonicalizerPass());
-    llvm::StringMap<TypedAttr> constants;
     if (succeeded(runPipeline(fold, copy)))
-      for (Operation &op : copy.front().without_terminator())
-        if (auto out = dyn_cast<OutputOp>(op)) {
-          std::string key = outputKey(out.getName(), elementIndex(out));
-          auto constant = out.getValue().getDefiningOp<arith::ConstantOp>();
-          if (constant)
-            constants[key] = constant.getValue();
-          else
-            constants.erase(key);
-        }
+      return copy;
+    // Not folded: an unchanged copy, from which nothing counts as constant.
     copy.erase();
-    return constants;
+    copy = cast<func::FuncOp>(b.clone(*l.func));
+    copy.setSymName((l.func.getSymName() + ".unfolded").str());
+    return copy;
   }
 
   /// Where the code of a layer `first` reads at `readAt` goes: before
@@ -552,7 +579,7 @@ struct LinkShaderGroupPass
     for (ParamOp param : reads)
       mine.push_back(param.getResult());
     OpBuilder b(insertionPoint(first, firstReadWithin(first, mine)));
-    llvm::StringMap<Value> outputs = inlineLayer(l, b);
+    llvm::StringMap<Value> outputs = inlineLayer(l, b, /*inOrder=*/false);
     placedLazily.insert(l.name);
     for (ParamOp param : reads)
       replaceConnected(param, outputs, connection(param)->second);
@@ -601,6 +628,8 @@ struct LinkShaderGroupPass
   llvm::StringSet<> placedLazily;
   /// Ci as the last layer placed that assigns it left it.
   Value currentCi;
+  /// The group names its entry layers (else the root is its one entry).
+  bool explicitEntries = false;
   llvm::StringSet<> requestedOutputs;
   llvm::StringSet<> reportedArrays;
   /// Outputs of the layers that run unconditionally, as the group names them.
