@@ -102,6 +102,10 @@ public:
     includeDepth = depth;
     LineRemap outerRemap = lineRemap; // nor do #line directives
     lineRemap = {};
+    // oslc reads the main file after a line of its own, so there __LINE__
+    // is one more than the line (its messages count right); a #line
+    // directive sets it right.
+    lineRemap.lineMacroBias = depth == 0 ? 1 : 0;
     bool ok = runFile(raw, out);
     std::swap(outerConds, conds);
     includeDepth = outerDepth;
@@ -414,14 +418,14 @@ private:
   }
 
   /// __LINE__ and __FILE__ (where they are used; in a macro, where the
-  /// macro is used), as C's preprocessor has them; other tokens as they are.
+  /// macro is used), as oslc has them; other tokens as they are.
   Token predefined(const Token &tok) const {
     if (!tok.is(TokKind::Ident) || (tok.text != "__LINE__" && tok.text != "__FILE__"))
       return tok;
     Token t = tok;
     if (tok.text == "__LINE__") {
       t.kind = TokKind::Int;
-      t.text = std::to_string(tok.loc.line);
+      t.text = std::to_string((long long)tok.loc.line + lineRemap.lineMacroBias);
     } else {
       t.kind = TokKind::String;
       t.text = diags.fileName(tok.loc.file).str();
@@ -803,6 +807,7 @@ private:
     // Lines are counted in the file as written; the offset holds across
     // the remap's own file changes.
     lineRemap.offset = number - (long long)(name.loc.line + 1);
+    lineRemap.lineMacroBias = 0;
     if (line.size() > 2)
       lineRemap.file = diags.addFileName(line[2].text);
     return true;
@@ -810,6 +815,8 @@ private:
 
   struct LineRemap {
     long long offset = 0;
+    /// Added to __LINE__'s value (not to locations).
+    long long lineMacroBias = 0;
     std::optional<unsigned> file;
     void apply(SrcLoc &loc) const {
       loc.line = unsigned((long long)loc.line + offset);
