@@ -61,15 +61,27 @@ std::optional<std::pair<StringRef, StringRef>> connection(ParamOp param) {
                         cast<StringAttr>(names[1]).getValue());
 }
 
+/// What a layer does once its unconnected parameters take their values
+/// and it is folded, as OSL's optimizer sees it before it decides what runs.
+struct FoldedLayer {
+  /// Its outputs (by outputKey) that are constants: OSL folds such a
+  /// connection into the reading layer, and then never runs this layer for
+  /// it (its printf and all).
+  llvm::StringMap<TypedAttr> constantOutputs;
+  /// Assigns Ci (a Ci under a parameter that turns it off does not count):
+  /// with lazy-globals=false such a layer is not lazy (it runs in group
+  /// order, as entries do) and the later layers see its Ci.
+  bool writesCi = false;
+  /// Calls error(): with lazy-error=false such a layer is not lazy either.
+  bool callsError = false;
+};
+
 struct Layer {
   func::FuncOp func;
   StringRef name;
   bool entry = false;
-  /// Assigns Ci: with lazy-globals=false such a layer is not lazy (it runs
-  /// in group order, as entries do) and the later layers see its Ci.
-  bool writesCi = false;
-  /// Calls error(): with lazy-error=false such a layer is not lazy either.
-  bool callsError = false;
+  /// Made when first asked for (LinkShaderGroupPass::folded).
+  std::optional<FoldedLayer> folded;
 };
 
 struct LinkShaderGroupPass
@@ -105,22 +117,8 @@ struct LinkShaderGroupPass
       }
     }
     bool anyEntry = false;
-    for (Layer &l : layers) {
+    for (Layer &l : layers)
       anyEntry |= l.entry = l.func->hasAttr(kEntryAttr);
-      // As OSL decides, once the layer's parameters are bound and folded: a
-      // Ci or error() under a parameter that turns it off does not count.
-      if (!lazyGlobals || !lazyError) {
-        func::FuncOp folded = foldedCopy(l);
-        if (!lazyGlobals)
-          folded.walk([&](OutputOp out) {
-            auto initial = out.getValue().getDefiningOp<ClosureEmptyOp>();
-            l.writesCi |= out.getName() == "Ci" && !(initial && initial.getInitialCi());
-          });
-        if (!lazyError)
-          folded.walk([&](PrintOp print) { l.callsError |= print.isErrorCall(); });
-        folded.erase();
-      }
-    }
     if (!anyEntry)
       layers.back().entry = true;
     explicitEntries = anyEntry;
@@ -160,8 +158,10 @@ struct LinkShaderGroupPass
     // lazy errors, layers that call error() (every layer when not lazy) run
     // unconditionally, in order. Entry layers named explicitly run alone
     // (with what they read), as OSL's execute_layer runs them.
-    auto eager = [&](const Layer &l) {
-      return l.entry || (!explicitEntries && (l.writesCi || l.callsError)) || !lazy;
+    auto eager = [&](Layer &l) {
+      return l.entry || !lazy ||
+             (!explicitEntries && ((!lazyGlobals && folded(l).writesCi) ||
+                                   (!lazyError && folded(l).callsError)));
     };
     for (Layer &l : layers)
       if (eager(l)) {
@@ -433,30 +433,12 @@ struct LinkShaderGroupPass
     return outputs;
   }
 
-  /// The outputs of `l` (by outputKey) that are constants once its
-  /// unconnected parameters take their values and the layer is folded.
-  /// OSL's optimizer folds such a connection into the reading layer, and
-  /// then never runs the upstream layer for it (its printf and all).
-  llvm::StringMap<TypedAttr> constantOutputs(Layer &l) {
-    func::FuncOp copy = foldedCopy(l);
-    llvm::StringMap<TypedAttr> constants;
-    for (Operation &op : copy.front().without_terminator())
-      if (auto out = dyn_cast<OutputOp>(op)) {
-        std::string key = outputKey(out.getName(), elementIndex(out));
-        auto constant = out.getValue().getDefiningOp<arith::ConstantOp>();
-        if (constant)
-          constants[key] = constant.getValue();
-        else
-          constants.erase(key);
-      }
-    copy.erase();
-    return constants;
-  }
-
-  /// A copy of `l` (for the caller to erase) with its unconnected
-  /// parameters bound to their values (per-geometry ones excepted: they may
-  /// change per point) and folded, as OSL's optimizer sees the layer.
-  func::FuncOp foldedCopy(Layer &l) {
+  /// `l` as OSL's optimizer sees it (FoldedLayer): a copy with its
+  /// unconnected parameters bound to their values (per-geometry ones
+  /// excepted: they may change per point), folded once and kept.
+  const FoldedLayer &folded(Layer &l) {
+    if (l.folded)
+      return *l.folded;
     OpBuilder b(l.func);
     auto copy = cast<func::FuncOp>(b.clone(*l.func));
     copy.setSymName((l.func.getSymName() + ".folded").str());
@@ -469,13 +451,27 @@ struct LinkShaderGroupPass
     OpPassManager fold(func::FuncOp::getOperationName());
     fold.addPass(createFoldConstants());
     fold.addPass(createCanonicalizerPass());
-    if (succeeded(runPipeline(fold, copy)))
-      return copy;
-    // Not folded: an unchanged copy, from which nothing counts as constant.
+    // Not folded: the layer as written, in which nothing counts as constant.
+    bool foldedOk = succeeded(runPipeline(fold, copy));
+    func::FuncOp seen = foldedOk ? copy : l.func;
+    FoldedLayer facts;
+    for (Operation &op : seen.front().without_terminator())
+      if (auto out = dyn_cast<OutputOp>(op)) {
+        std::string key = outputKey(out.getName(), elementIndex(out));
+        auto constant = out.getValue().getDefiningOp<arith::ConstantOp>();
+        if (constant && foldedOk)
+          facts.constantOutputs[key] = constant.getValue();
+        else
+          facts.constantOutputs.erase(key);
+      }
+    seen.walk([&](OutputOp out) {
+      auto initial = out.getValue().getDefiningOp<ClosureEmptyOp>();
+      facts.writesCi |= out.getName() == "Ci" && !(initial && initial.getInitialCi());
+    });
+    seen.walk([&](PrintOp print) { facts.callsError |= print.isErrorCall(); });
     copy.erase();
-    copy = cast<func::FuncOp>(b.clone(*l.func));
-    copy.setSymName((l.func.getSymName() + ".unfolded").str());
-    return copy;
+    l.folded = std::move(facts);
+    return *l.folded;
   }
 
   /// Where the code of a layer `first` reads at `readAt` goes: before
@@ -531,22 +527,20 @@ struct LinkShaderGroupPass
       if (auto from = connection(param); from && from->first == l.name)
         connected.push_back(param);
     });
-    // Folding the layer is only worth it when something reads it.
-    llvm::StringMap<TypedAttr> constants;
-    if (!connected.empty())
-      constants = constantOutputs(l);
     for (ParamOp param : connected) {
       StringRef output = connection(param)->second;
       std::string key = outputKey(splitComponentName(output).first, elementIndex(param));
+      // (Folded only when something reads the layer.)
+      const llvm::StringMap<TypedAttr> &constants = folded(l).constantOutputs;
       auto constant = constants.find(key);
       if (constant == constants.end()) {
         reads.push_back(param);
         continue;
       }
       OpBuilder b(param);
-      llvm::StringMap<Value> folded;
-      folded[key] = b.create<arith::ConstantOp>(param.getLoc(), constant->second);
-      replaceConnected(param, folded, output);
+      llvm::StringMap<Value> constantValue;
+      constantValue[key] = b.create<arith::ConstantOp>(param.getLoc(), constant->second);
+      replaceConnected(param, constantValue, output);
     }
     SmallVector<Operation *> users;
     for (ParamOp param : reads)
