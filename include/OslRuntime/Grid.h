@@ -11,6 +11,8 @@
 #include "OslAbi/GlobalsLayout.h"
 #include "OslRuntime/PrintCall.h"
 
+#include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -63,9 +65,17 @@ struct OutputSpec {
   /// A closure (Ci): its one row holds closure handles (OslRuntime/Closure.h)
   /// as float bits, not an image.
   bool closure = false;
-  /// An int output: whole numbers (stored as floats in the rows).
+  /// An int output: its rows (and images) hold the ints' bits as floats,
+  /// read with intOutputValue (a float holds ints exactly only to 2^24).
   bool integer = false;
 };
+
+/// An int output's value from a float of its rows or images.
+inline int32_t intOutputValue(float bits) {
+  int32_t value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+}
 
 struct ShadeResult {
   /// Per output: xres*rows*channels floats for the band of rows shaded

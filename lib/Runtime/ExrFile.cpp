@@ -32,6 +32,7 @@ public:
 
   bool writeRows(int rowBegin, int rowEnd, const float *data, std::string &error) override {
     size_t values = size_t(rowEnd - rowBegin) * spec.xres * spec.channels;
+    data = floatValues(data, values, spec.intBits && !spec.integerPixels, ints);
     size_t bytes = pixelTypeBytes(type);
     const char *pixels = reinterpret_cast<const char *>(data);
     if (type != PixelType::Float || spec.integerPixels) {
@@ -74,6 +75,7 @@ private:
   std::string path;
   std::vector<std::string> names;
   std::vector<char> band;
+  std::vector<float> ints; // an int output's values as floats
 };
 
 /// OpenImageIO's order for an EXR's channels: R, G, B, A first, the others

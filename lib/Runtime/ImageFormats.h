@@ -24,7 +24,8 @@ namespace osl::image {
 struct WriteSpec {
   int xres = 0, yres = 0, channels = 0;
   std::string dataType;       ///< -od's name; empty: floats
-  bool integerPixels = false; ///< the floats are whole numbers written as ints
+  bool intBits = false;       ///< the floats are an int output's bits (Grid.h)
+  bool integerPixels = false; ///< written as ints (an int output, where the format has them)
 };
 
 /// testshade's channel names: R, G, B, A, then channel4...; Y alone.

@@ -74,6 +74,7 @@ image::WriteSpec specOf(int xres, int yres, int channels, const std::string &dat
   spec.yres = yres;
   spec.channels = channels;
   spec.dataType = dataType;
+  spec.intBits = integerValues;
   spec.integerPixels = integerValues;
   return spec;
 }

@@ -8,6 +8,8 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cstring>
+
 namespace osl::oiio {
 
 namespace {
@@ -17,7 +19,8 @@ struct OpenImage {
   std::unique_ptr<OIIO::ImageOutput> out;
   std::string path;
   int xres = 0, channels = 0;
-  bool integerPixels = false;
+  bool integerValues = false; // the floats are an int output's bits (Grid.h)
+  bool integerPixels = false; // written as ints
 };
 
 /// testshade writes an int output's pixels as ints: stored as such in a
@@ -67,18 +70,26 @@ void *openImage(const std::string &path, const std::string &formatFrom, int xres
     error = "cannot write " + formatFrom + ": " + out->geterror();
     return nullptr;
   }
-  return new OpenImage{std::move(out), formatFrom, xres, channels, integerPixels};
+  return new OpenImage{std::move(out), formatFrom, xres, channels, integerValues, integerPixels};
 }
 
 bool writeRows(void *handle, int rowBegin, int rowEnd, const float *data, std::string &error) {
   auto &image = *static_cast<OpenImage *>(handle);
   bool ok;
-  if (!image.integerPixels) {
+  size_t count = size_t(rowEnd - rowBegin) * image.xres * image.channels;
+  if (!image.integerValues) {
     ok = image.out->write_scanlines(rowBegin, rowEnd, 0, OIIO::TypeDesc::FLOAT, data);
+  } else if (image.integerPixels) {
+    // The ints' own bits.
+    ok = image.out->write_scanlines(rowBegin, rowEnd, 0, OIIO::TypeDesc::INT, data);
   } else {
-    std::vector<int32_t> ints(data, data + size_t(rowEnd - rowBegin) * image.xres *
-                                               image.channels);
-    ok = image.out->write_scanlines(rowBegin, rowEnd, 0, OIIO::TypeDesc::INT, ints.data());
+    std::vector<float> values(count);
+    for (size_t i = 0; i < count; ++i) {
+      int32_t value;
+      std::memcpy(&value, data + i, sizeof value);
+      values[i] = float(value);
+    }
+    ok = image.out->write_scanlines(rowBegin, rowEnd, 0, OIIO::TypeDesc::FLOAT, values.data());
   }
   if (!ok)
     error = "cannot write " + image.path + ": " + image.out->geterror();

@@ -38,11 +38,17 @@ bool pixelTypeNamed(const std::string &name, PixelType &type) {
 namespace {
 
 /// A float holding a whole number as the int it holds; NaN and values out of
-/// range give INT_MIN, as the x86 conversion the writer used to rely on.
+/// range give INT_MIN, as the x86 conversion.
 int32_t wholeNumber(float value) {
   if (!(value >= -2147483648.0f && value < 2147483648.0f))
     return INT32_MIN;
   return int32_t(value);
+}
+
+int32_t intBitsOf(float bits) {
+  int32_t value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
 }
 
 template <typename D> void fromInts(const int32_t *ints, size_t count, void *out) {
@@ -51,12 +57,22 @@ template <typename D> void fromInts(const int32_t *ints, size_t count, void *out
 
 } // namespace
 
+const float *floatValues(const float *data, size_t count, bool intBits,
+                         std::vector<float> &scratch) {
+  if (!intBits)
+    return data;
+  scratch.resize(count);
+  for (size_t i = 0; i < count; ++i)
+    scratch[i] = float(intBitsOf(data[i]));
+  return scratch.data();
+}
+
 void convertPixels(const float *values, size_t count, bool integerPixels, PixelType type,
                    void *out) {
   if (integerPixels) {
     std::vector<int32_t> ints(count);
     for (size_t i = 0; i < count; ++i)
-      ints[i] = wholeNumber(values[i]);
+      ints[i] = intBitsOf(values[i]);
     switch (type) {
     case PixelType::UInt8: return fromInts<uint8_t>(ints.data(), count, out);
     case PixelType::UInt16: return fromInts<uint16_t>(ints.data(), count, out);

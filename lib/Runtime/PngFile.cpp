@@ -80,6 +80,8 @@ public:
 
   bool writeRows(int rowBegin, int rowEnd, const float *data, std::string &error) override {
     size_t values = size_t(spec.xres) * spec.channels;
+    data = floatValues(data, values * size_t(rowEnd - rowBegin),
+                       spec.intBits && !spec.integerPixels, ints);
     for (int y = rowBegin; y < rowEnd; ++y) {
       convertPixels(data + size_t(y - rowBegin) * values, values, spec.integerPixels, type,
                     row.data());
@@ -152,6 +154,7 @@ private:
   png_structp png = nullptr;
   png_infop info = nullptr;
   std::vector<unsigned char> row;
+  std::vector<float> ints; // an int output's values as floats
 };
 
 } // namespace

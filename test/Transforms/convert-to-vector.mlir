@@ -207,12 +207,15 @@ func.func @gabor_ignores_time() {
 
 // -----
 
-// Int outputs are stored as float values, like the conformance images.
-// CHECK-LABEL: osl.shader_name = "int_output_as_float"
+// An int output's row holds its ints' bits: a float would round ints past
+// 2^24 (hash values) before they are printed or written to an int TIFF.
+// CHECK-LABEL: osl.shader_name = "int_output_as_bits"
 // CHECK: arith.fptosi %{{.+}} : vector<8xf32> to vector<8xi32>
-// CHECK: arith.sitofp %{{.+}} : vector<8xi32> to vector<8xf32>
-// CHECK: llvm.store
-func.func @int_output_as_float() {
+// CHECK: %[[I:.+]] = arith.select
+// CHECK-NOT: arith.sitofp
+// CHECK: %[[BITS:.+]] = llvm.bitcast %[[I]] : vector<8xi32> to vector<8xf32>
+// CHECK: llvm.store %[[BITS]]
+func.func @int_output_as_bits() {
   %u = osl.global "u" : !osl.varying<f32>
   %i = osl.convert %u : !osl.varying<f32> -> !osl.varying<i32>
   osl.output "i" = %i : !osl.varying<i32>

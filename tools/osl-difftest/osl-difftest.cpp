@@ -73,6 +73,11 @@ long firstDifference(const std::vector<float> &a, const std::vector<float> &b, b
   return -1;
 }
 
+/// A value of an output's image as text: an int output's as the int.
+std::string shown(float value, bool integer) {
+  return integer ? std::to_string(intOutputValue(value)) : std::to_string(value);
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -137,7 +142,9 @@ int main(int argc, char **argv) {
       }
       for (size_t o = 0; o < reference.images.size(); ++o) {
         const char *against = "the reference";
-        long at = firstDifference(reference.images[o], simd.images[o], /*anyNaN=*/true);
+        // An int output's floats are its ints' bits (Grid.h): every bit counts.
+        bool integer = reference.outputs[o].integer;
+        long at = firstDifference(reference.images[o], simd.images[o], /*anyNaN=*/!integer);
         if (at < 0 && width != 1) {
           against = "width 1";
           at = firstDifference(first.images[o], simd.images[o], /*anyNaN=*/false);
@@ -149,9 +156,10 @@ int main(int argc, char **argv) {
         llvm::errs() << "MISMATCH " << path << ": output '" << reference.outputs[o].name
                      << "' at width " << width << " differs from " << against << ", pixel ("
                      << pixel % grid.xres << ", " << pixel / grid.xres << ") channel "
-                     << at % channels << ": reference " << reference.images[o][at]
-                     << ", width 1 " << (width == 1 ? simd : first).images[o][at] << ", SIMD "
-                     << simd.images[o][at] << "\n";
+                     << at % channels << ": reference "
+                     << shown(reference.images[o][at], integer) << ", width 1 "
+                     << shown((width == 1 ? simd : first).images[o][at], integer) << ", SIMD "
+                     << shown(simd.images[o][at], integer) << "\n";
         return 1;
       }
       if (width == 1)

@@ -123,7 +123,7 @@ void printPixelValues(const RunOptions &options, const CompiledShader &shader,
         llvm::outs() << "  " << labels[i] << " :";
         for (int c = 0; c < spec.channels; ++c) {
           if (spec.integer)
-            llvm::outs() << " " << int(pixel[c]);
+            llvm::outs() << " " << intOutputValue(pixel[c]);
           else
             llvm::outs() << llvm::format(" %g", double(pixel[c]));
         }

@@ -22,6 +22,12 @@ using namespace osl;
 
 namespace {
 
+float bitsAsFloat(int32_t value) {
+  float bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
 std::string tempPath(const std::string &name) {
   const char *dir = std::getenv("TMPDIR");
   return std::string(dir ? dir : "/tmp") + "/osl_native_image_" + std::to_string(getpid()) +
@@ -29,11 +35,14 @@ std::string tempPath(const std::string &name) {
 }
 
 /// Values where conversions differ if done differently: exact halves of
-/// 8- and 16-bit steps, out of range, negative, tiny, huge, infinite.
-std::vector<float> trickyValues(size_t count, bool wholeNumbers) {
+/// 8- and 16-bit steps, out of range, negative, tiny, huge, infinite; as
+/// ints, an int output's bits (Grid.h), also past a float's 2^24.
+std::vector<float> trickyValues(size_t count, bool ints) {
   std::vector<float> pool;
-  if (wholeNumbers) {
-    pool = {0, 1, -1, 7, 255, 256, -300, 65535, 65536, 2147483520.0f, -2147483648.0f, 12345};
+  if (ints) {
+    for (int32_t value : {0, 1, -1, 7, 255, 256, -300, 65535, 65536, 16777217, -16777219,
+                          2147483647, -2147483647 - 1, 12345})
+      pool.push_back(bitsAsFloat(value));
   } else {
     for (int k = 0; k < 8; ++k) {
       pool.push_back((2 * k + 0.5f) / 255.0f);
@@ -62,6 +71,7 @@ image::WriteSpec specOf(const int shape[3], const std::string &type, bool intege
   spec.yres = shape[1];
   spec.channels = shape[2];
   spec.dataType = type;
+  spec.intBits = integerPixels;
   spec.integerPixels = integerPixels;
   return spec;
 }

@@ -43,7 +43,9 @@ struct GlobalLowering : public OslPattern<GlobalOp> {
 };
 
 /// Lower osl.output to masked stores of its rows: lanes past nactive are
-/// never written. Int and bool outputs are stored as float values.
+/// never written. Rows are floats: an int output's row holds its ints' bits
+/// (a float holds ints exactly only up to 2^24; hash() values are printed
+/// and written to int TIFFs whole), a closure's its handles' bits.
 struct OutputLowering : public OslPattern<OutputOp> {
   OutputLowering(const VaryingTypeConverter &converter, MLIRContext *ctx,
                  const llvm::DenseMap<Operation *, int64_t> &firstRow)
@@ -57,11 +59,19 @@ struct OutputLowering : public OslPattern<OutputOp> {
     bool unconditional = isa<func::FuncOp>(op->getParentOp());
     Value mask = unconditional ? Value() : activeLanes(rewriter, loc, op, width);
     bool closure = isa<ClosureType>(getUniformType(op.getValue().getType()));
+    auto floatRow = VectorType::get({width}, rewriter.getF32Type());
     for (auto [i, row] : llvm::enumerate(rows)) {
-      // A closure's handle keeps its bits (the renderer reads them back).
-      Value value = closure ? rewriter.create<LLVM::BitcastOp>(
-                                  loc, VectorType::get({width}, rewriter.getF32Type()), row)
-                            : lane::convert(rewriter, loc, row, rewriter.getF32Type());
+      Value value = row;
+      if (auto element = dyn_cast<IntegerType>(getElementTypeOrSelf(row.getType()))) {
+        if (element.getWidth() < 32)
+          value = rewriter.create<arith::ExtSIOp>(
+              loc, VectorType::get({width}, rewriter.getI32Type()), value);
+        value = rewriter.create<LLVM::BitcastOp>(loc, floatRow, value);
+      } else if (closure) {
+        value = rewriter.create<LLVM::BitcastOp>(loc, floatRow, row);
+      } else {
+        value = lane::convert(rewriter, loc, row, rewriter.getF32Type());
+      }
       // One NaN for every NaN: scalar and vector code (and LLVM's folds at
       // each width) may leave different NaN payloads, and the widths must
       // agree bit for bit. A NaN's payload is visible nowhere else; its
