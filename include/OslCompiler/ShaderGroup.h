@@ -44,9 +44,19 @@ enum class GroupOptimization {
 
 struct ShaderGroup {
   std::vector<GroupLayer> layers;
+
+  /// Makes the layers of `entryOutputs` the entries where testshade runs
+  /// them instead of the entry layers; false (with `error`) for an output
+  /// of no layer of the group.
+  bool useEntryOutputs(std::string &error);
   std::vector<GroupConnection> connections;
   /// Layers that run unconditionally; empty: the last layer.
   std::vector<std::string> entries;
+  /// testshade's --entryoutput: "layer.name" outputs whose layers run
+  /// in this order in place of `entries` (useEntryOutputs says when).
+  std::vector<std::string> entryOutputs;
+  /// No layer runs (entry outputs of no entry layer): outputs stay 0.
+  bool runsNoLayer = false;
   /// The outputs the caller reads: "name" for the root layer's,
   /// "layer.name" for another layer's. Empty: every output of the entries.
   std::vector<std::string> outputs;

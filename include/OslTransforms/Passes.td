@@ -23,7 +23,10 @@ def LinkShaderGroup : Pass<"osl-link-group", "::mlir::ModuleOp"> {
     The module holds one func per layer, in group order, each marked
     `osl.layer = "name"`; a connected input is an osl.param marked
     `osl.connect = ["fromLayer", "fromOutput"]`. Layers marked `osl.entry`
-    (default: the last layer, the root) run at the top level in order and
+    (default: the last layer, the root; an integer `osl.entry` is the place
+    among the entries they were named in, which is the order they run in,
+    an entry read by an earlier one running where that one reads it, once)
+    run at the top level in order and
     keep their osl.output ops (the root's under their own names, the others'
     as "layer.output"); a module attribute `osl.group_outputs` (a list of
     such names) keeps only those (a layer named there runs unconditionally

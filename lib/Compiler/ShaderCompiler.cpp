@@ -570,8 +570,9 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
     std::string shader = func.getSymName().str();
     func.setSymName("layer." + layer.name);
     func->setAttr("osl.layer", b.getStringAttr(layer.name));
-    if (llvm::is_contained(group.entries, layer.name))
-      func->setAttr("osl.entry", b.getUnitAttr());
+    // Its place among the entries: OSL runs them in the order given.
+    if (auto it = llvm::find(group.entries, layer.name); it != group.entries.end())
+      func->setAttr("osl.entry", b.getI64IntegerAttr(it - group.entries.begin()));
     groupCounts.opsBefore += countOps(func);
     if (!markGroupInputs(func, layer, group, shader, errs))
       return false;
@@ -580,6 +581,8 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
       mlirModule->getBody()->push_back(&op);
     }
   }
+  if (group.runsNoLayer)
+    (*mlirModule)->setAttr("osl.no_entries", b.getUnitAttr());
   if (!group.outputs.empty())
     (*mlirModule)->setAttr("osl.group_outputs", b.getStrArrayAttr(llvm::to_vector(
                                                     llvm::map_range(group.outputs, [](auto &s) {
@@ -671,6 +674,8 @@ std::string ShaderCompiler::groupCacheKey(const ShaderGroup &group) const {
     field(e);
     os << "\n";
   }
+  if (group.runsNoLayer)
+    os << "no layer runs\n";
   for (const std::string &o : group.outputs) {
     os << "output";
     field(o);

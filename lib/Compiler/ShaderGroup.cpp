@@ -1,6 +1,7 @@
 //===- ShaderGroup.cpp - Building a shader group, testshade's way ---------===//
 #include "OslCompiler/ShaderGroup.h"
 
+#include "llvm/ADT/STLExtras.h"
 #include "llvm/ADT/StringExtras.h"
 #include "llvm/ADT/StringRef.h"
 #include "llvm/Support/Path.h"
@@ -55,6 +56,30 @@ bool ShaderGroup::reparam(const std::string &layerName, const std::string &name,
   }
   error = "reparam: unknown layer '" + layerName + "'";
   return false;
+}
+
+bool ShaderGroup::useEntryOutputs(std::string &error) {
+  // As testshade 1.13 runs them: only beside entry layers, in their place;
+  // of the outputs' layers, in the outputs' order, those that are entry
+  // layers run (OSL compiles no entry point for the others), and where
+  // none is, no layer runs.
+  if (entryOutputs.empty() || entries.empty())
+    return true;
+  std::vector<std::string> run;
+  for (const std::string &output : entryOutputs) {
+    // "name" alone is the root layer's.
+    size_t dot = output.rfind('.');
+    std::string layer = dot == std::string::npos ? layers.back().name : output.substr(0, dot);
+    if (!llvm::any_of(layers, [&](const GroupLayer &l) { return l.name == layer; })) {
+      error = "--entryoutput " + output + ": the group has no layer '" + layer + "'";
+      return false;
+    }
+    if (llvm::is_contained(entries, layer) && !llvm::is_contained(run, layer))
+      run.push_back(layer);
+  }
+  runsNoLayer = run.empty();
+  entries = std::move(run);
+  return true;
 }
 
 bool ShaderGroup::validate(std::string &error) const {

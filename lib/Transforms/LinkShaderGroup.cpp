@@ -80,6 +80,9 @@ struct Layer {
   func::FuncOp func;
   StringRef name;
   bool entry = false;
+  /// Where an explicitly named entry comes in the order the entries were
+  /// given (a unit osl.entry: its place in the group).
+  int64_t entryOrder = 0;
   /// Made when first asked for (LinkShaderGroupPass::folded).
   std::optional<FoldedLayer> folded;
 };
@@ -117,15 +120,29 @@ struct LinkShaderGroupPass
       }
     }
     bool anyEntry = false;
-    for (Layer &l : layers)
-      anyEntry |= l.entry = l.func->hasAttr(kEntryAttr);
-    if (!anyEntry)
+    for (auto [index, l] : llvm::enumerate(layers)) {
+      Attribute entry = l.func->getAttr(kEntryAttr);
+      anyEntry |= l.entry = bool(entry);
+      auto order = dyn_cast_or_null<IntegerAttr>(entry);
+      l.entryOrder = order ? order.getInt() : int64_t(index);
+    }
+    // (osl.no_entries: entries were named, but none of them runs.)
+    bool noEntries = module->hasAttr("osl.no_entries");
+    if (!anyEntry && !noEntries)
       layers.back().entry = true;
-    explicitEntries = anyEntry;
+    explicitEntries = anyEntry || noEntries;
+    // Named entries run alone at every optimization level: OSL's
+    // execute_layer runs the layer and pulls what it reads where it reads
+    // it; only a whole group's run runs every layer unoptimized.
+    if (explicitEntries)
+      lazy = true;
     // Asking for "layer.name" makes that layer run for it; asking for
     // "name", every layer with an output of that name (testshade makes each
-    // a renderer output, which OSL never skips).
+    // a renderer output, which OSL never skips). Entries named explicitly
+    // run alone: OSL's execute_layer runs no other layer for an output.
     for (auto &name : requestedOutputs) {
+      if (explicitEntries)
+        break;
       if (rootOnly.contains(name.getKey()) && !plain.contains(name.getKey())) {
         layers.back().entry = true;
         continue;
@@ -158,15 +175,22 @@ struct LinkShaderGroupPass
     // lazy errors, layers that call error() (every layer when not lazy) run
     // unconditionally, in order. Entry layers named explicitly run alone
     // (with what they read), as OSL's execute_layer runs them.
+    llvm::StringSet<> pulledByEntries = entriesRunInside();
     auto eager = [&](Layer &l) {
-      return l.entry || !lazy ||
+      return (l.entry && !pulledByEntries.contains(l.name)) || !lazy ||
              (!explicitEntries && ((!lazyGlobals && folded(l).writesCi) ||
                                    (!lazyError && folded(l).callsError)));
     };
+    SmallVector<Layer *> order;
     for (Layer &l : layers)
-      if (eager(l)) {
+      order.push_back(&l);
+    if (explicitEntries && lazy)
+      llvm::stable_sort(order, [](Layer *a, Layer *b) { return a->entryOrder < b->entryOrder; });
+    for (Layer *l : order)
+      if (eager(*l)) {
         b.setInsertionPoint(ret);
-        placed[l.name] = inlineLayer(l, b, /*inOrder=*/true);
+        placed[l->name] = inlineLayer(*l, b, /*inOrder=*/true);
+        ranInOrder.push_back(l);
       }
     // The others, last first: by then every layer that reads one is placed.
     // Dead code goes first, as OSL optimizes a layer before it decides what
@@ -192,6 +216,37 @@ struct LinkShaderGroupPass
     for (Layer &l : layers)
       l.func.erase();
     group.setSymName(rootName);
+  }
+
+  /// Entry layers that an entry given before them reads, directly or
+  /// through other layers: OSL runs such a layer inside its reader, where
+  /// the reader first needs it, and then skips it as already run. (Only
+  /// named entries are ordered; without them this is empty.)
+  llvm::StringSet<> entriesRunInside() {
+    llvm::StringSet<> inside, reached;
+    if (!explicitEntries || !lazy)
+      return inside;
+    SmallVector<Layer *> entries;
+    for (Layer &l : layers)
+      if (l.entry)
+        entries.push_back(&l);
+    llvm::stable_sort(entries, [](Layer *a, Layer *b) { return a->entryOrder < b->entryOrder; });
+    for (Layer *entry : entries) {
+      if (reached.contains(entry->name)) {
+        inside.insert(entry->name);
+        continue;
+      }
+      SmallVector<Layer *> work{entry};
+      while (!work.empty()) {
+        Layer *l = work.pop_back_val();
+        l->func.walk([&](ParamOp param) {
+          if (auto from = connection(param); from && reached.insert(from->first).second)
+            if (auto it = layerIndex.find(from->first); it != layerIndex.end())
+              work.push_back(&layers[it->second]);
+        });
+      }
+    }
+    return inside;
   }
 
   LogicalResult checkConnections() {
@@ -276,17 +331,94 @@ struct LinkShaderGroupPass
   }
 
   LogicalResult checkRequestedOutputs() {
+    if (explicitEntries)
+      for (auto &name : requestedOutputs)
+        if (!name.getKey().contains('.'))
+          lastWriterOutput(name.getKey());
     llvm::StringSet<> written;
     std::string names;
     for (const std::string &name : available)
       if (written.insert(name).second)
         names += " " + name;
     for (auto &name : requestedOutputs)
-      if (!written.contains(name.getKey()))
+      if (!written.contains(name.getKey()) && !zeroUnrunOutput(name.getKey()))
         return group.emitError("the group has no output '")
                << name.getKey() << "' (for another layer's, write LAYER.NAME); outputs:"
                << names;
     return success();
+  }
+
+  /// With entries named, an output asked for by its name alone is what the
+  /// last entry that writes an output of that name left (testshade's
+  /// renderer output takes every layer's, the last run last), the root's
+  /// only where it is that entry.
+  void lastWriterOutput(StringRef name) {
+    for (Layer *l : llvm::reverse(ranInOrder)) {
+      SmallVector<OutputOp> outs;
+      l->func.walk([&](OutputOp out) {
+        if (out.getName() == name)
+          outs.push_back(out);
+      });
+      if (outs.empty())
+        continue;
+      if (l == &layers.back())
+        return; // the root's outputs keep the name
+      SmallVector<OutputOp> rootCopies;
+      group.walk([&](OutputOp out) {
+        if (out.getName() == name)
+          rootCopies.push_back(out);
+      });
+      for (OutputOp out : rootCopies)
+        out.erase();
+      OpBuilder b(group.front().getTerminator());
+      for (OutputOp out : outs) {
+        Value value = placed[l->name].lookup(outputKey(name, elementIndex(out)));
+        auto copy = b.create<OutputOp>(out.getLoc(), name, value);
+        if (auto index = out.getIndexAttr())
+          copy.setIndexAttr(index);
+      }
+      available.push_back(name.str());
+      return;
+    }
+  }
+
+  /// Whether the group asks for one of `l`'s outputs as "layer.output".
+  bool keepsAskedOutput(Layer &l) {
+    bool asked = false;
+    l.func.walk([&](OutputOp out) {
+      asked |= requestedOutputs.contains((l.name + "." + out.getName()).str());
+    });
+    return asked;
+  }
+
+  /// With entries named, a layer none of them runs leaves its outputs as
+  /// OSL leaves them: zeros (testshade writes 0 for such a layer's output,
+  /// not its default). False when `name` is no such numeric output.
+  bool zeroUnrunOutput(StringRef name) {
+    if (!explicitEntries)
+      return false;
+    auto [layerName, output] = name.rsplit('.');
+    if (output.empty()) // the root's own name
+      std::tie(layerName, output) = std::make_pair(layers.back().name, name);
+    auto it = layerIndex.find(layerName);
+    if (it == layerIndex.end())
+      return false;
+    SmallVector<OutputOp> outs;
+    layers[it->second].func.walk([&](OutputOp out) {
+      if (out.getName() == output)
+        outs.push_back(out);
+    });
+    OpBuilder b(group.front().getTerminator());
+    for (OutputOp out : outs) {
+      Type type = getUniformType(out.getValue().getType());
+      if (!isa<FloatType, IntegerType, VectorType>(type))
+        return false;
+      Value zero = b.create<arith::ConstantOp>(out.getLoc(), cast<TypedAttr>(b.getZeroAttr(type)));
+      auto copy = b.create<OutputOp>(out.getLoc(), name, zero);
+      if (auto index = out.getIndexAttr())
+        copy.setIndexAttr(index);
+    }
+    return !outs.empty();
   }
 
   /// As OSL: an output connects to an input of its type, an int output to a
@@ -412,10 +544,12 @@ struct LinkShaderGroupPass
                                   ? out.getName().str()
                                   : (l.name + "." + out.getName()).str();
       // Unspecialised (not lazy), every output is written, so every layer
-      // really runs, as in OSL at -O0.
-      if (l.entry || !lazy)
+      // really runs, as in OSL at -O0. With entries named, an output asked
+      // for is what its layer left, wherever it ran.
+      bool asked = requestedOutputs.contains(groupName);
+      if (l.entry || !lazy || (explicitEntries && asked))
         available.push_back(groupName);
-      bool keep = !lazy || (l.entry && (keepAllOutputs || requestedOutputs.contains(groupName)));
+      bool keep = !lazy || (l.entry && (keepAllOutputs || asked)) || (explicitEntries && asked);
       if (!keep)
         out.erase();
       else
@@ -443,7 +577,8 @@ struct LinkShaderGroupPass
     auto copy = cast<func::FuncOp>(b.clone(*l.func));
     copy.setSymName((l.func.getSymName() + ".folded").str());
     copy.walk([&](ParamOp param) {
-      if (connection(param) || param.getUserdata())
+      // (Unspecialised, -O0: nothing is known of a parameter's value.)
+      if (connection(param) || param.getUserdata() || opaqueParams)
         return;
       param.replaceAllUsesWith(param.getDefaultValue());
       param.erase();
@@ -548,6 +683,12 @@ struct LinkShaderGroupPass
     if (users.empty()) {
       for (ParamOp param : reads)
         param.erase();
+      // An entry no earlier entry needed after all still runs, as OSL's
+      // execute_layer runs it, after them.
+      if (l.entry) {
+        OpBuilder b(group.front().getTerminator());
+        placed[l.name] = inlineLayer(l, b, /*inOrder=*/true);
+      }
       return;
     }
     // The innermost block enclosing every read, and the first read in it.
@@ -562,8 +703,12 @@ struct LinkShaderGroupPass
         first = ancestor;
     }
     // Inside a loop the layer would run once per iteration: hoist it out.
+    // An entry runs for every point (where a reader does not run it, OSL's
+    // execute_layer does): it goes out of ifs too, and so does a layer whose
+    // output is asked for beside named entries (the output is kept).
+    bool everyPoint = l.entry || (explicitEntries && keepsAskedOutput(l));
     for (Operation *p = first->getParentOp(); p != group; p = p->getParentOp())
-      if (!isa<IfOp>(p))
+      if (!isa<IfOp>(p) || everyPoint)
         first = p;
     // Layers placed before the same op run in the order the op reads them
     // (`a + b` runs a's layer, then b's), as OSL runs a layer at the first
@@ -620,6 +765,8 @@ struct LinkShaderGroupPass
   llvm::StringMap<llvm::StringMap<Value>> placed;
   /// The layers placed where they are first read (their ops are tagged).
   llvm::StringSet<> placedLazily;
+  /// The layers placed at the top level, in the order they run.
+  SmallVector<Layer *> ranInOrder;
   /// Ci as the last layer placed that assigns it left it.
   Value currentCi;
   /// The group names its entry layers (else the root is its one entry).

@@ -55,10 +55,15 @@ public:
       }
     }
     if (!group.entries.empty()) {
-      out << "Entry layers:";
+      llvm::raw_string_ostream line(options.entryLayersLine);
+      line << "Entry layers:";
       for (const std::string &e : group.entries)
-        out << " " << e << "(" << layerIndex(e) << ")";
-      out << "\n";
+        line << " " << e << "(" << layerIndex(e) << ")";
+      line << "\n";
+      // testshade's line comes after the group, or, when it reports images,
+      // after its blank line, with them (osl-run.cpp).
+      if (options.outputs.empty())
+        out << options.entryLayersLine;
     }
     return !group.layers.empty();
   }

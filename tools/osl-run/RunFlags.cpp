@@ -439,6 +439,13 @@ bool entryFlag(FlagParser &p) {
   return true;
 }
 
+bool entryOutputFlag(FlagParser &p) {
+  if (!p.need(1))
+    return false;
+  p.o.group.entryOutputs.push_back(p.next());
+  return true;
+}
+
 bool optimizationFlag(FlagParser &p) { // -O0, -O1, -O2
   p.o.group.optimization = GroupOptimization(p.flag[2] - '0');
   return true;
@@ -603,6 +610,7 @@ const Flag kFlags[] = {
     {{"--group"}, groupFlag},
     {{"--reparam"}, reparamFlag},
     {{"--entry"}, entryFlag},
+    {{"--entryoutput"}, entryOutputFlag},
     {{"--groupname"}, compileStringFlag<&CompileOptions::groupName>},
     {{"-O0", "-O1", "-O2"}, optimizationFlag},
     // Compiling

@@ -66,8 +66,11 @@ const char *const osl::kUsage =
     "                         'param TYPE NAME VALUE... ; shader NAME LAYER ;\n"
     "                         connect A.OUT B.IN ;' as a string or a file\n"
     "  --reparam LAYER NAME V change an instance value (re-specialises)\n"
-    "  --entry LAYER          run LAYER unconditionally (repeatable; default:\n"
-    "                         the last layer)\n"
+    "  --entry LAYER          run LAYER (repeatable: in the order given, each\n"
+    "                         with the layers it reads; default: the last\n"
+    "                         layer and the layers OSL never skips)\n"
+    "  --entryoutput L.NAME   run the layer of output L.NAME instead of the\n"
+    "                         --entry layers (repeatable)\n"
     "  -v                     print the group as testshade does (its\n"
     "                         statements, then its layers)\n"
     "  --oslquery             with it, each layer's parameters\n"
@@ -284,8 +287,10 @@ bool osl::parseRunOptions(int argc, char **argv, RunOptions &o,
       o.group.outputs.push_back(name);
     o.compile.params.clear();
   } else {
-    if (!o.group.connections.empty() || !o.group.entries.empty() || !o.reparams.empty()) {
-      error = "--connect, --entry and --reparam need a group (--shader or --group)";
+    if (!o.group.connections.empty() || !o.group.entries.empty() ||
+        !o.group.entryOutputs.empty() || !o.reparams.empty()) {
+      error = "--connect, --entry, --entryoutput and --reparam need a group (--shader or "
+              "--group)";
       return false;
     }
     if (o.shaderPath.empty()) {

@@ -81,6 +81,9 @@ struct RunOptions {
   /// The group as given, before --reparam: testshade shades its first pass
   /// (of --iters) with these values.
   ShaderGroup groupBeforeReparams;
+  /// testshade's "Entry layers: NAME(INDEX)..." line for the --entry layers
+  /// as given (empty: none), printed with the images' lines.
+  std::string entryLayersLine;
 
   /// Render mode (--scene FILE.xml -o OUT): testrender's flags.
   std::string scenePath;

@@ -41,6 +41,23 @@ void reportRun(const RunOptions &options, ShaderCompiler &compiler,
 
 namespace {
 
+/// testshade's line before the images' lines: the --entry layers (printed
+/// with the group when no image is asked for).
+void printEntryLayers(const RunOptions &options) {
+  if (!options.outputs.empty())
+    llvm::outs() << options.entryLayersLine;
+}
+
+/// testshade's line after the images' lines: the --entryoutput outputs.
+void printEntryOutputs(const RunOptions &options) {
+  if (options.group.entryOutputs.empty())
+    return;
+  llvm::outs() << "Entry outputs:";
+  for (const std::string &output : options.group.entryOutputs)
+    llvm::outs() << " " << output;
+  llvm::outs() << "\n";
+}
+
 int fail(const std::string &message) {
   llvm::errs() << "osl-run: error: " << message << "\n";
   return 1;
@@ -269,9 +286,11 @@ int shadeInBands(RunOptions &options, ShaderCompiler &compiler, const CompiledSh
   setImagesBeingWritten({});
   stats.add("shading", shading);
   llvm::outs() << "\n";
+  printEntryLayers(options);
   for (size_t i = 0; i < files.size(); ++i)
     if (files[i].file != "null" && !options.outputs.empty())
       llvm::outs() << "Output " << files[i].name << " to " << files[i].file << "\n";
+  printEntryOutputs(options);
   // The whole window again, for the per-point figures (--stats printed
   // nothing for a banded grid before).
   options.grid.rowBegin = top;
@@ -349,6 +368,8 @@ bool writeResults(const RunOptions &options, const CompiledShader &shader,
   if (!imagesFirst)
     emitPrints(printed, shader.name, options.errorRepeats);
   llvm::outs() << "\n";
+  if (imagesFirst)
+    printEntryLayers(options);
   for (size_t i = 0; i < files.size(); ++i) {
     auto &[index, file, name] = files[i];
     if (file == "null")
@@ -370,6 +391,8 @@ bool writeResults(const RunOptions &options, const CompiledShader &shader,
     if (imagesFirst)
       llvm::outs() << "Output " << name << " to " << file << "\n";
   }
+  if (imagesFirst)
+    printEntryOutputs(options);
   if (options.printValues)
     printPixelValues(options, shader, files, result);
   if (imagesFirst) {
@@ -474,6 +497,8 @@ int main(int argc, char **argv) {
                  << options.groupSpec << "\n---\n";
   if (options.isGroup && running && !assembleGroup(options, llvm::outs(), llvm::errs()))
     return 1;
+  if (std::string error; options.isGroup && !options.group.useEntryOutputs(error))
+    return fail(error);
   if (running && (options.verbose || options.oslquery))
     printGroupSummary(options, llvm::outs());
   llvm::outs().flush(); // before anything the shaders print
