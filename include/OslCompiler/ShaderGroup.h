@@ -57,6 +57,9 @@ struct ShaderGroup {
   std::vector<std::string> entryOutputs;
   /// No layer runs (entry outputs of no entry layer): outputs stay 0.
   bool runsNoLayer = false;
+  /// The entry layers as named, where entry outputs replaced them: OSL
+  /// still checks whether these ran (llvm_debug_layers shows it).
+  std::vector<std::string> namedEntries;
   /// The outputs the caller reads: "name" for the root layer's,
   /// "layer.name" for another layer's. Empty: every output of the entries.
   std::vector<std::string> outputs;
@@ -64,6 +67,9 @@ struct ShaderGroup {
   /// OSL's lazyglobals option: false runs layers that assign Ci in order,
   /// and the later layers see that Ci.
   bool lazyGlobals = true;
+  /// OSL's llvm_debug_layers option: each layer prints where it is
+  /// entered and left.
+  bool traceLayers = false;
 
   /// Parameter values waiting for the next `shader` statement.
   std::vector<ParamOverride> pendingParams;

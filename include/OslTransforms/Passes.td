@@ -59,6 +59,13 @@ def LinkShaderGroup : Pass<"osl-link-group", "::mlir::ModuleOp"> {
     upstream layer whose output would fold only through it still runs
     where that output is read (its printf and all), as in OSL.
 
+    With `trace-layers` each layer prints OSL's llvm_debug_layers lines
+    where it is entered and left ("(SHADER LAYER) enter layer INDEX LAYER
+    SHADER"; a layer marked `osl.entry_named`, named as an entry, says
+    "checking for already-run layer" first, and an entry that already ran
+    takes its "early exit"); a layer's shader is its func's
+    `osl.layer_shader`.
+
     Errors: an unknown layer or output, a connection to the same or an
     earlier layer (a cycle), and a type mismatch between output and input.
   }];
@@ -70,7 +77,10 @@ def LinkShaderGroup : Pass<"osl-link-group", "::mlir::ModuleOp"> {
                  Option<"lazyError", "lazy-error", "bool", "true",
                         "let layers that call error() run lazily too">,
                  Option<"opaqueParams", "opaque-params", "bool", "false",
-                        "load every unconnected constant parameter from memory">];
+                        "load every unconnected constant parameter from memory">,
+                 Option<"traceLayers", "trace-layers", "bool", "false",
+                        "print where each layer is entered and left, as OSL's "
+                        "llvm_debug_layers option does">];
   let dependentDialects = ["::mlir::LLVM::LLVMDialect", "::mlir::func::FuncDialect"];
 }
 

@@ -570,9 +570,13 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
     std::string shader = func.getSymName().str();
     func.setSymName("layer." + layer.name);
     func->setAttr("osl.layer", b.getStringAttr(layer.name));
+    func->setAttr("osl.layer_shader", b.getStringAttr(shader));
     // Its place among the entries: OSL runs them in the order given.
     if (auto it = llvm::find(group.entries, layer.name); it != group.entries.end())
       func->setAttr("osl.entry", b.getI64IntegerAttr(it - group.entries.begin()));
+    const auto &named = group.namedEntries.empty() ? group.entries : group.namedEntries;
+    if (llvm::is_contained(named, layer.name))
+      func->setAttr("osl.entry_named", b.getUnitAttr());
     groupCounts.opsBefore += countOps(func);
     if (!markGroupInputs(func, layer, group, shader, errs))
       return false;
@@ -594,6 +598,7 @@ bool ShaderCompiler::parseGroup(const ShaderGroup &group) {
   link.opaqueParams = group.optimization == GroupOptimization::O0;
   link.lazyGlobals = group.lazyGlobals;
   link.lazyError = options.lazyError;
+  link.traceLayers = group.traceLayers;
   pm.addPass(mlir::osl::createLinkShaderGroup(link));
   auto handler = printErrors(context, errs);
   if (mlir::failed(pm.run(*mlirModule)))
@@ -638,7 +643,8 @@ std::string ShaderCompiler::groupCacheKey(const ShaderGroup &group) const {
   std::string key = optionsKey();
   llvm::raw_string_ostream os(key);
   auto field = [&](const std::string &s) { os << " " << s.size() << ":" << s; };
-  os << "group O" << int(group.optimization) << " lazyglobals " << group.lazyGlobals << "\n";
+  os << "group O" << int(group.optimization) << " lazyglobals " << group.lazyGlobals
+     << " tracelayers " << group.traceLayers << "\n";
   for (const GroupLayer &layer : group.layers) {
     auto buffer = llvm::MemoryBuffer::getFile(layer.shaderPath, /*IsText=*/true);
     if (!buffer)
@@ -676,6 +682,11 @@ std::string ShaderCompiler::groupCacheKey(const ShaderGroup &group) const {
   }
   if (group.runsNoLayer)
     os << "no layer runs\n";
+  for (const std::string &e : group.namedEntries) {
+    os << "named entry";
+    field(e);
+    os << "\n";
+  }
   for (const std::string &o : group.outputs) {
     os << "output";
     field(o);

@@ -78,6 +78,7 @@ bool ShaderGroup::useEntryOutputs(std::string &error) {
       run.push_back(layer);
   }
   runsNoLayer = run.empty();
+  namedEntries = entries;
   entries = std::move(run);
   return true;
 }

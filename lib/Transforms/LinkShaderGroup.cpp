@@ -186,12 +186,21 @@ struct LinkShaderGroupPass
       order.push_back(&l);
     if (explicitEntries && lazy)
       llvm::stable_sort(order, [](Layer *a, Layer *b) { return a->entryOrder < b->entryOrder; });
-    for (Layer *l : order)
+    if (!explicitEntries) {
+      b.setInsertionPointToStart(&group.front());
+      trace(b, layers.back(), "enter");
+    }
+    for (Layer *l : order) {
+      b.setInsertionPoint(ret);
       if (eager(*l)) {
-        b.setInsertionPoint(ret);
         placed[l->name] = inlineLayer(*l, b, /*inOrder=*/true);
         ranInOrder.push_back(l);
+      } else if (l->entry && pulledByEntries.contains(l->name) && l != &layers.back()) {
+        // Its turn, after the entry that ran it.
+        trace(b, *l, "checking for already-run");
+        trace(b, *l, "  taking early exit, already executed");
       }
+    }
     // The others, last first: by then every layer that reads one is placed.
     // Dead code goes first, as OSL optimizes a layer before it decides what
     // upstream layers run: a read nothing uses (isconnected() aside) runs
@@ -382,6 +391,29 @@ struct LinkShaderGroupPass
     }
   }
 
+  /// Prints OSL's llvm_debug_layers line `what` for layer `l` at `b`:
+  /// "(SHADER LAYER) WHAT layer INDEX LAYER SHADER".
+  void trace(OpBuilder &b, Layer &l, StringRef what) {
+    if (!traceLayers)
+      return;
+    auto shaderAttr = l.func->getAttrOfType<StringAttr>("osl.layer_shader");
+    std::string shader = shaderAttr ? shaderAttr.getValue().str() : l.name.str();
+    std::string text = "(" + shader + " " + l.name.str() + ") " + what.str() + " layer " +
+                       std::to_string(layerIndex.lookup(l.name)) + " " + l.name.str() + " " +
+                       shader + "\n";
+    std::string format;
+    for (char c : text)
+      format += c == '%' ? std::string("%%") : std::string(1, c);
+    Location loc = l.func.getLoc();
+    // Tagged as the layer's code: lazily placed layers find their place
+    // among the layers placed before them by these tags.
+    StringAttr tag = b.getStringAttr(l.name);
+    Value handle = b.create<StringConstantOp>(loc, b.getI32Type(), format);
+    handle.getDefiningOp()->setAttr(kFromLayerAttr, tag);
+    b.create<PrintOp>(loc, "printf", "s", ValueRange{handle}, Value())
+        ->setAttr(kFromLayerAttr, tag);
+  }
+
   /// Whether the group asks for one of `l`'s outputs as "layer.output".
   bool keepsAskedOutput(Layer &l) {
     bool asked = false;
@@ -518,6 +550,15 @@ struct LinkShaderGroupPass
   /// layers before it left and leaves its own to those after it; a layer
   /// placed where it is read writes no Ci (else it would not be lazy).
   llvm::StringMap<Value> inlineLayer(Layer &l, OpBuilder &b, bool inOrder) {
+    // The group's root, run as the whole group, is entered before the
+    // layers it runs first (its enter line is placed at the group's start).
+    bool rootOfGroup = !explicitEntries && &l == &layers.back();
+    // OSL checks whether a named entry layer ran already (the root, the
+    // group's own entry, excepted); other layers run where first read.
+    if (explicitEntries && l.func->hasAttr("osl.entry_named") && &l != &layers.back())
+      trace(b, l, "checking for already-run");
+    if (!rootOfGroup)
+      trace(b, l, "enter");
     IRMapping map;
     llvm::StringMap<Value> outputs;
     SmallVector<ParamOp> reads;
@@ -555,6 +596,7 @@ struct LinkShaderGroupPass
       else
         out.setName(groupName);
     }
+    trace(b, l, "exit");
     // Reads of layers already at the top level are resolved now; the rest
     // wait until their layer is placed.
     for (ParamOp param : reads) {

@@ -287,8 +287,9 @@ bool userdataFlag(FlagParser &p) {
   return true;
 }
 
-/// testshade's --options: error_repeats, lazyglobals, lazyerror and
-/// opt_warnings change what runs; the others are taken.
+/// testshade's --options: error_repeats, lazyglobals, lazyerror,
+/// opt_warnings and llvm_debug_layers change what runs; the others are
+/// taken.
 bool shadingSystemOptionsFlag(FlagParser &p) {
   if (!p.need(1))
     return false;
@@ -300,6 +301,8 @@ bool shadingSystemOptionsFlag(FlagParser &p) {
       p.o.errorRepeats = value.trim() != "0";
     else if (name.trim() == "lazyglobals")
       p.o.group.lazyGlobals = value.trim() != "0";
+    else if (name.trim() == "llvm_debug_layers")
+      p.o.group.traceLayers = value.trim() != "0";
     else if (name.trim() == "lazyerror")
       p.o.compile.lazyError = value.trim() != "0";
     else if (name.trim() == "opt_warnings")
