@@ -26,11 +26,23 @@ namespace osl {
 /// (whole numbers), written as testshade writes one: int pixels in a format
 /// that stores 32-bit ints (TIFF), or converted to `dataType` as OIIO
 /// converts ints (fractions of INT_MAX); without `dataType`, a format without
-/// ints (EXR) stores the values as floats. Returns false with a message in
-/// `error` on failure.
+/// ints (EXR) stores the values as floats. `asTestshade` writes display
+/// images as testshade does (displayEncoded). Returns false with a message
+/// in `error` on failure.
 bool writeImage(const std::string &path, int xres, int yres, int channels,
                 const float *data, std::string &error,
-                const std::string &dataType = "", bool integerValues = false);
+                const std::string &dataType = "", bool integerValues = false,
+                bool asTestshade = false);
+
+/// Whether testshade writes `path` as a display image: a PNG or JPEG of 1
+/// or 3 channels holds its linear values sRGB-encoded, 8 bits, whatever -od
+/// says (OSL 1.13's testshade converts linear to sRGB for those formats; an
+/// int output is first a fraction of INT_MAX, as OpenImageIO converts ints).
+bool displayEncoded(const std::string &path, int channels);
+
+/// `count` values (an int output's bits where `intBits`) sRGB-encoded into
+/// `out`, as testshade's display images hold them.
+void encodeForDisplay(const float *values, size_t count, bool intBits, float *out);
 
 /// The name writeImage and ImageStream write `path` under until it is
 /// complete.
@@ -50,7 +62,7 @@ public:
 
   bool open(const std::string &path, int xres, int yres, int channels,
             std::string &error, const std::string &dataType = "",
-            bool integerValues = false);
+            bool integerValues = false, bool asTestshade = false);
   /// Rows [rowBegin, rowEnd), xres * channels floats each; bands must come
   /// in order.
   bool writeRows(int rowBegin, int rowEnd, const float *data, std::string &error);
@@ -60,6 +72,8 @@ public:
   const char *temporaryPath() const;
 
 private:
+  bool openStream(const std::string &path, int xres, int yres, int channels,
+                  std::string &error, const std::string &dataType, bool integerValues);
   struct Impl;
   std::unique_ptr<Impl> impl;
 };

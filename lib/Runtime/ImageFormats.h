@@ -65,6 +65,8 @@ bool readWithOiio(const std::string &path, ImageData &image, std::string &error)
 
 /// The format a path's extension names among the native ones.
 enum class NativeFormat { None, Tiff, Exr, Png };
+/// `path`'s extension in lower case, without the dot ("" if none).
+std::string lowerExtension(const std::string &path);
 NativeFormat nativeFormat(const std::string &path);
 
 } // namespace osl::image

@@ -8,8 +8,12 @@
 #include "OslRuntime/ImageOutput.h"
 #include "ImageFormats.h"
 
+#include <OpenImageIO/color.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdint>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -28,13 +32,18 @@ std::vector<std::string> channelNames(int channels) {
   return names;
 }
 
-NativeFormat nativeFormat(const std::string &path) {
+std::string lowerExtension(const std::string &path) {
   size_t dot = path.rfind('.');
   if (dot == std::string::npos || path.find('/', dot) != std::string::npos)
-    return NativeFormat::None;
+    return "";
   std::string extension = path.substr(dot + 1);
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
+  return extension;
+}
+
+NativeFormat nativeFormat(const std::string &path) {
+  std::string extension = lowerExtension(path);
   if (extension == "tif" || extension == "tiff")
     return NativeFormat::Tiff;
   if (extension == "exr")
@@ -81,9 +90,31 @@ image::WriteSpec specOf(int xres, int yres, int channels, const std::string &dat
 
 } // namespace
 
+bool displayEncoded(const std::string &path, int channels) {
+  std::string extension = image::lowerExtension(path);
+  return (channels == 1 || channels == 3) &&
+         (extension == "png" || extension == "jpg" || extension == "jpeg");
+}
+
+void encodeForDisplay(const float *values, size_t count, bool intBits, float *out) {
+  for (size_t i = 0; i < count; ++i) {
+    float linear = values[i];
+    if (intBits) {
+      int32_t value;
+      std::memcpy(&value, values + i, sizeof value);
+      linear = float(value) * (1.0f / 2147483647.0f);
+    }
+    // Clamped first (NaN to 0): 8 bits clamp anyway. OpenImageIO's own
+    // curve (its approximate pow), which testshade's conversion runs: the
+    // exact one rounds some values to the next 8-bit step.
+    float x = linear >= 0.0f ? std::min(linear, 1.0f) : 0.0f;
+    out[i] = OIIO::linear_to_sRGB(OIIO::simd::vfloat4(x))[0];
+  }
+}
+
 bool writeImage(const std::string &path, int xres, int yres, int channels,
                 const float *data, std::string &error, const std::string &dataType,
-                bool integerValues) {
+                bool integerValues, bool asTestshade) {
   // testshade's `-o NAME null` shades the output but writes nothing.
   if (path == "null")
     return true;
@@ -94,7 +125,7 @@ bool writeImage(const std::string &path, int xres, int yres, int channels,
   // Written beside, then renamed (ImageStream): an image that cannot be
   // written leaves no file, and an earlier image of that name stays as it was.
   ImageStream stream;
-  if (!stream.open(path, xres, yres, channels, error, dataType, integerValues) ||
+  if (!stream.open(path, xres, yres, channels, error, dataType, integerValues, asTestshade) ||
       !stream.writeRows(0, yres, data, error))
     return false; // the stream removes what it began
   return stream.close(error);
@@ -105,6 +136,11 @@ std::string partialImagePath(const std::string &path) { return path + ".part"; }
 struct ImageStream::Impl {
   std::unique_ptr<image::Writer> writer;
   std::string path, temporary;
+  int xres = 0, channels = 0;
+  /// A testshade display image (displayEncoded): rows are encoded on the
+  /// way, from an int output's bits where `intBits`.
+  bool encode = false, intBits = false;
+  std::vector<float> encoded;
 };
 
 ImageStream::ImageStream() = default;
@@ -121,9 +157,22 @@ ImageStream::~ImageStream() {
 
 bool ImageStream::open(const std::string &path, int xres, int yres, int channels,
                        std::string &error, const std::string &dataType,
-                       bool integerValues) {
+                       bool integerValues, bool asTestshade) {
   impl = std::make_unique<Impl>();
   impl->path = path;
+  impl->xres = xres;
+  impl->channels = channels;
+  if (asTestshade && displayEncoded(path, channels)) {
+    impl->encode = true;
+    impl->intBits = integerValues;
+    return openStream(path, xres, yres, channels, error, "uint8", false);
+  }
+  return openStream(path, xres, yres, channels, error, dataType, integerValues);
+}
+
+bool ImageStream::openStream(const std::string &path, int xres, int yres, int channels,
+                             std::string &error, const std::string &dataType,
+                             bool integerValues) {
   // Same directory, so the rename is atomic; the format comes from `path`.
   impl->temporary = partialImagePath(path);
   impl->writer = openWriter(impl->temporary, path,
@@ -137,6 +186,12 @@ bool ImageStream::writeRows(int rowBegin, int rowEnd, const float *data, std::st
   if (!impl || !impl->writer) {
     error = "image stream is not open";
     return false;
+  }
+  if (impl->encode) {
+    size_t count = size_t(rowEnd - rowBegin) * impl->xres * impl->channels;
+    impl->encoded.resize(count);
+    encodeForDisplay(data, count, impl->intBits, impl->encoded.data());
+    data = impl->encoded.data();
   }
   return impl->writer->writeRows(rowBegin, rowEnd, data, error);
 }

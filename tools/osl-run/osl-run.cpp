@@ -255,7 +255,7 @@ int shadeInBands(RunOptions &options, ShaderCompiler &compiler, const CompiledSh
     ImageStream stream;
     if (!stream.open(file, imageWidth(options.grid), imageHeight(options.grid),
                      shader.outputs[index].channels, error, options.dataType,
-                     shader.outputs[index].integer))
+                     shader.outputs[index].integer, /*asTestshade=*/true))
       return fail(error);
     streams.emplace_back(index, std::move(stream));
   }
@@ -381,7 +381,8 @@ bool writeResults(const RunOptions &options, const CompiledShader &shader,
     setImagesBeingWritten({beingWritten.c_str()});
     bool written = writeImage(file, imageWidth(options.grid), imageHeight(options.grid),
                               shader.outputs[index].channels, result.images[index].data(),
-                              error, options.dataType, shader.outputs[index].integer);
+                              error, options.dataType, shader.outputs[index].integer,
+                              /*asTestshade=*/true);
     setImagesBeingWritten({});
     if (!written) {
       fail("cannot write '" + file + "': " + error);
