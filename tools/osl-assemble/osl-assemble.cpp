@@ -6,11 +6,13 @@
 // its top-left pixel at (X, Y) of a W x H image and writes OUT as osl-run
 // writes an image: -od's stored type, --int for an int output. Every pixel
 // must come from exactly one tile. The tiles' floats are the image's, so
-// OUT is the file one osl-run over the whole grid writes.
+// OUT is the file one osl-run over the whole grid writes (for an int
+// output, one whose ints a float holds exactly: up to 2^24).
 //
 //===----------------------------------------------------------------------===//
 #include "OslRuntime/ImageOutput.h"
 
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -89,8 +91,17 @@ int main(int argc, char **argv) {
     if (!covered[p])
       return fail("no tile covers pixel (" + std::to_string(p % width) + ", " +
                   std::to_string(p / width) + ")");
+  // writeImage takes an int output as its ints' bits (OslRuntime/Grid.h);
+  // the tiles hold the values as floats.
+  if (integer)
+    for (float &value : image) {
+      int32_t whole = value >= -2147483648.0f && value < 2147483648.0f ? int32_t(value)
+                                                                       : INT32_MIN;
+      std::memcpy(&value, &whole, sizeof whole);
+    }
   std::string error;
-  if (!osl::writeImage(out, width, height, channels, image.data(), error, dataType, integer))
+  if (!osl::writeImage(out, width, height, channels, image.data(), error, dataType, integer,
+                       /*asTestshade=*/true))
     return fail(error);
   return 0;
 }
