@@ -134,8 +134,7 @@ struct LinkShaderGroupPass
     // Named entries run alone at every optimization level: OSL's
     // execute_layer runs the layer and pulls what it reads where it reads
     // it; only a whole group's run runs every layer unoptimized.
-    if (explicitEntries)
-      lazy = true;
+    lazyLayers = lazy || explicitEntries;
     // Asking for "layer.name" makes that layer run for it; asking for
     // "name", every layer with an output of that name (testshade makes each
     // a renderer output, which OSL never skips). Entries named explicitly
@@ -177,14 +176,14 @@ struct LinkShaderGroupPass
     // (with what they read), as OSL's execute_layer runs them.
     llvm::StringSet<> pulledByEntries = entriesRunInside();
     auto eager = [&](Layer &l) {
-      return (l.entry && !pulledByEntries.contains(l.name)) || !lazy ||
+      return (l.entry && !pulledByEntries.contains(l.name)) || !lazyLayers ||
              (!explicitEntries && ((!lazyGlobals && folded(l).writesCi) ||
                                    (!lazyError && folded(l).callsError)));
     };
     SmallVector<Layer *> order;
     for (Layer &l : layers)
       order.push_back(&l);
-    if (explicitEntries && lazy)
+    if (explicitEntries && lazyLayers)
       llvm::stable_sort(order, [](Layer *a, Layer *b) { return a->entryOrder < b->entryOrder; });
     if (!explicitEntries) {
       b.setInsertionPointToStart(&group.front());
@@ -207,7 +206,7 @@ struct LinkShaderGroupPass
     // no layer.
     OpPassManager cleanup(func::FuncOp::getOperationName());
     cleanup.addPass(createCanonicalizerPass());
-    if (lazy)
+    if (lazyLayers)
       for (Layer &l : llvm::reverse(layers))
         if (!eager(l)) {
           if (failed(runPipeline(cleanup, group)))
@@ -233,7 +232,7 @@ struct LinkShaderGroupPass
   /// named entries are ordered; without them this is empty.)
   llvm::StringSet<> entriesRunInside() {
     llvm::StringSet<> inside, reached;
-    if (!explicitEntries || !lazy)
+    if (!explicitEntries || !lazyLayers)
       return inside;
     SmallVector<Layer *> entries;
     for (Layer &l : layers)
@@ -588,9 +587,9 @@ struct LinkShaderGroupPass
       // really runs, as in OSL at -O0. With entries named, an output asked
       // for is what its layer left, wherever it ran.
       bool asked = requestedOutputs.contains(groupName);
-      if (l.entry || !lazy || (explicitEntries && asked))
+      if (l.entry || !lazyLayers || (explicitEntries && asked))
         available.push_back(groupName);
-      bool keep = !lazy || (l.entry && (keepAllOutputs || asked)) || (explicitEntries && asked);
+      bool keep = !lazyLayers || (l.entry && (keepAllOutputs || asked)) || (explicitEntries && asked);
       if (!keep)
         out.erase();
       else
@@ -807,6 +806,9 @@ struct LinkShaderGroupPass
   llvm::StringMap<llvm::StringMap<Value>> placed;
   /// The layers placed where they are first read (their ops are tagged).
   llvm::StringSet<> placedLazily;
+  /// Whether upstream layers are placed where they are read: the `lazy`
+  /// option, or named entries (at every level).
+  bool lazyLayers = true;
   /// The layers placed at the top level, in the order they run.
   SmallVector<Layer *> ranInOrder;
   /// Ci as the last layer placed that assigns it left it.
