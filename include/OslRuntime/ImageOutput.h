@@ -34,10 +34,12 @@ bool writeImage(const std::string &path, int xres, int yres, int channels,
                 const std::string &dataType = "", bool integerValues = false,
                 bool asTestshade = false);
 
-/// Whether testshade writes `path` as a display image: a PNG or JPEG of 1
-/// or 3 channels holds its linear values sRGB-encoded, 8 bits, whatever -od
-/// says (OSL 1.13's testshade converts linear to sRGB for those formats; an
-/// int output is first a fraction of INT_MAX, as OpenImageIO converts ints).
+/// Whether testshade writes `path` as a display image encoded here: a PNG or
+/// JPEG of 1 or 3 channels holds its linear values sRGB-encoded, 8 bits,
+/// whatever -od says (OSL 1.13's testshade converts linear to sRGB for those
+/// formats; an int output is first a fraction of INT_MAX, as OpenImageIO
+/// converts ints). With other channel counts, alpha among them, OpenImageIO
+/// converts them as for testshade (asTestshade).
 bool displayEncoded(const std::string &path, int channels);
 
 /// `count` values (an int output's bits where `intBits`) sRGB-encoded into
@@ -73,7 +75,8 @@ public:
 
 private:
   bool openStream(const std::string &path, int xres, int yres, int channels,
-                  std::string &error, const std::string &dataType, bool integerValues);
+                  std::string &error, const std::string &dataType, bool integerValues,
+                  bool displayConvert);
   struct Impl;
   std::unique_ptr<Impl> impl;
 };

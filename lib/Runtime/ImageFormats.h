@@ -26,6 +26,10 @@ struct WriteSpec {
   std::string dataType;       ///< -od's name; empty: floats
   bool intBits = false;       ///< the floats are an int output's bits (Grid.h)
   bool integerPixels = false; ///< written as ints (an int output, where the format has them)
+  /// Written as testshade writes a display image (ImageOutput.h's
+  /// displayEncoded) of a channel count the native encoding does not
+  /// cover: OpenImageIO's colorconvert, with alpha, then 8 bits.
+  bool displayConvert = false;
 };
 
 /// testshade's channel names: R, G, B, A, then channel4...; Y alone.

@@ -65,6 +65,8 @@ std::unique_ptr<image::Writer> openWriter(const std::string &path, const std::st
     return nullptr;
   }
   std::unique_ptr<image::Writer> writer;
+  if (spec.displayConvert)
+    return image::openWithOiio(path, formatFrom, spec, error);
   switch (image::nativeFormat(formatFrom)) {
   case image::NativeFormat::Tiff: writer = image::openTiff(path, spec, error); break;
   case image::NativeFormat::Exr: writer = image::openExr(path, spec, error); break;
@@ -90,10 +92,16 @@ image::WriteSpec specOf(int xres, int yres, int channels, const std::string &dat
 
 } // namespace
 
-bool displayEncoded(const std::string &path, int channels) {
+namespace {
+/// The formats testshade writes as display images.
+bool displayFormat(const std::string &path) {
   std::string extension = image::lowerExtension(path);
-  return (channels == 1 || channels == 3) &&
-         (extension == "png" || extension == "jpg" || extension == "jpeg");
+  return extension == "png" || extension == "jpg" || extension == "jpeg";
+}
+} // namespace
+
+bool displayEncoded(const std::string &path, int channels) {
+  return (channels == 1 || channels == 3) && displayFormat(path);
 }
 
 void encodeForDisplay(const float *values, size_t count, bool intBits, float *out) {
@@ -165,18 +173,22 @@ bool ImageStream::open(const std::string &path, int xres, int yres, int channels
   if (asTestshade && displayEncoded(path, channels)) {
     impl->encode = true;
     impl->intBits = integerValues;
-    return openStream(path, xres, yres, channels, error, "uint8", false);
+    return openStream(path, xres, yres, channels, error, "uint8", false, false);
   }
-  return openStream(path, xres, yres, channels, error, dataType, integerValues);
+  // Other channel counts (alpha): OpenImageIO converts them as for testshade.
+  bool convert = asTestshade && displayFormat(path);
+  return openStream(path, xres, yres, channels, error, convert ? "uint8" : dataType,
+                    integerValues, convert);
 }
 
 bool ImageStream::openStream(const std::string &path, int xres, int yres, int channels,
                              std::string &error, const std::string &dataType,
-                             bool integerValues) {
+                             bool integerValues, bool displayConvert) {
   // Same directory, so the rename is atomic; the format comes from `path`.
   impl->temporary = partialImagePath(path);
-  impl->writer = openWriter(impl->temporary, path,
-                            specOf(xres, yres, channels, dataType, integerValues), error);
+  image::WriteSpec spec = specOf(xres, yres, channels, dataType, integerValues);
+  spec.displayConvert = displayConvert;
+  impl->writer = openWriter(impl->temporary, path, spec, error);
   if (!impl->writer) // (a format refusing the channels may have created it)
     std::remove(impl->temporary.c_str());
   return impl->writer != nullptr;

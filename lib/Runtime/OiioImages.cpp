@@ -6,6 +6,8 @@
 //===----------------------------------------------------------------------===//
 #include "OiioModuleParts.h"
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cstring>
@@ -21,6 +23,7 @@ struct OpenImage {
   int xres = 0, channels = 0;
   bool integerValues = false; // the floats are an int output's bits (Grid.h)
   bool integerPixels = false; // written as ints
+  bool displayConvert = false; // colorconvert linear -> sRGB first
 };
 
 /// testshade writes an int output's pixels as ints: stored as such in a
@@ -38,7 +41,7 @@ bool writesIntPixels(const std::string &formatFrom, const std::string &dataType)
 
 void *openImage(const std::string &path, const std::string &formatFrom, int xres, int yres,
                 int channels, const std::string &dataType, bool integerValues,
-                std::string &error) {
+                bool displayConvert, std::string &error) {
   // One OpenEXR thread: it keeps compression buffers of 16 rows per
   // thread, which would defeat streaming huge grids. The output's own
   // threads() does not reach OpenEXR in OIIO 2.4, hence the global.
@@ -70,14 +73,33 @@ void *openImage(const std::string &path, const std::string &formatFrom, int xres
     error = "cannot write " + formatFrom + ": " + out->geterror();
     return nullptr;
   }
-  return new OpenImage{std::move(out), formatFrom, xres, channels, integerValues, integerPixels};
+  return new OpenImage{std::move(out), formatFrom, xres,          channels,
+                       integerValues,  integerPixels, displayConvert};
 }
 
 bool writeRows(void *handle, int rowBegin, int rowEnd, const float *data, std::string &error) {
   auto &image = *static_cast<OpenImage *>(handle);
   bool ok;
   size_t count = size_t(rowEnd - rowBegin) * image.xres * image.channels;
-  if (!image.integerValues) {
+  if (image.displayConvert) {
+    // testshade's display image: its ImageBuf (an ImageSpec's default alpha
+    // channel) through colorconvert, colors divided by alpha and back.
+    std::vector<float> values(data, data + count);
+    if (image.integerValues)
+      for (size_t i = 0; i < count; ++i) {
+        int32_t value;
+        std::memcpy(&value, data + i, sizeof value);
+        values[i] = float(value) * (1.0f / 2147483647.0f);
+      }
+    OIIO::ImageSpec band(image.xres, rowEnd - rowBegin, image.channels, OIIO::TypeDesc::FLOAT);
+    OIIO::ImageBuf linear(band, values.data()), encoded;
+    if (!OIIO::ImageBufAlgo::colorconvert(encoded, linear, "linear", "sRGB", true)) {
+      error = "cannot write " + image.path + ": " + encoded.geterror();
+      return false;
+    }
+    ok = image.out->write_scanlines(rowBegin, rowEnd, 0, OIIO::TypeDesc::FLOAT,
+                                    encoded.localpixels());
+  } else if (!image.integerValues) {
     ok = image.out->write_scanlines(rowBegin, rowEnd, 0, OIIO::TypeDesc::FLOAT, data);
   } else if (image.integerPixels) {
     // The ints' own bits.

@@ -166,7 +166,7 @@ std::unique_ptr<Writer> openWithOiio(const std::string &path, const std::string 
     return nullptr;
   }
   void *handle = api->openImage(path, formatFrom, spec.xres, spec.yres, spec.channels,
-                                spec.dataType, spec.intBits, error);
+                                spec.dataType, spec.intBits, spec.displayConvert, error);
   if (!handle)
     return nullptr;
   return std::make_unique<OiioWriter>(api, handle);

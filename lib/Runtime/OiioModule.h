@@ -31,9 +31,11 @@ struct OiioModuleHost {
 /// What the module provides. Images use testshade's spec (ImageOutput.h).
 struct OiioModuleApi {
   /// An image open for writing, or nullptr with `error` set.
+  /// `displayConvert`: rows go through colorconvert linear -> sRGB (with
+  /// alpha), as testshade's display images do.
   void *(*openImage)(const std::string &path, const std::string &formatFrom, int xres,
                      int yres, int channels, const std::string &dataType,
-                     bool integerValues, std::string &error);
+                     bool integerValues, bool displayConvert, std::string &error);
   bool (*writeRows)(void *image, int rowBegin, int rowEnd, const float *data,
                     std::string &error);
   /// Closes and frees `image` (also after a failed write).

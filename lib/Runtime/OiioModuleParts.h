@@ -26,7 +26,7 @@ void setTextureCacheMegabytes(float megabytes);
 // Images (OiioImages.cpp).
 void *openImage(const std::string &path, const std::string &formatFrom, int xres, int yres,
                 int channels, const std::string &dataType, bool integerValues,
-                std::string &error);
+                bool displayConvert, std::string &error);
 bool writeRows(void *image, int rowBegin, int rowEnd, const float *data, std::string &error);
 bool closeImage(void *image, std::string &error);
 bool readImage(const std::string &path, ImageData &image, std::string &error);
