@@ -7,6 +7,7 @@
 //===----------------------------------------------------------------------===//
 #include "OslRuntime/ImageOutput.h"
 #include "ImageFormats.h"
+#include "OslRuntime/Grid.h"
 
 #include <OpenImageIO/color.h>
 
@@ -104,14 +105,15 @@ bool displayEncoded(const std::string &path, int channels) {
   return (channels == 1 || channels == 3) && displayFormat(path);
 }
 
+namespace {
+/// An int output's value (its bits) as OpenImageIO converts an int to a
+/// float: a fraction of INT_MAX.
+float intFraction(float bits) { return float(intOutputValue(bits)) * (1.0f / 2147483647.0f); }
+} // namespace
+
 void encodeForDisplay(const float *values, size_t count, bool intBits, float *out) {
   for (size_t i = 0; i < count; ++i) {
-    float linear = values[i];
-    if (intBits) {
-      int32_t value;
-      std::memcpy(&value, values + i, sizeof value);
-      linear = float(value) * (1.0f / 2147483647.0f);
-    }
+    float linear = intBits ? intFraction(values[i]) : values[i];
     // Clamped first (NaN to 0): 8 bits clamp anyway. OpenImageIO's own
     // curve (its approximate pow), which testshade's conversion runs: the
     // exact one rounds some values to the next 8-bit step.
@@ -145,9 +147,11 @@ struct ImageStream::Impl {
   std::unique_ptr<image::Writer> writer;
   std::string path, temporary;
   int xres = 0, channels = 0;
-  /// A testshade display image (displayEncoded): rows are encoded on the
-  /// way, from an int output's bits where `intBits`.
-  bool encode = false, intBits = false;
+  /// A testshade display image: rows are encoded on the way (`encode`,
+  /// displayEncoded), or given to OpenImageIO's conversion as floats
+  /// (`fractions`: an int output's bits as fractions of INT_MAX); `intBits`:
+  /// the rows are an int output's.
+  bool encode = false, fractions = false, intBits = false;
   std::vector<float> encoded;
 };
 
@@ -175,10 +179,13 @@ bool ImageStream::open(const std::string &path, int xres, int yres, int channels
     impl->intBits = integerValues;
     return openStream(path, xres, yres, channels, error, "uint8", false, false);
   }
-  // Other channel counts (alpha): OpenImageIO converts them as for testshade.
+  // Other channel counts (alpha): OpenImageIO converts them as for testshade,
+  // from floats.
   bool convert = asTestshade && displayFormat(path);
+  impl->fractions = convert && integerValues;
+  impl->intBits = integerValues;
   return openStream(path, xres, yres, channels, error, convert ? "uint8" : dataType,
-                    integerValues, convert);
+                    integerValues && !convert, convert);
 }
 
 bool ImageStream::openStream(const std::string &path, int xres, int yres, int channels,
@@ -199,10 +206,13 @@ bool ImageStream::writeRows(int rowBegin, int rowEnd, const float *data, std::st
     error = "image stream is not open";
     return false;
   }
-  if (impl->encode) {
+  if (impl->encode || impl->fractions) {
     size_t count = size_t(rowEnd - rowBegin) * impl->xres * impl->channels;
     impl->encoded.resize(count);
-    encodeForDisplay(data, count, impl->intBits, impl->encoded.data());
+    if (impl->encode)
+      encodeForDisplay(data, count, impl->intBits, impl->encoded.data());
+    else
+      std::transform(data, data + count, impl->encoded.begin(), intFraction);
     data = impl->encoded.data();
   }
   return impl->writer->writeRows(rowBegin, rowEnd, data, error);

@@ -5,12 +5,12 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OiioModuleParts.h"
+#include "OslRuntime/Grid.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
-#include <cstring>
 
 namespace osl::oiio {
 
@@ -83,14 +83,9 @@ bool writeRows(void *handle, int rowBegin, int rowEnd, const float *data, std::s
   size_t count = size_t(rowEnd - rowBegin) * image.xres * image.channels;
   if (image.displayConvert) {
     // testshade's display image: its ImageBuf (an ImageSpec's default alpha
-    // channel) through colorconvert, colors divided by alpha and back.
+    // channel) through colorconvert, colors divided by alpha and back. (The
+    // host gives an int output's values as floats.)
     std::vector<float> values(data, data + count);
-    if (image.integerValues)
-      for (size_t i = 0; i < count; ++i) {
-        int32_t value;
-        std::memcpy(&value, data + i, sizeof value);
-        values[i] = float(value) * (1.0f / 2147483647.0f);
-      }
     OIIO::ImageSpec band(image.xres, rowEnd - rowBegin, image.channels, OIIO::TypeDesc::FLOAT);
     OIIO::ImageBuf linear(band, values.data()), encoded;
     if (!OIIO::ImageBufAlgo::colorconvert(encoded, linear, "linear", "sRGB", true)) {
@@ -106,11 +101,8 @@ bool writeRows(void *handle, int rowBegin, int rowEnd, const float *data, std::s
     ok = image.out->write_scanlines(rowBegin, rowEnd, 0, OIIO::TypeDesc::INT, data);
   } else {
     std::vector<float> values(count);
-    for (size_t i = 0; i < count; ++i) {
-      int32_t value;
-      std::memcpy(&value, data + i, sizeof value);
-      values[i] = float(value);
-    }
+    for (size_t i = 0; i < count; ++i)
+      values[i] = float(intOutputValue(data[i]));
     ok = image.out->write_scanlines(rowBegin, rowEnd, 0, OIIO::TypeDesc::FLOAT, values.data());
   }
   if (!ok)

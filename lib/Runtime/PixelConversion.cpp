@@ -1,5 +1,6 @@
 //===- PixelConversion.cpp - Stored pixel types, as OpenImageIO converts --===//
 #include "PixelConversion.h"
+#include "OslRuntime/Grid.h"
 
 #include <Imath/half.h>
 #include <OpenImageIO/fmath.h>
@@ -45,11 +46,6 @@ int32_t wholeNumber(float value) {
   return int32_t(value);
 }
 
-int32_t intBitsOf(float bits) {
-  int32_t value;
-  std::memcpy(&value, &bits, sizeof value);
-  return value;
-}
 
 template <typename D> void fromInts(const int32_t *ints, size_t count, void *out) {
   OIIO::convert_type<int32_t, D>(ints, static_cast<D *>(out), count);
@@ -63,7 +59,7 @@ const float *floatValues(const float *data, size_t count, bool intBits,
     return data;
   scratch.resize(count);
   for (size_t i = 0; i < count; ++i)
-    scratch[i] = float(intBitsOf(data[i]));
+    scratch[i] = float(intOutputValue(data[i]));
   return scratch.data();
 }
 
@@ -72,7 +68,7 @@ void convertPixels(const float *values, size_t count, bool integerPixels, PixelT
   if (integerPixels) {
     std::vector<int32_t> ints(count);
     for (size_t i = 0; i < count; ++i)
-      ints[i] = intBitsOf(values[i]);
+      ints[i] = intOutputValue(values[i]);
     switch (type) {
     case PixelType::UInt8: return fromInts<uint8_t>(ints.data(), count, out);
     case PixelType::UInt16: return fromInts<uint16_t>(ints.data(), count, out);
