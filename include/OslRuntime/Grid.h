@@ -77,6 +77,21 @@ inline int32_t intOutputValue(float bits) {
   return value;
 }
 
+/// A whole number held as a float, as the int it holds (x86's conversion:
+/// NaN and values out of int range give INT_MIN).
+inline int32_t wholeNumber(float value) {
+  if (!(value >= -2147483648.0f && value < 2147483648.0f))
+    return INT32_MIN;
+  return int32_t(value);
+}
+
+/// An int as an int output's rows hold it (its bits).
+inline float intOutputBits(int32_t value) {
+  float bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
 struct ShadeResult {
   /// Per output: xres*rows*channels floats for the band of rows shaded
   /// (all yres by default), pixel-major (row-major pixels, channels

@@ -38,14 +38,6 @@ bool pixelTypeNamed(const std::string &name, PixelType &type) {
 
 namespace {
 
-/// A float holding a whole number as the int it holds; NaN and values out of
-/// range give INT_MIN, as the x86 conversion.
-int32_t wholeNumber(float value) {
-  if (!(value >= -2147483648.0f && value < 2147483648.0f))
-    return INT32_MIN;
-  return int32_t(value);
-}
-
 
 template <typename D> void fromInts(const int32_t *ints, size_t count, void *out) {
   OIIO::convert_type<int32_t, D>(ints, static_cast<D *>(out), count);
@@ -93,7 +85,7 @@ void convertPixels(const float *values, size_t count, bool integerPixels, PixelT
   case PixelType::Int32: {
     auto *ints = static_cast<int32_t *>(out);
     for (size_t i = 0; i < count; ++i)
-      ints[i] = wholeNumber(values[i]);
+      ints[i] = osl::wholeNumber(values[i]);
     return;
   }
   }

@@ -184,7 +184,7 @@ struct LinkShaderGroupPass
     for (Layer &l : layers)
       order.push_back(&l);
     if (explicitEntries && lazyLayers)
-      llvm::stable_sort(order, [](Layer *a, Layer *b) { return a->entryOrder < b->entryOrder; });
+      sortByEntryOrder(order);
     if (!explicitEntries) {
       b.setInsertionPointToStart(&group.front());
       trace(b, layers.back(), "enter");
@@ -226,6 +226,29 @@ struct LinkShaderGroupPass
     group.setSymName(rootName);
   }
 
+  /// Orders layers as their entries were named (-entry); others keep theirs.
+  static void sortByEntryOrder(SmallVectorImpl<Layer *> &order) {
+    llvm::stable_sort(order, [](Layer *a, Layer *b) { return a->entryOrder < b->entryOrder; });
+  }
+
+  /// `layer`'s outputs called `name` (one per element written by index).
+  static SmallVector<OutputOp> outputsNamed(func::FuncOp layer, StringRef name) {
+    SmallVector<OutputOp> outs;
+    layer.walk([&](OutputOp out) {
+      if (out.getName() == name)
+        outs.push_back(out);
+    });
+    return outs;
+  }
+
+  /// Writes `value` to the group's output `name` in place of `out`'s element.
+  void writeGroupOutput(OutputOp out, StringRef name, Value value) {
+    OpBuilder b(group.front().getTerminator());
+    auto copy = b.create<OutputOp>(out.getLoc(), name, value);
+    if (auto index = out.getIndexAttr())
+      copy.setIndexAttr(index);
+  }
+
   /// Entry layers that an entry given before them reads, directly or
   /// through other layers: OSL runs such a layer inside its reader, where
   /// the reader first needs it, and then skips it as already run. (Only
@@ -238,7 +261,7 @@ struct LinkShaderGroupPass
     for (Layer &l : layers)
       if (l.entry)
         entries.push_back(&l);
-    llvm::stable_sort(entries, [](Layer *a, Layer *b) { return a->entryOrder < b->entryOrder; });
+    sortByEntryOrder(entries);
     for (Layer *entry : entries) {
       if (reached.contains(entry->name)) {
         inside.insert(entry->name);
@@ -362,29 +385,15 @@ struct LinkShaderGroupPass
   /// only where it is that entry.
   void lastWriterOutput(StringRef name) {
     for (Layer *l : llvm::reverse(ranInOrder)) {
-      SmallVector<OutputOp> outs;
-      l->func.walk([&](OutputOp out) {
-        if (out.getName() == name)
-          outs.push_back(out);
-      });
+      SmallVector<OutputOp> outs = outputsNamed(l->func, name);
       if (outs.empty())
         continue;
       if (l == &layers.back())
         return; // the root's outputs keep the name
-      SmallVector<OutputOp> rootCopies;
-      group.walk([&](OutputOp out) {
-        if (out.getName() == name)
-          rootCopies.push_back(out);
-      });
-      for (OutputOp out : rootCopies)
+      for (OutputOp out : outputsNamed(group, name))
         out.erase();
-      OpBuilder b(group.front().getTerminator());
-      for (OutputOp out : outs) {
-        Value value = placed[l->name].lookup(outputKey(name, elementIndex(out)));
-        auto copy = b.create<OutputOp>(out.getLoc(), name, value);
-        if (auto index = out.getIndexAttr())
-          copy.setIndexAttr(index);
-      }
+      for (OutputOp out : outs)
+        writeGroupOutput(out, name, placed[l->name].lookup(outputKey(name, elementIndex(out))));
       available.push_back(name.str());
       return;
     }
@@ -434,20 +443,15 @@ struct LinkShaderGroupPass
     auto it = layerIndex.find(layerName);
     if (it == layerIndex.end())
       return false;
-    SmallVector<OutputOp> outs;
-    layers[it->second].func.walk([&](OutputOp out) {
-      if (out.getName() == output)
-        outs.push_back(out);
-    });
+    SmallVector<OutputOp> outs = outputsNamed(layers[it->second].func, output);
     OpBuilder b(group.front().getTerminator());
     for (OutputOp out : outs) {
       Type type = getUniformType(out.getValue().getType());
       if (!isa<FloatType, IntegerType, VectorType>(type))
         return false;
-      Value zero = b.create<arith::ConstantOp>(out.getLoc(), cast<TypedAttr>(b.getZeroAttr(type)));
-      auto copy = b.create<OutputOp>(out.getLoc(), name, zero);
-      if (auto index = out.getIndexAttr())
-        copy.setIndexAttr(index);
+      writeGroupOutput(out, name,
+                       b.create<arith::ConstantOp>(out.getLoc(),
+                                                   cast<TypedAttr>(b.getZeroAttr(type))));
     }
     return !outs.empty();
   }

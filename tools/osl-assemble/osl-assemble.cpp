@@ -10,6 +10,7 @@
 // output, one whose ints a float holds exactly: up to 2^24).
 //
 //===----------------------------------------------------------------------===//
+#include "OslRuntime/Grid.h"
 #include "OslRuntime/ImageOutput.h"
 
 #include <cstdint>
@@ -94,11 +95,8 @@ int main(int argc, char **argv) {
   // writeImage takes an int output as its ints' bits (OslRuntime/Grid.h);
   // the tiles hold the values as floats.
   if (integer)
-    for (float &value : image) {
-      int32_t whole = value >= -2147483648.0f && value < 2147483648.0f ? int32_t(value)
-                                                                       : INT32_MIN;
-      std::memcpy(&value, &whole, sizeof whole);
-    }
+    for (float &value : image)
+      value = osl::intOutputBits(osl::wholeNumber(value));
   std::string error;
   if (!osl::writeImage(out, width, height, channels, image.data(), error, dataType, integer,
                        /*asTestshade=*/true))
