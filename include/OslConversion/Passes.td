@@ -35,7 +35,9 @@ def LowerToLLVM : Pass<"osl-lower-to-llvm", "::mlir::ModuleOp"> {
   let summary = "Lower vector/arith/math/scf code to the LLVM dialect";
   let description = [{
     Math functions become polynomial approximations that stay in vector
-    registers (no per-lane libm calls), then everything becomes LLVM.
+    registers (no per-lane libm calls), then everything becomes LLVM. Vector
+    int / and % by divisors that are not one constant divide in double
+    precision, exactly (x86 has no vector integer division).
   }];
   let dependentDialects = ["::mlir::LLVM::LLVMDialect", "::mlir::cf::ControlFlowDialect",
                            "::mlir::arith::ArithDialect", "::mlir::math::MathDialect",

@@ -122,6 +122,7 @@ public:
   Value shr(Value x, Value y) { return b.create<arith::ShRUIOp>(loc, x, y); }
   Value shl(Value x, unsigned k) { return shl(x, i(k)); }
   Value shr(Value x, unsigned k) { return shr(x, i(k)); }
+  Value remsi(Value x, Value y) { return b.create<arith::RemSIOp>(loc, x, y); }
   Value cmpi(arith::CmpIPredicate p, Value x, Value y) {
     return b.create<arith::CmpIOp>(loc, p, x, y);
   }

@@ -7,7 +7,6 @@
 // multiply-high, an add and two shifts (Granlund & Montgomery, "Division by
 // invariant integers using multiplication", 1994, figure 4.1, applied to
 // |n| and |d|). Exact for every int, so results equal idiv's at any width.
-// Lanes that divide by different ints divide in double precision, exactly.
 //
 //===----------------------------------------------------------------------===//
 #ifndef OSLLANES_UNIFORMDIVISOR_H
@@ -26,17 +25,6 @@ Value uniformDivisorOf(Value den);
 /// (x%0 = 0, truncating), for a vector of i32 `num` and a scalar i32 `d`.
 Value divideByUniform(OpBuilder &b, Location loc, Value num, Value d);
 Value remainderByUniform(OpBuilder &b, Location loc, Value num, Value d);
-
-/// The truncated quotient and remainder of every lane of `num` by `den`
-/// (i32, scalars or vectors alike), exact, for callers that have made the
-/// divisor safe: no lane divides by 0 or INT_MIN by -1. A vector by a
-/// divisor not known at compile time divides in double precision: a double
-/// holds every int, and the correctly rounded n/d truncates to the exact
-/// quotient (its error, under |n| 2^-53, is below 1/|d|, the least distance
-/// of a quotient that is not whole from a whole number). Two vector
-/// divisions in place of an idiv per lane.
-Value exactQuotient(OpBuilder &b, Location loc, Value num, Value den);
-Value exactRemainder(OpBuilder &b, Location loc, Value num, Value den);
 
 } // namespace mlir::osl::lane
 

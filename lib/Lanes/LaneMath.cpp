@@ -154,7 +154,7 @@ Value lane::div(OpBuilder &b, Location loc, ValueRange x) {
       icmp(b, loc, arith::CmpIPredicate::eq, den, cst(b, loc, den, -1)));
   Value unsafe = b.create<arith::OrIOp>(loc, isZero, overflow);
   Value safeDen = sel(b, loc, unsafe, one, den);
-  Value q = exactQuotient(b, loc, num, safeDen);
+  Value q = b.create<arith::DivSIOp>(loc, num, safeDen);
   q = sel(b, loc, overflow, num, q);
   return sel(b, loc, isZero, zero, q);
 }
@@ -168,7 +168,7 @@ Value lane::mod(OpBuilder &b, Location loc, ValueRange x) {
   Value isZero = icmp(b, loc, arith::CmpIPredicate::eq, den, zero);
   Value isMinusOne = icmp(b, loc, arith::CmpIPredicate::eq, den, cst(b, loc, den, -1));
   Value unsafe = b.create<arith::OrIOp>(loc, isZero, isMinusOne);
-  Value r = exactRemainder(b, loc, num, sel(b, loc, unsafe, cst(b, loc, den, 1), den));
+  Value r = b.create<arith::RemSIOp>(loc, num, sel(b, loc, unsafe, cst(b, loc, den, 1), den));
   return sel(b, loc, unsafe, zero, r);
 }
 

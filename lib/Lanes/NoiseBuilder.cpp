@@ -33,7 +33,6 @@
 //===----------------------------------------------------------------------===//
 
 #include "NoiseEmitter.h"
-#include "OslLanes/UniformDivisor.h"
 
 using namespace mlir;
 
@@ -325,7 +324,7 @@ SmallVector<Value, 3> periodicResults(Emitter &e, NoiseKind kind,
       SmallVector<Value, 4> wrapped;
       for (auto [k, p] : llvm::zip(key, per)) {
         // imod: remainder in [0, p) (p >= 1, so no division trap).
-        Value r = lane::exactRemainder(e.b, e.loc, k, p);
+        Value r = e.remsi(k, p);
         Value neg = e.cmpi(arith::CmpIPredicate::slt, r, e.i(0));
         wrapped.push_back(e.select(neg, e.iadd(r, p), r));
       }

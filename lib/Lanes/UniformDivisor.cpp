@@ -99,30 +99,3 @@ Value mlir::osl::lane::remainderByUniform(OpBuilder &b, Location loc, Value num,
           loc, q, osl::lane::broadcast(b, loc, d, cast<VectorType>(num.getType()).getNumElements())));
   return zeroWhere(b, loc, div.isZero, r);
 }
-
-namespace {
-
-/// Whether dividing by `den` needs no help: a scalar (one idiv) or a
-/// constant (LLVM multiplies).
-bool dividesNatively(Value den) {
-  return !isa<VectorType>(den.getType()) || matchPattern(den, m_Constant());
-}
-
-} // namespace
-
-Value mlir::osl::lane::exactQuotient(OpBuilder &b, Location loc, Value num, Value den) {
-  if (dividesNatively(den))
-    return b.create<arith::DivSIOp>(loc, num, den);
-  auto type = cast<VectorType>(num.getType());
-  Type f64 = VectorType::get(type.getShape(), b.getF64Type());
-  Value q = b.create<arith::DivFOp>(loc, b.create<arith::SIToFPOp>(loc, f64, num),
-                                    b.create<arith::SIToFPOp>(loc, f64, den));
-  return b.create<arith::FPToSIOp>(loc, type, q); // truncates
-}
-
-Value mlir::osl::lane::exactRemainder(OpBuilder &b, Location loc, Value num, Value den) {
-  if (dividesNatively(den))
-    return b.create<arith::RemSIOp>(loc, num, den);
-  return b.create<arith::SubIOp>(
-      loc, num, b.create<arith::MulIOp>(loc, exactQuotient(b, loc, num, den), den));
-}

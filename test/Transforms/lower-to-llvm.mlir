@@ -102,3 +102,32 @@ func.func @rotates(%x: vector<4xi32>) -> (vector<4xi32>, vector<4xi32>) {
   %not = arith.ori %hi, %lo3 : vector<4xi32>
   return %rot, %not : vector<4xi32>, vector<4xi32>
 }
+
+// -----
+
+// Lanes dividing by ints not known to be one constant divide in double
+// precision (an exact quotient, truncated by the conversion back); a
+// remainder is n - q*d. A constant divisor stays an sdiv, and a scalar's
+// too: LLVM multiplies by constants, and one idiv serves a scalar.
+// CHECK-LABEL: llvm.func @divide_lanes
+// CHECK-DAG: %[[N:.+]] = llvm.sitofp %[[NUM:[^ ]+]] : vector<8xi32> to vector<8xf64>
+// CHECK-DAG: %[[D:.+]] = llvm.sitofp %[[DEN:[^ ]+]] : vector<8xi32> to vector<8xf64>
+// CHECK: %[[Q:.+]] = llvm.fdiv %[[N]], %[[D]] : vector<8xf64>
+// CHECK: %[[QI:.+]] = llvm.fptosi %[[Q]] : vector<8xf64> to vector<8xi32>
+// CHECK: llvm.fdiv {{.*}} : vector<8xf64>
+// CHECK: %[[R:.+]] = llvm.fptosi {{.*}} : vector<8xf64> to vector<8xi32>
+// CHECK: %[[P:.+]] = llvm.mul %[[R]], %[[DEN]]
+// CHECK: llvm.sub %[[NUM]], %[[P]]
+// CHECK: llvm.sdiv {{.*}} : vector<8xi32>
+// CHECK: llvm.sdiv {{.*}} : i32
+// CHECK-NOT: llvm.srem {{.*}} : vector
+// CHECK: llvm.return
+func.func @divide_lanes(%n: vector<8xi32>, %d: vector<8xi32>, %s: i32, %t: i32)
+    -> (vector<8xi32>, vector<8xi32>, vector<8xi32>, i32) {
+  %three = arith.constant dense<3> : vector<8xi32>
+  %q = arith.divsi %n, %d : vector<8xi32>
+  %r = arith.remsi %n, %d : vector<8xi32>
+  %k = arith.divsi %n, %three : vector<8xi32>
+  %one = arith.divsi %s, %t : i32
+  return %q, %r, %k, %one : vector<8xi32>, vector<8xi32>, vector<8xi32>, i32
+}

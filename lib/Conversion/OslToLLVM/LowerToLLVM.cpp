@@ -143,6 +143,40 @@ void formRotates(ModuleOp module) {
   }
 }
 
+/// Vector int / and % by lanes not known to be one constant divide in
+/// double precision. x86 has no vector integer division, so LLVM divides
+/// lane by lane with idiv; a double holds every int, and the correctly
+/// rounded n/d truncates to the exact quotient (its error, under
+/// |n| 2^-53, is below 1/|d|, the least distance of a quotient that is not
+/// whole from a whole number): two vector divisions give idiv's results
+/// bit for bit. Where divsi/remsi is defined (no lane divides by 0 or
+/// INT_MIN by -1, which their producers rule out) so is this. Constant
+/// divisors stay: LLVM multiplies by them.
+void divideLanesInDouble(ModuleOp module) {
+  SmallVector<Operation *> divisions;
+  module.walk([&](Operation *op) {
+    if (isa<arith::DivSIOp, arith::RemSIOp>(op) && isa<VectorType>(op->getResultTypes()[0]) &&
+        !matchPattern(op->getOperand(1), m_Constant()))
+      divisions.push_back(op);
+  });
+  for (Operation *op : divisions) {
+    OpBuilder b(op);
+    Location loc = op->getLoc();
+    Value num = op->getOperand(0), den = op->getOperand(1);
+    auto type = cast<VectorType>(num.getType());
+    Type f64 = VectorType::get(type.getShape(), b.getF64Type());
+    Value quotient = b.create<arith::FPToSIOp>( // truncates
+        loc, type,
+        b.create<arith::DivFOp>(loc, b.create<arith::SIToFPOp>(loc, f64, num),
+                                b.create<arith::SIToFPOp>(loc, f64, den)));
+    Value result = quotient;
+    if (isa<arith::RemSIOp>(op))
+      result = b.create<arith::SubIOp>(loc, num, b.create<arith::MulIOp>(loc, quotient, den));
+    op->getResult(0).replaceAllUsesWith(result);
+    op->erase();
+  }
+}
+
 LogicalResult convertToLLVM(ModuleOp module) {
   MLIRContext *ctx = module.getContext();
   {
@@ -178,6 +212,7 @@ struct LowerToLLVMPass
   void runOnOperation() override {
     ModuleOp module = getOperation();
     formRotates(module);
+    divideLanesInDouble(module);
     if (failed(lowerStructuredControlFlow(module)) ||
         failed(convertToLLVM(module)))
       return signalPassFailure();
