@@ -108,7 +108,8 @@ func.func @rotates(%x: vector<4xi32>) -> (vector<4xi32>, vector<4xi32>) {
 // Lanes dividing by ints not known to be one constant divide in double
 // precision (an exact quotient, truncated by the conversion back); a
 // remainder is n - q*d. A constant divisor stays an sdiv, and a scalar's
-// too: LLVM multiplies by constants, and one idiv serves a scalar.
+// too: LLVM multiplies by constants, and one idiv serves a scalar. 64-bit
+// lanes stay: a double does not hold every such int.
 // CHECK-LABEL: llvm.func @divide_lanes
 // CHECK-DAG: %[[N:.+]] = llvm.sitofp %[[NUM:[^ ]+]] : vector<8xi32> to vector<8xf64>
 // CHECK-DAG: %[[D:.+]] = llvm.sitofp %[[DEN:[^ ]+]] : vector<8xi32> to vector<8xf64>
@@ -120,14 +121,17 @@ func.func @rotates(%x: vector<4xi32>) -> (vector<4xi32>, vector<4xi32>) {
 // CHECK: llvm.sub %[[NUM]], %[[P]]
 // CHECK: llvm.sdiv {{.*}} : vector<8xi32>
 // CHECK: llvm.sdiv {{.*}} : i32
-// CHECK-NOT: llvm.srem {{.*}} : vector
+// CHECK: llvm.sdiv {{.*}} : vector<4xi64>
+// CHECK-NOT: llvm.srem {{.*}} : vector<8xi32>
 // CHECK: llvm.return
-func.func @divide_lanes(%n: vector<8xi32>, %d: vector<8xi32>, %s: i32, %t: i32)
-    -> (vector<8xi32>, vector<8xi32>, vector<8xi32>, i32) {
+func.func @divide_lanes(%n: vector<8xi32>, %d: vector<8xi32>, %s: i32, %t: i32,
+                        %wide: vector<4xi64>, %wideDen: vector<4xi64>)
+    -> (vector<8xi32>, vector<8xi32>, vector<8xi32>, i32, vector<4xi64>) {
   %three = arith.constant dense<3> : vector<8xi32>
   %q = arith.divsi %n, %d : vector<8xi32>
   %r = arith.remsi %n, %d : vector<8xi32>
   %k = arith.divsi %n, %three : vector<8xi32>
   %one = arith.divsi %s, %t : i32
-  return %q, %r, %k, %one : vector<8xi32>, vector<8xi32>, vector<8xi32>, i32
+  %w = arith.divsi %wide, %wideDen : vector<4xi64>
+  return %q, %r, %k, %one, %w : vector<8xi32>, vector<8xi32>, vector<8xi32>, i32, vector<4xi64>
 }

@@ -151,12 +151,16 @@ void formRotates(ModuleOp module) {
 /// whole from a whole number): two vector divisions give idiv's results
 /// bit for bit. Where divsi/remsi is defined (no lane divides by 0 or
 /// INT_MIN by -1, which their producers rule out) so is this. Constant
-/// divisors stay: LLVM multiplies by them.
+/// divisors stay: LLVM multiplies by them. Ints wider than 32 bits stay
+/// too: a double does not hold them all.
 void divideLanesInDouble(ModuleOp module) {
   SmallVector<Operation *> divisions;
   module.walk([&](Operation *op) {
-    if (isa<arith::DivSIOp, arith::RemSIOp>(op) && isa<VectorType>(op->getResultTypes()[0]) &&
-        !matchPattern(op->getOperand(1), m_Constant()))
+    if (!isa<arith::DivSIOp, arith::RemSIOp>(op) ||
+        matchPattern(op->getOperand(1), m_Constant()))
+      return;
+    auto type = dyn_cast<VectorType>(op->getResultTypes()[0]);
+    if (type && type.getElementType().getIntOrFloatBitWidth() <= 32)
       divisions.push_back(op);
   });
   for (Operation *op : divisions) {
