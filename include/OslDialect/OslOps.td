@@ -371,6 +371,44 @@ def Osl_InsertOp : Osl_Op<"insert", [Pure]> {
   let hasVerifier = 1;
 }
 
+def Osl_PickOp : Osl_Op<"pick", [Pure]> {
+  let summary = "one of a local array's elements, by a uniform or per-point index";
+  let description = [{
+    `array[index]` for a local array of numbers or triples whose elements are
+    values: the element `index` of `elements`. `index` (i32) must be within
+    0..N-1: the front end clamps it, as OSL clamps an index out of range.
+    One op instead of a chain of selects, so the elements are read from
+    memory at the lane level (osl.lane_pick) rather than all kept live.
+  }];
+  let arguments = (ins Osl_Value:$index, Variadic<Osl_Value>:$elements);
+  let results = (outs Osl_Value:$result);
+  let assemblyFormat = [{
+    $index `,` `[` $elements `]` attr-dict `:` type($index) `,` `[` type($elements) `]`
+    `->` type($result)
+  }];
+  let hasVerifier = 1;
+  let hasFolder = 1;
+}
+
+def Osl_LanePickOp : Osl_Op<"lane_pick", [Pure]> {
+  let summary = "one of N lane values, by a uniform or per-lane index";
+  let description = [{
+    The lane-level form of osl.pick, one per component: `elements` are all
+    of the result's type (f32 or i32, as scalars or W lanes) and `index` is
+    an i32 within 0..N-1, uniform (a scalar) or per lane (vector<W x i32>).
+    osl-lower-to-llvm keeps each list of elements in a stack block, stored
+    where each element is defined, and reads it with a load or a gather.
+  }];
+  let arguments = (ins AnyType:$index, Variadic<AnyType>:$elements);
+  let results = (outs AnyType:$result);
+  let assemblyFormat = [{
+    $index `,` `[` $elements `]` attr-dict `:` type($index) `,` `[` type($elements) `]`
+    `->` type($result)
+  }];
+  let hasVerifier = 1;
+  let hasFolder = 1;
+}
+
 //===----------------------------------------------------------------------===//
 // Library calls
 //===----------------------------------------------------------------------===//

@@ -15,6 +15,7 @@
 
 #include "mlir/Dialect/Arith/IR/Arith.h"
 #include "mlir/IR/Builders.h"
+#include "mlir/IR/TypeUtilities.h"
 #include "mlir/IR/OpImplementation.h"
 #include "mlir/IR/Matchers.h"
 #include "mlir/IR/PatternMatch.h"
@@ -195,6 +196,65 @@ LogicalResult InsertOp::verify() {
 //===----------------------------------------------------------------------===//
 // Library calls
 //===----------------------------------------------------------------------===//
+
+LogicalResult PickOp::verify() {
+  if (getElements().empty())
+    return emitOpError("needs at least one element");
+  if (!getUniformType(getIndex().getType()).isInteger(32))
+    return emitOpError("the index must be i32");
+  Type element = getUniformType(getType());
+  bool varying = isVarying(getIndex().getType());
+  for (Value e : getElements()) {
+    if (getUniformType(e.getType()) != element)
+      return emitOpError("every element must be of the result's type");
+    varying |= isVarying(e.getType());
+  }
+  if (!(element.isF32() || element.isInteger(32) || isTriple(element)))
+    return emitOpError("elements must be f32, i32 or triples");
+  if (varying && !isVarying(getType()))
+    return emitOpError("the result must be varying when the index or an element is");
+  return success();
+}
+
+/// The element a pick reads whatever its index (all are the same value),
+/// or at a constant index (a scalar or the same in every lane); null if
+/// neither, or if that element's type differs from the result's (a uniform
+/// element of a varying pick).
+static Value pickedElement(ValueRange elements, Attribute index, Type result) {
+  Value chosen;
+  if (llvm::all_equal(elements)) {
+    chosen = elements.front();
+  } else {
+    auto splat = dyn_cast_or_null<SplatElementsAttr>(index);
+    auto k = dyn_cast_or_null<IntegerAttr>(splat ? splat.getSplatValue<Attribute>() : index);
+    if (k && k.getInt() >= 0 && k.getInt() < int64_t(elements.size()))
+      chosen = elements[k.getInt()];
+  }
+  return chosen && chosen.getType() == result ? chosen : Value();
+}
+
+OpFoldResult PickOp::fold(FoldAdaptor adaptor) {
+  return pickedElement(getElements(), adaptor.getIndex(), getType());
+}
+
+OpFoldResult LanePickOp::fold(FoldAdaptor adaptor) {
+  return pickedElement(getElements(), adaptor.getIndex(), getType());
+}
+
+LogicalResult LanePickOp::verify() {
+  if (getElements().empty())
+    return emitOpError("needs at least one element");
+  for (Value e : getElements())
+    if (e.getType() != getType())
+      return emitOpError("every element must be of the result's type");
+  Type index = getIndex().getType();
+  auto lanes = dyn_cast<VectorType>(index);
+  if (!getElementTypeOrSelf(index).isInteger(32) ||
+      (lanes && !(isa<VectorType>(getType()) &&
+                  lanes.getShape() == cast<VectorType>(getType()).getShape())))
+    return emitOpError("the index must be i32, a scalar or one per lane of the result");
+  return success();
+}
 
 LogicalResult TableReadOp::verify() {
   auto table = getTable();

@@ -219,6 +219,10 @@ public:
   /// element is a compile-time constant: one gather instead of a compare
   /// and a select per element.
   static constexpr int kTableMinLength = 8;
+  /// Arrays at least this long read by a non-constant index use osl.pick:
+  /// a stack block and a gather at the lane level instead of a select per
+  /// element (shorter chains cost less than the stores).
+  static constexpr int kPickMinLength = 8;
 
   mlir::Value constInt(int32_t v, SrcLoc l);
   mlir::Value constFloat(float v, SrcLoc l);
@@ -546,6 +550,7 @@ private:
   /// struct's field.
   /// A per-point read of an array of constants as osl.table_read.
   std::optional<RValue> readConstantTable(const RValue &cur, const Access &a, SrcLoc l);
+  std::optional<RValue> readPickedElement(const RValue &cur, const Access &a, SrcLoc l);
   RValue readAccess(const RValue &cur, const Access &a, SrcLoc l);
   /// The type of field j of a struct or (one array per field) of an array
   /// of structs.

@@ -2,7 +2,8 @@
 //
 // A path of accesses (struct fields, triple components, array elements,
 // matrix rows) from a variable: read, updated by rebuilding the value along
-// the path, and indexed per point by selects over the elements.
+// the path, and indexed per point by selects over the elements (osl.pick
+// for long arrays).
 //
 //===----------------------------------------------------------------------===//
 #include "IRGen.h"
@@ -217,6 +218,20 @@ std::optional<RValue> IRGen::readConstantTable(const RValue &cur, const Access &
   return RValue::num(element, b.create<ConstructOp>(ml, parts[0], parts[1], parts[2]));
 }
 
+std::optional<RValue> IRGen::readPickedElement(const RValue &cur, const Access &a, SrcLoc l) {
+  OslType element = cur.type.element();
+  bool number = element.base == BaseType::Int || element.base == BaseType::Float;
+  if (a.component || a.length < kPickMinLength || !(number || element.isTriple()) ||
+      int(cur.elems.size()) != a.length)
+    return std::nullopt;
+  Location ml = loc(l);
+  Value index = b.create<ClampOp>(ml, a.index, constInt(0, l), constInt(a.length - 1, l));
+  bool varying = isVarying(index.getType()) ||
+                 llvm::any_of(cur.elems, [](Value e) { return isVarying(e.getType()); });
+  Type type = withUniformity(getUniformType(cur.elems.front().getType()), varying);
+  return RValue::num(element, b.create<PickOp>(ml, type, index, cur.elems));
+}
+
 RValue IRGen::readAccess(const RValue &cur, const Access &a, SrcLoc l) {
   if (a.field >= 0)
     return cur.fields[a.field];
@@ -251,6 +266,8 @@ RValue IRGen::readAccess(const RValue &cur, const Access &a, SrcLoc l) {
     return elementAt(cur, a, int(a.constIndex), l);
   if (auto table = readConstantTable(cur, a, l))
     return *table;
+  if (auto picked = readPickedElement(cur, a, l))
+    return *picked;
   // Clamped index: a chain of selects from the last element down.
   RValue acc = elementAt(cur, a, a.length - 1, l);
   for (int k = a.length - 2; k >= 0; --k) {

@@ -174,7 +174,7 @@ private:
     if (isa<arith::AddFOp, arith::SubFOp, arith::NegFOp, vector::ExtractOp,
             vector::InsertOp, vector::FromElementsOp, vector::BroadcastOp,
             vector::ShapeCastOp, vector::SplatOp, vector::ShuffleOp, vector::TransposeOp,
-            arith::SelectOp>(def)) {
+            arith::SelectOp, LanePickOp>(def)) {
       IRMapping map;
       for (unsigned i = 0; i < def->getNumOperands(); ++i)
         if (isFloatValue(def->getOperand(i)))

@@ -151,3 +151,30 @@ func.func @noise_of_constant_kind(%p: vector<3xf32>, %d: vector<3xf32>) -> (f32,
   return %a, %b, %c : f32, f32, f32
 }
 
+
+// -----
+
+// A pick at a constant index is that element; a pick over one value
+// repeated is that value; a uniform element does not replace a varying
+// pick (its type differs).
+// CHECK-LABEL: func.func @pick_folds
+// CHECK-SAME: (%[[I:.+]]: !osl.varying<i32>, %[[X:.+]]: !osl.varying<f32>, %[[Y:.+]]: f32, %[[L:.+]]: vector<4xf32>, %[[M:.+]]: vector<4xf32>)
+// CHECK: %[[U:.+]] = osl.pick
+// CHECK: osl.output "a" = %[[X]]
+// CHECK: osl.output "b" = %[[X]]
+// CHECK: osl.output "c" = %[[U]]
+// CHECK-NOT: osl.lane_pick
+// CHECK: return %[[M]]
+func.func @pick_folds(%i: !osl.varying<i32>, %x: !osl.varying<f32>, %y: f32,
+                      %l: vector<4xf32>, %m: vector<4xf32>) -> vector<4xf32> {
+  %c1 = arith.constant 1 : i32
+  %a = osl.pick %c1, [%y, %x] : i32, [f32, !osl.varying<f32>] -> !osl.varying<f32>
+  %b = osl.pick %i, [%x, %x, %x] : !osl.varying<i32>, [!osl.varying<f32>, !osl.varying<f32>, !osl.varying<f32>] -> !osl.varying<f32>
+  %c = osl.pick %c1, [%x, %y] : i32, [!osl.varying<f32>, f32] -> !osl.varying<f32>
+  osl.output "a" = %a : !osl.varying<f32>
+  osl.output "b" = %b : !osl.varying<f32>
+  osl.output "c" = %c : !osl.varying<f32>
+  %k = arith.constant dense<1> : vector<4xi32>
+  %p = osl.lane_pick %k, [%l, %m] : vector<4xi32>, [vector<4xf32>, vector<4xf32>] -> vector<4xf32>
+  return %p : vector<4xf32>
+}

@@ -451,3 +451,27 @@ func.func @noise_by_kind_1d_with_derivs(%k: i32, %x: f32) {
   return
 }
 
+
+// -----
+
+func.func @pick_uniform_result_of_varying_index(%i: !osl.varying<i32>, %x: f32) {
+  // expected-error @+1 {{the result must be varying when the index or an element is}}
+  %0 = osl.pick %i, [%x, %x] : !osl.varying<i32>, [f32, f32] -> f32
+  return
+}
+
+// -----
+
+func.func @pick_mixed_elements(%i: i32, %x: f32, %n: i32) {
+  // expected-error @+1 {{every element must be of the result's type}}
+  %0 = osl.pick %i, [%x, %n] : i32, [f32, i32] -> f32
+  return
+}
+
+// -----
+
+func.func @lane_pick_index_lanes(%i: vector<4xi32>, %x: vector<8xf32>) {
+  // expected-error @+1 {{the index must be i32, a scalar or one per lane of the result}}
+  %0 = osl.lane_pick %i, [%x, %x] : vector<4xi32>, [vector<8xf32>, vector<8xf32>] -> vector<8xf32>
+  return
+}

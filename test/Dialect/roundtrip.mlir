@@ -143,6 +143,16 @@ func.func @messages(%s: i32, %c: !osl.varying<vector<3xf32>>, %k: !osl.closure, 
   return
 }
 
+// CHECK-LABEL: func.func @pick
+func.func @pick(%i: !osl.varying<i32>, %a: !osl.varying<vector<3xf32>>, %b: vector<3xf32>,
+                %k: vector<8xi32>, %x: vector<8xf32>) {
+  // CHECK: osl.pick %{{.+}}, [%{{.+}}, %{{.+}}] : !osl.varying<i32>, [!osl.varying<vector<3xf32>>, vector<3xf32>] -> !osl.varying<vector<3xf32>>
+  %p = osl.pick %i, [%a, %b] : !osl.varying<i32>, [!osl.varying<vector<3xf32>>, vector<3xf32>] -> !osl.varying<vector<3xf32>>
+  // CHECK: osl.lane_pick %{{.+}}, [%{{.+}}, %{{.+}}] : vector<8xi32>, [vector<8xf32>, vector<8xf32>] -> vector<8xf32>
+  %q = osl.lane_pick %k, [%x, %x] : vector<8xi32>, [vector<8xf32>, vector<8xf32>] -> vector<8xf32>
+  return
+}
+
 // CHECK-LABEL: func.func @table_read
 func.func @table_read(%i: !osl.varying<i32>, %j: i32) {
   // CHECK: osl.table_read dense<[2, 3, 5, 7]> : tensor<4xi32>[%{{.+}}] : !osl.varying<i32> -> !osl.varying<i32>

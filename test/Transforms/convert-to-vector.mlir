@@ -844,3 +844,21 @@ func.func @derivative_through_noise_by_kind() {
   osl.output "n" = %d : !osl.varying<f32>
   return
 }
+
+// -----
+
+// osl.pick of triples: one osl.lane_pick per component, over the elements'
+// components; a uniform element is spread over the lanes of a varying pick.
+// CHECK-LABEL: osl.shader_name = "pick_triples"
+// CHECK: vector.broadcast %{{.+}} : f32 to vector<8xf32>
+// CHECK-COUNT-3: osl.lane_pick %{{.+}}, [%{{.+}}, %{{.+}}] : vector<8xi32>, [vector<8xf32>, vector<8xf32>] -> vector<8xf32>
+// CHECK-NOT: osl.lane_pick
+func.func @pick_triples() {
+  %p = osl.global "P" : !osl.varying<vector<3xf32>>
+  %u = osl.global "u" : !osl.varying<f32>
+  %i = osl.convert %u : !osl.varying<f32> -> !osl.varying<i32>
+  %c = arith.constant dense<[1.0, 2.0, 3.0]> : vector<3xf32>
+  %r = osl.pick %i, [%p, %c] : !osl.varying<i32>, [!osl.varying<vector<3xf32>>, vector<3xf32>] -> !osl.varying<vector<3xf32>>
+  osl.output "r" = %r : !osl.varying<vector<3xf32>>
+  return
+}

@@ -464,3 +464,25 @@ func.func @dual_division(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
   llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
   return
 }
+
+// -----
+
+// A picked element's derivative is the same pick of the elements'
+// derivatives: dudx (row 35) for u, 0 for a constant.
+// CHECK-LABEL: func.func @lane_pick
+// CHECK: %[[DU:.+]] = llvm.load %{{.+}} {alignment = 4 : i64, osl.derivative_row}
+// CHECK: osl.lane_pick %[[I:[^,]+]], [%{{.+}}, %{{.+}}] :
+// CHECK: %[[ZERO:.+]] = arith.constant dense<0.000000e+00> : vector<4xf32>
+// CHECK: %[[D:.+]] = osl.lane_pick %[[I]], [%[[DU]], %[[ZERO]]]
+// CHECK: llvm.intr.masked.store %[[D]]
+// CHECK-NOT: osl.lane_deriv
+func.func @lane_pick(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32, %i: vector<4xi32>) {
+  %0 = llvm.getelementptr %arg0[132] : (!llvm.ptr) -> !llvm.ptr, f32
+  %u = llvm.load %0 {alignment = 4 : i64, osl.global_row = 33 : i64} : !llvm.ptr -> vector<4xf32>
+  %c = arith.constant dense<2.0> : vector<4xf32>
+  %p = osl.lane_pick %i, [%u, %c] : vector<4xi32>, [vector<4xf32>, vector<4xf32>] -> vector<4xf32>
+  %d = osl.lane_deriv x %p : vector<4xf32>
+  %m = arith.constant dense<true> : vector<4xi1>
+  llvm.intr.masked.store %d, %arg1, %m {alignment = 4 : i32} : vector<4xf32>, vector<4xi1> into !llvm.ptr
+  return
+}

@@ -135,3 +135,63 @@ func.func @divide_lanes(%n: vector<8xi32>, %d: vector<8xi32>, %s: i32, %t: i32,
   %w = arith.divsi %wide, %wideDen : vector<4xi64>
   return %q, %r, %k, %one, %w : vector<8xi32>, vector<8xi32>, vector<8xi32>, i32, vector<4xi64>
 }
+
+// -----
+
+// osl.lane_pick: the elements go to a stack block in the entry block, each
+// stored right after its definition (not kept live until the read), and a
+// per-lane index gathers lane l of element i[l] (i[l] * 4 + l); a second
+// pick of the same list shares the block and a uniform index loads.
+// CHECK-LABEL: llvm.func @pick_from_memory
+// CHECK: %[[BLOCK:.+]] = llvm.alloca %{{.+}} x !llvm.array<3 x vector<4xf32>>
+// CHECK-NOT: llvm.alloca
+// CHECK: %[[SLOT0:.+]] = llvm.getelementptr %[[BLOCK]][0, 0]
+// CHECK: llvm.store %arg0, %[[SLOT0]]
+// CHECK: %[[X:.+]] = llvm.fmul %arg0, %arg0
+// CHECK-NEXT: %[[SLOT1:.+]] = llvm.getelementptr %[[BLOCK]][0, 1]
+// CHECK-NEXT: llvm.store %[[X]], %[[SLOT1]]
+// CHECK: llvm.getelementptr %[[BLOCK]][0, 2]
+// CHECK: %[[LANES:.+]] = llvm.mlir.constant(dense<[0, 1, 2, 3]> : vector<4xi32>)
+// CHECK: %[[STRIDE:.+]] = llvm.mlir.constant(dense<4> : vector<4xi32>)
+// CHECK: %[[ROW:.+]] = llvm.mul %arg1, %[[STRIDE]]
+// CHECK: %[[AT:.+]] = llvm.add %[[ROW]], %[[LANES]]
+// CHECK: %[[ADDRS:.+]] = llvm.getelementptr %[[BLOCK]][%[[AT]]] : (!llvm.ptr, vector<4xi32>) -> !llvm.vec<4 x ptr>, f32
+// CHECK: llvm.intr.masked.gather %[[ADDRS]]
+// CHECK: %[[ONE:.+]] = llvm.getelementptr %[[BLOCK]][0, %arg2]
+// CHECK: llvm.load %[[ONE]] : !llvm.ptr -> vector<4xf32>
+// CHECK-NOT: llvm.select
+func.func @pick_from_memory(%a: vector<4xf32>, %i: vector<4xi32>, %j: i32) -> vector<4xf32> {
+  %x = arith.mulf %a, %a : vector<4xf32>
+  %y = arith.addf %x, %a : vector<4xf32>
+  %p = osl.lane_pick %i, [%a, %x, %y] : vector<4xi32>, [vector<4xf32>, vector<4xf32>, vector<4xf32>] -> vector<4xf32>
+  %q = osl.lane_pick %j, [%a, %x, %y] : i32, [vector<4xf32>, vector<4xf32>, vector<4xf32>] -> vector<4xf32>
+  %r = arith.addf %p, %q : vector<4xf32>
+  return %r : vector<4xf32>
+}
+
+// -----
+
+// A pick in a loop that redefines its elements each trip selects over
+// them from the last element down, rather than storing them every trip.
+// CHECK-LABEL: llvm.func @pick_in_loop_selects
+// CHECK-NOT: llvm.alloca
+// CHECK: llvm.icmp "sle" %{{.+}}, %{{.+}} : vector<4xi32>
+// CHECK: llvm.select
+// CHECK: llvm.icmp "sle"
+// CHECK: llvm.select
+// CHECK-NOT: llvm.intr.masked.gather
+func.func @pick_in_loop_selects(%a: vector<4xf32>, %i: vector<4xi32>, %n: i32) -> vector<4xf32> {
+  %c0 = arith.constant 0 : i32
+  %c1 = arith.constant 1 : i32
+  %r:2 = scf.while (%k = %c0, %x = %a) : (i32, vector<4xf32>) -> (i32, vector<4xf32>) {
+    %go = arith.cmpi slt, %k, %n : i32
+    scf.condition(%go) %k, %x : i32, vector<4xf32>
+  } do {
+  ^bb0(%k: i32, %x: vector<4xf32>):
+    %y = arith.mulf %x, %x : vector<4xf32>
+    %p = osl.lane_pick %i, [%a, %x, %y] : vector<4xi32>, [vector<4xf32>, vector<4xf32>, vector<4xf32>] -> vector<4xf32>
+    %k1 = arith.addi %k, %c1 : i32
+    scf.yield %k1, %p : i32, vector<4xf32>
+  }
+  return %r#1 : vector<4xf32>
+}

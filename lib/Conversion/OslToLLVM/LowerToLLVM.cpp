@@ -31,6 +31,9 @@
 #include "mlir/Transforms/DialectConversion.h"
 #include "mlir/Transforms/GreedyPatternRewriteDriver.h"
 
+#include <map>
+#include <vector>
+
 namespace mlir::osl {
 #define GEN_PASS_DEF_LOWERTOLLVM
 #include "OslConversion/Passes.h.inc"
@@ -181,6 +184,120 @@ void divideLanesInDouble(ModuleOp module) {
   }
 }
 
+/// Where `element` can be stored: right after its definition, or after the
+/// stack blocks at the top of the entry block for an argument of it.
+void setInsertionAfterDefinition(OpBuilder &b, Value element, Operation *lastBlock) {
+  auto arg = dyn_cast<BlockArgument>(element);
+  if (arg && arg.getOwner() == lastBlock->getBlock())
+    b.setInsertionPointAfter(lastBlock);
+  else
+    b.setInsertionPointAfterValue(element);
+}
+
+/// Whether an element of `pick` is defined anew on each trip of a loop
+/// around the pick (an array updated in the loop that reads it): storing
+/// the whole array every trip would cost more than selecting over it.
+bool elementsChangeEachTrip(osl::LanePickOp pick) {
+  Operation *loop = pick->getParentOp();
+  while (loop && !isa<scf::WhileOp, scf::ForOp>(loop))
+    loop = isa<FunctionOpInterface>(loop) ? nullptr : loop->getParentOp();
+  if (!loop)
+    return false;
+  return llvm::any_of(pick.getElements(), [&](Value e) {
+    return loop->isProperAncestor(e.getParentBlock()->getParentOp()) ||
+           e.getParentBlock()->getParentOp() == loop;
+  });
+}
+
+/// The pick as a chain of selects from the last element down (the index
+/// is within the elements).
+Value selectElement(OpBuilder &b, Location loc, osl::LanePickOp pick) {
+  Value index = pick.getIndex();
+  auto elements = pick.getElements();
+  Value acc = elements.back();
+  for (int64_t k = int64_t(elements.size()) - 2; k >= 0; --k) {
+    Value bound = b.create<arith::ConstantOp>(
+        loc, isa<VectorType>(index.getType())
+                 ? TypedAttr(DenseElementsAttr::get(cast<ShapedType>(index.getType()),
+                                                    b.getI32IntegerAttr(int32_t(k))))
+                 : TypedAttr(b.getI32IntegerAttr(int32_t(k))));
+    Value below = b.create<arith::CmpIOp>(loc, arith::CmpIPredicate::sle, index, bound);
+    acc = b.create<arith::SelectOp>(loc, below, elements[k], acc);
+  }
+  return acc;
+}
+
+/// osl.lane_pick: each list of elements gets a stack block in the entry
+/// block, and each element is stored there right after its definition, so
+/// it need not stay live (or be selected over) until the read: a load for
+/// a uniform index, a gather for a per-lane one. Picks of the same list
+/// (the same array read at two indices) share the block. A pick in a loop
+/// that redefines its elements selects instead.
+void keepPickedElementsInMemory(ModuleOp module) {
+  SmallVector<osl::LanePickOp> picks;
+  module.walk([&](osl::LanePickOp op) { picks.push_back(op); });
+  std::map<std::vector<void *>, Value> blocks;
+  auto ptr = LLVM::LLVMPointerType::get(module.getContext());
+  for (osl::LanePickOp pick : picks) {
+    OpBuilder b(pick);
+    Location loc = pick.getLoc();
+    if (elementsChangeEachTrip(pick)) {
+      pick.replaceAllUsesWith(selectElement(b, loc, pick));
+      pick.erase();
+      continue;
+    }
+    Type element = pick.getType();
+    int64_t count = int64_t(pick.getElements().size());
+    auto blockType = LLVM::LLVMArrayType::get(element, count);
+    std::vector<void *> key;
+    for (Value e : pick.getElements())
+      key.push_back(e.getAsOpaquePointer());
+    Value &block = blocks[key];
+    if (!block) {
+      Block &entry = pick->getParentOfType<FunctionOpInterface>().getFunctionBody().front();
+      b.setInsertionPointToStart(&entry);
+      Value one = b.create<LLVM::ConstantOp>(loc, b.getI64Type(), b.getI64IntegerAttr(1));
+      block = b.create<LLVM::AllocaOp>(loc, ptr, blockType, one);
+      for (auto [k, e] : llvm::enumerate(pick.getElements())) {
+        setInsertionAfterDefinition(b, e, block.getDefiningOp());
+        Value slot = b.create<LLVM::GEPOp>(loc, ptr, blockType, block,
+                                           ArrayRef<LLVM::GEPArg>{0, int32_t(k)});
+        b.create<LLVM::StoreOp>(loc, e, slot);
+      }
+      b.setInsertionPoint(pick);
+    }
+    Value index = pick.getIndex();
+    auto lanes = dyn_cast<VectorType>(index.getType());
+    if (!lanes) {
+      Value slot = b.create<LLVM::GEPOp>(loc, ptr, blockType, block,
+                                         ArrayRef<LLVM::GEPArg>{0, index});
+      pick.replaceAllUsesWith(b.create<LLVM::LoadOp>(loc, element, slot).getResult());
+      pick.erase();
+      continue;
+    }
+    // Lane l of element index[l] is scalar index[l] * W + l of the block.
+    int64_t width = lanes.getNumElements();
+    Type scalar = getElementTypeOrSelf(element);
+    SmallVector<int32_t> iota;
+    for (int64_t l = 0; l < width; ++l)
+      iota.push_back(int32_t(l));
+    Value laneOffsets = b.create<arith::ConstantOp>(loc, b.getI32VectorAttr(iota));
+    Value stride = b.create<arith::ConstantOp>(
+        loc, DenseElementsAttr::get(lanes, b.getI32IntegerAttr(int32_t(width))));
+    Value offsets = b.create<arith::AddIOp>(
+        loc, b.create<arith::MulIOp>(loc, index, stride), laneOffsets);
+    Value addresses = b.create<LLVM::GEPOp>(loc, LLVM::getVectorType(ptr, width), scalar,
+                                            block, ValueRange{offsets});
+    Value all = b.create<arith::ConstantOp>(
+        loc, DenseElementsAttr::get(VectorType::get({width}, b.getI1Type()), true));
+    Value zero = b.create<arith::ConstantOp>(loc, b.getZeroAttr(element));
+    Value gathered = b.create<LLVM::masked_gather>(loc, element, addresses, all,
+                                                   ValueRange{zero}, b.getI32IntegerAttr(4));
+    pick.replaceAllUsesWith(gathered);
+    pick.erase();
+  }
+}
+
 LogicalResult convertToLLVM(ModuleOp module) {
   MLIRContext *ctx = module.getContext();
   {
@@ -215,6 +332,7 @@ struct LowerToLLVMPass
     : public mlir::osl::impl::LowerToLLVMBase<LowerToLLVMPass> {
   void runOnOperation() override {
     ModuleOp module = getOperation();
+    keepPickedElementsInMemory(module);
     formRotates(module);
     divideLanesInDouble(module);
     if (failed(lowerStructuredControlFlow(module)) ||

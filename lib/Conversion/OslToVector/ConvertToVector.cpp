@@ -65,7 +65,7 @@ struct ConvertToVectorPass
     VaryingTypeConverter converter(width);
     ConversionTarget target(*ctx);
     target.addIllegalDialect<OslDialect>();
-    target.addLegalOp<LaneDerivOp>();
+    target.addLegalOp<LaneDerivOp, LanePickOp>();
     LibraryRoutineNeeds needs(shaders[0], orAssumedCompiled(available, assumeCompiled),
                               referenceMode);
     target.addLegalDialect<arith::ArithDialect, math::MathDialect,

@@ -178,6 +178,30 @@ struct InsertLowering : public OslPattern<InsertOp> {
   }
 };
 
+/// osl.pick: one osl.lane_pick per component, over the elements made
+/// varying where the result is.
+struct PickLowering : public OslPattern<PickOp> {
+  using OslPattern::OslPattern;
+  LogicalResult matchAndRewrite(PickOp op, OpAdaptor adaptor,
+                                ConversionPatternRewriter &rewriter) const override {
+    Location loc = op.getLoc();
+    bool varying = isVarying(op.getType());
+    Components lanes{rewriter, loc, width};
+    SmallVector<SmallVector<Value>> elements =
+        lanes.unpackAll(adaptor.getElements(), op.getElements(), varying);
+    SmallVector<Value> comps;
+    for (size_t c = 0; c < elements.front().size(); ++c) {
+      SmallVector<Value> column;
+      for (auto &e : elements)
+        column.push_back(e[c]);
+      comps.push_back(rewriter.create<LanePickOp>(loc, column.front().getType(),
+                                                  adaptor.getIndex(), column));
+    }
+    rewriter.replaceOp(op, lanes.pack(comps, convert(op.getType())));
+    return success();
+  }
+};
+
 /// osl.first_lane: the lowest set lane of the mask selects the value.
 struct FirstLaneLowering : public OslPattern<FirstLaneOp> {
   using OslPattern::OslPattern;
@@ -240,7 +264,7 @@ void mlir::osl::lowering::populateLaneOpPatterns(const VaryingTypeConverter &con
   LANE(SelectOp, select);
 #undef LANE
   patterns.add<BatchMaskLowering, AnyLowering, BroadcastLowering, CmpLowering, ConvertLowering,
-               ConstructLowering, ExtractLowering, InsertLowering, FirstLaneLowering,
+               ConstructLowering, ExtractLowering, InsertLowering, PickLowering, FirstLaneLowering,
                IsConstantLowering>(converter, ctx);
   patterns.add<DerivLowering>(converter, ctx, referenceMode);
 }
