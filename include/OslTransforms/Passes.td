@@ -115,7 +115,8 @@ def UnrollConstantLoops : Pass<"osl-unroll-constant-loops", "::mlir::func::FuncO
     trip's condition does not fold, or when unrolling it would take more
     than `max-trips` trips or add more than `max-ops` operations, or when
     it indexes no array by a value it carries (unrolling it would only
-    cost compile time).
+    cost compile time). Reads of arrays of eight or more elements are
+    osl.pick, which reads memory at any index: they do not count.
   }];
   let options = [
     Option<"maxTrips", "max-trips", "int64_t", "32", "most trips a loop is unrolled for">,

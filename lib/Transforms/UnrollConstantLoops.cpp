@@ -50,7 +50,9 @@ int64_t countOps(Region &region) {
 /// a select on `index == k` (or `<=`, `>=` at the ends) with `index` an
 /// argument of a loop's block - the chain of selects an array access by a
 /// computed index is. Only such loops gain from unrolling (their indices
-/// become constants); unrolling others only costs compile time.
+/// become constants); unrolling others only costs compile time. A read of
+/// a long array is an osl.pick, which reads its elements from memory at
+/// any index (a load for a uniform one): it does not count.
 bool indexesArrays(WhileOp loop) {
   auto carried = [](Value v) {
     auto arg = dyn_cast<BlockArgument>(v);
