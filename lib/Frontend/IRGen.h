@@ -215,14 +215,10 @@ public:
     return error(l, msg);
   }
 
-  /// Arrays from this length on are read through osl.table_read when every
-  /// element is a compile-time constant: one gather instead of a compare
-  /// and a select per element.
+  /// Arrays from this length on are read by a non-constant index through
+  /// osl.table_read when every element is a compile-time constant, else
+  /// osl.pick: one gather instead of a compare and a select per element.
   static constexpr int kTableMinLength = 8;
-  /// Arrays at least this long read by a non-constant index use osl.pick:
-  /// a stack block and a gather at the lane level instead of a select per
-  /// element (shorter chains cost less than the stores).
-  static constexpr int kPickMinLength = 8;
 
   mlir::Value constInt(int32_t v, SrcLoc l);
   mlir::Value constFloat(float v, SrcLoc l);
@@ -546,11 +542,14 @@ private:
   /// OSL's report of an index out of range for `e` (an Index expression):
   /// `index` is the number, or "%d" for a format.
   std::string indexRangeMessage(const Expr &e, const std::string &index, int length);
+  /// An element of an array of kTableMinLength or more numbers or triples
+  /// by a non-constant index (clamped): osl.table_read when the elements
+  /// are constants, else osl.pick (a stack block and a gather at the lane
+  /// level instead of a select per element; shorter chains cost less than
+  /// the stores).
+  std::optional<RValue> readLongArray(const RValue &cur, const Access &a, SrcLoc l);
   /// Reads element `a` of an array (elems) or triple, index clamped, or a
   /// struct's field.
-  /// A per-point read of an array of constants as osl.table_read.
-  std::optional<RValue> readConstantTable(const RValue &cur, const Access &a, SrcLoc l);
-  std::optional<RValue> readPickedElement(const RValue &cur, const Access &a, SrcLoc l);
   RValue readAccess(const RValue &cur, const Access &a, SrcLoc l);
   /// The type of field j of a struct or (one array per field) of an array
   /// of structs.

@@ -197,37 +197,25 @@ constantComponents(llvm::ArrayRef<Value> elems, int ncomp) {
   return tables;
 }
 
-std::optional<RValue> IRGen::readConstantTable(const RValue &cur, const Access &a, SrcLoc l) {
+std::optional<RValue> IRGen::readLongArray(const RValue &cur, const Access &a, SrcLoc l) {
   OslType element = cur.type.element();
   bool number = element.base == BaseType::Int || element.base == BaseType::Float;
   if (a.component || a.length < kTableMinLength || !(number || element.isTriple()) ||
       int(cur.elems.size()) != a.length)
     return std::nullopt;
-  auto tables = constantComponents(cur.elems, number ? 1 : 3);
-  if (!tables)
-    return std::nullopt;
   Location ml = loc(l);
   Value index = b.create<ClampOp>(ml, a.index, constInt(0, l), constInt(a.length - 1, l));
   bool varying = isVarying(index.getType());
-  SmallVector<Value, 3> parts;
-  for (DenseElementsAttr table : *tables)
-    parts.push_back(b.create<TableReadOp>(
-        ml, withUniformity(table.getElementType(), varying), table, index));
-  if (number)
-    return RValue::num(element, parts[0]);
-  return RValue::num(element, b.create<ConstructOp>(ml, parts[0], parts[1], parts[2]));
-}
-
-std::optional<RValue> IRGen::readPickedElement(const RValue &cur, const Access &a, SrcLoc l) {
-  OslType element = cur.type.element();
-  bool number = element.base == BaseType::Int || element.base == BaseType::Float;
-  if (a.component || a.length < kPickMinLength || !(number || element.isTriple()) ||
-      int(cur.elems.size()) != a.length)
-    return std::nullopt;
-  Location ml = loc(l);
-  Value index = b.create<ClampOp>(ml, a.index, constInt(0, l), constInt(a.length - 1, l));
-  bool varying = isVarying(index.getType()) ||
-                 llvm::any_of(cur.elems, [](Value e) { return isVarying(e.getType()); });
+  if (auto tables = constantComponents(cur.elems, number ? 1 : 3)) {
+    SmallVector<Value, 3> parts;
+    for (DenseElementsAttr table : *tables)
+      parts.push_back(b.create<TableReadOp>(
+          ml, withUniformity(table.getElementType(), varying), table, index));
+    if (number)
+      return RValue::num(element, parts[0]);
+    return RValue::num(element, b.create<ConstructOp>(ml, parts[0], parts[1], parts[2]));
+  }
+  varying |= llvm::any_of(cur.elems, [](Value e) { return isVarying(e.getType()); });
   Type type = withUniformity(getUniformType(cur.elems.front().getType()), varying);
   return RValue::num(element, b.create<PickOp>(ml, type, index, cur.elems));
 }
@@ -264,10 +252,8 @@ RValue IRGen::readAccess(const RValue &cur, const Access &a, SrcLoc l) {
   }
   if (a.constIndex >= 0)
     return elementAt(cur, a, int(a.constIndex), l);
-  if (auto table = readConstantTable(cur, a, l))
-    return *table;
-  if (auto picked = readPickedElement(cur, a, l))
-    return *picked;
+  if (auto element = readLongArray(cur, a, l))
+    return *element;
   // Clamped index: a chain of selects from the last element down.
   RValue acc = elementAt(cur, a, a.length - 1, l);
   for (int k = a.length - 2; k >= 0; --k) {
