@@ -247,9 +247,20 @@ LogicalResult LanePickOp::verify() {
   for (Value e : getElements())
     if (e.getType() != getType())
       return emitOpError("every element must be of the result's type");
+  // Numbers, or one 1-D vector of them (W lanes): what the lowering stores
+  // as W-element rows of a stack block.
+  auto isLanesOf = [](Type t, auto isElement) {
+    auto v = dyn_cast<VectorType>(t);
+    return v ? v.getRank() == 1 && !v.isScalable() && isElement(v.getElementType())
+             : isElement(t);
+  };
+  auto number = [](Type t) { return t.isF32() || t.isF64() || t.isInteger(32); };
+  auto i32 = [](Type t) { return t.isInteger(32); };
+  if (!isLanesOf(getType(), number))
+    return emitOpError("the result must be f32, f64 or i32, or one 1-D vector of them");
   Type index = getIndex().getType();
   auto lanes = dyn_cast<VectorType>(index);
-  if (!getElementTypeOrSelf(index).isInteger(32) ||
+  if (!isLanesOf(index, i32) ||
       (lanes && !(isa<VectorType>(getType()) &&
                   lanes.getShape() == cast<VectorType>(getType()).getShape())))
     return emitOpError("the index must be i32, a scalar or one per lane of the result");

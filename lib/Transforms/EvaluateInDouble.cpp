@@ -11,6 +11,7 @@
 // would have hashed.
 //
 //===----------------------------------------------------------------------===//
+#include "OslDialect/OslDialect.h"
 #include "OslTransforms/Passes.h"
 
 #include "mlir/Dialect/SCF/Transforms/Patterns.h"
@@ -122,6 +123,8 @@ struct EvaluateInDoublePass
                                       vector::VectorDialect>(legal);
     // Reinterpreting bits needs the f32 the shader would have had.
     target.addLegalOp<arith::BitcastOp>();
+    // A pick of float lanes carries its elements' doubles (it is a select).
+    target.addDynamicallyLegalOp<osl::LanePickOp>(legal);
     target.markUnknownOpDynamicallyLegal([](Operation *) { return true; });
     RewritePatternSet patterns(ctx);
     patterns.add<Retype>(converter, ctx);

@@ -475,3 +475,19 @@ func.func @lane_pick_index_lanes(%i: vector<4xi32>, %x: vector<8xf32>) {
   %0 = osl.lane_pick %i, [%x, %x] : vector<4xi32>, [vector<8xf32>, vector<8xf32>] -> vector<8xf32>
   return
 }
+
+// -----
+
+func.func @lane_pick_tensor_index(%i: tensor<8xi32>, %x: vector<8xf32>) {
+  // expected-error @+1 {{the index must be i32, a scalar or one per lane of the result}}
+  %0 = osl.lane_pick %i, [%x, %x] : tensor<8xi32>, [vector<8xf32>, vector<8xf32>] -> vector<8xf32>
+  return
+}
+
+// -----
+
+func.func @lane_pick_2d_lanes(%i: vector<2x4xi32>, %x: vector<2x4xf32>) {
+  // expected-error @+1 {{the result must be f32, f64 or i32, or one 1-D vector of them}}
+  %0 = osl.lane_pick %i, [%x, %x] : vector<2x4xi32>, [vector<2x4xf32>, vector<2x4xf32>] -> vector<2x4xf32>
+  return
+}

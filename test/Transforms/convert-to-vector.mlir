@@ -850,8 +850,12 @@ func.func @derivative_through_noise_by_kind() {
 // osl.pick of triples: one osl.lane_pick per component, over the elements'
 // components; a uniform element is spread over the lanes of a varying pick.
 // CHECK-LABEL: osl.shader_name = "pick_triples"
-// CHECK: vector.broadcast %{{.+}} : f32 to vector<8xf32>
-// CHECK-COUNT-3: osl.lane_pick %{{.+}}, [%{{.+}}, %{{.+}}] : vector<8xi32>, [vector<8xf32>, vector<8xf32>] -> vector<8xf32>
+// CHECK: %[[CX:.+]] = vector.broadcast %{{.+}} : f32 to vector<8xf32>
+// CHECK: %[[CY:.+]] = vector.broadcast %{{.+}} : f32 to vector<8xf32>
+// CHECK: %[[CZ:.+]] = vector.broadcast %{{.+}} : f32 to vector<8xf32>
+// CHECK: osl.lane_pick %[[I:.+]], [%{{.+}}, %[[CX]]] : vector<8xi32>, [vector<8xf32>, vector<8xf32>] -> vector<8xf32>
+// CHECK: osl.lane_pick %[[I]], [%{{.+}}, %[[CY]]] :
+// CHECK: osl.lane_pick %[[I]], [%{{.+}}, %[[CZ]]] :
 // CHECK-NOT: osl.lane_pick
 func.func @pick_triples() {
   %p = osl.global "P" : !osl.varying<vector<3xf32>>

@@ -98,7 +98,8 @@ func.func @triple(%arg0: !llvm.ptr, %arg1: !llvm.ptr, %arg2: i32) {
 // negation of the true derivative, which OSL's results follow.
 // With y = 1 and x = u that is +dudx / (u^2 + 1).
 // CHECK-LABEL: func.func @osl_atan2
-// CHECK: %[[DU:.+]] = llvm.load %{{.+}} {alignment = 4 : i64, osl.derivative_row} : !llvm.ptr -> vector<4xf32>
+// CHECK: %[[DUX:.+]] = llvm.getelementptr %arg0[140]
+// CHECK: %[[DU:.+]] = llvm.load %[[DUX]] {alignment = 4 : i64, osl.derivative_row} : !llvm.ptr -> vector<4xf32>
 // CHECK: %[[A:.+]] = math.atan2 %[[Y:.+]], %[[X:.+]] {osl.dual_rule = "osl_atan2"}
 // CHECK: %[[XX:.+]] = arith.mulf %[[X]], %[[X]]
 // CHECK: %[[YY:.+]] = arith.mulf %[[Y]], %[[Y]]

@@ -58,3 +58,21 @@ func.func @bitcast_sees_f32(%x: f32) -> i32 {
   %b = arith.bitcast %a : f32 to i32
   return %b : i32
 }
+
+// -----
+
+// A pick of float lanes carries its elements' doubles, as the select it
+// stands for would: no rounding to f32 around it.
+// CHECK-LABEL: func.func @pick_in_double
+// CHECK: %[[A:.+]] = arith.mulf %{{.+}}, %{{.+}} : vector<4xf64>
+// CHECK: %[[P:.+]] = osl.lane_pick %{{.+}}, [%{{.+}}, %[[A]]] : vector<4xi32>, [vector<4xf64>, vector<4xf64>] -> vector<4xf64>
+// CHECK: arith.addf %[[P]], %{{.+}} : vector<4xf64>
+// CHECK-NOT: arith.truncf %[[P]]
+func.func @pick_in_double(%in: !llvm.ptr, %out: !llvm.ptr, %i: vector<4xi32>) {
+  %x = llvm.load %in : !llvm.ptr -> vector<4xf32>
+  %a = arith.mulf %x, %x : vector<4xf32>
+  %p = osl.lane_pick %i, [%x, %a] : vector<4xi32>, [vector<4xf32>, vector<4xf32>] -> vector<4xf32>
+  %s = arith.addf %p, %x : vector<4xf32>
+  llvm.store %s, %out : vector<4xf32>, !llvm.ptr
+  return
+}

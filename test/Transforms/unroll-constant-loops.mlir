@@ -85,28 +85,29 @@ func.func @no_array() {
 // -----
 
 // Nor does one that only reads a long array (osl.pick reads memory at any
-// index).
+// index): a guard, since only select chains on a carried index count.
 // CHECK-LABEL: func.func @reads_by_pick
 // CHECK: osl.while
 // CHECK: osl.pick
 func.func @reads_by_pick() {
   %u = osl.global "u" : !osl.varying<f32>
   %zero = arith.constant 0.0 : f32
+  %start = osl.broadcast %zero : f32 -> !osl.varying<f32>
   %c0 = arith.constant 0 : i32
   %c1 = arith.constant 1 : i32
   %c3 = arith.constant 3 : i32
-  %r:2 = osl.while(%zero, %c0 : f32, i32) -> f32, i32 cond {
-  ^bb0(%acc: f32, %i: i32):
+  %r:2 = osl.while(%start, %c0 : !osl.varying<f32>, i32) -> !osl.varying<f32>, i32 cond {
+  ^bb0(%acc: !osl.varying<f32>, %i: i32):
     %go = osl.cmp lt, %i, %c3 : i32, i32 -> i1
-    osl.condition %go : i1, %acc, %i : f32, i32
+    osl.condition %go : i1, %acc, %i : !osl.varying<f32>, i32
   } do {
-  ^bb0(%acc: f32, %i: i32):
+  ^bb0(%acc: !osl.varying<f32>, %i: i32):
     %e = osl.pick %i, [%u, %u, %zero] : i32, [!osl.varying<f32>, !osl.varying<f32>, f32] -> !osl.varying<f32>
-    %acc1 = osl.add %acc, %e : f32, !osl.varying<f32> -> !osl.varying<f32>
+    %acc1 = osl.add %acc, %e : !osl.varying<f32>, !osl.varying<f32> -> !osl.varying<f32>
     %i1 = osl.add %i, %c1 : i32, i32 -> i32
     osl.yield %acc1, %i1 : !osl.varying<f32>, i32
   }
-  osl.output "d" = %r#0 : f32
+  osl.output "d" = %r#0 : !osl.varying<f32>
   return
 }
 

@@ -233,11 +233,13 @@ Value selectElement(OpBuilder &b, Location loc, osl::LanePickOp pick) {
 /// a uniform index, a gather for a per-lane one. Picks of the same list
 /// (the same array read at two indices) share the block. A pick in a loop
 /// that redefines its elements selects instead.
-void keepPickedElementsInMemory(ModuleOp module) {
+void keepPickedElementsInMemory(FunctionOpInterface func) {
   SmallVector<osl::LanePickOp> picks;
-  module.walk([&](osl::LanePickOp op) { picks.push_back(op); });
+  func.walk([&](osl::LanePickOp op) { picks.push_back(op); });
+  // Picks are met in dominance order (one block per region), so a pick
+  // whose result is another's element is lowered before that one is keyed.
   std::map<std::vector<void *>, Value> blocks;
-  auto ptr = LLVM::LLVMPointerType::get(module.getContext());
+  auto ptr = LLVM::LLVMPointerType::get(func.getContext());
   for (osl::LanePickOp pick : picks) {
     OpBuilder b(pick);
     Location loc = pick.getLoc();
@@ -254,7 +256,7 @@ void keepPickedElementsInMemory(ModuleOp module) {
       key.push_back(e.getAsOpaquePointer());
     Value &block = blocks[key];
     if (!block) {
-      Block &entry = pick->getParentOfType<FunctionOpInterface>().getFunctionBody().front();
+      Block &entry = func.getFunctionBody().front();
       b.setInsertionPointToStart(&entry);
       Value one = b.create<LLVM::ConstantOp>(loc, b.getI64Type(), b.getI64IntegerAttr(1));
       block = b.create<LLVM::AllocaOp>(loc, ptr, blockType, one);
@@ -296,6 +298,10 @@ void keepPickedElementsInMemory(ModuleOp module) {
     pick.replaceAllUsesWith(gathered);
     pick.erase();
   }
+}
+
+void keepPickedElementsInMemory(ModuleOp module) {
+  module.walk([](FunctionOpInterface func) { keepPickedElementsInMemory(func); });
 }
 
 LogicalResult convertToLLVM(ModuleOp module) {
