@@ -98,6 +98,20 @@ inline bool isCosineLobe(Lobe::Model m) {
   return r;
 }
 
+/// A cosine lobe's evaluation about `n` (a translucent lobe's n turned):
+/// Oren-Nayar's, or Lambert's (weight 1, whatever the side: the pdf is 0
+/// below). Selects, not branches: lane loops vectorize it.
+[[gnu::always_inline]] inline BsdfSample cosineLobeEval(bool orenNayar, Vec3 n, float sigma,
+                                                        Vec3 wo, Vec3 wi) {
+  BsdfSample on = orenNayarEval(n, sigma, wo, wi);
+  BsdfSample r;
+  r.wi = select(orenNayar, on.wi, wi);
+  r.weight = select(orenNayar, on.weight, Vec3(1, 1, 1));
+  r.pdf = orenNayar ? on.pdf : std::max(dot(n, wi), 0.0f) * float(M_1_PI);
+  r.roughness = orenNayar ? on.roughness : 1.0f;
+  return r;
+}
+
 /// A cosine lobe's sample about `n` (a translucent lobe's n turned):
 /// the cosine-weighted direction, and for Oren-Nayar its evaluation there.
 [[gnu::always_inline]] inline BsdfSample sampleCosineLobe(bool orenNayar, Vec3 n, float sigma,

@@ -283,21 +283,21 @@ template <MisMode mode> inline float powerHeuristic(float sampledPdf, float othe
 }
 
 /// Folds a lobe's (weight, pdf) picked with probability `b` into the
-/// running (weight, pdf) of a mixture (the balance heuristic).
-inline void misUpdate(Vec3 &w, float &pdf, Vec3 ow, float opdf, float b) {
-  if (!(b > std::numeric_limits<float>::min()))
-    return;
+/// running (weight, pdf) of a mixture (the balance heuristic), where `on`
+/// (the lobe exists) and b is above the smallest normal float. Selects,
+/// not branches: lane loops vectorize it, and a lane skipped keeps its
+/// bits.
+[[gnu::always_inline]] inline void misMix(bool on, Vec3 &w, float &pdf, Vec3 ow, float opdf,
+                                          float b) {
+  bool use = on && b > std::numeric_limits<float>::min();
   opdf *= b;
   ow *= 1 / b;
-  float mis;
-  if (pdf < opdf)
-    mis = 1 / (1 + pdf / opdf);
-  else if (opdf < pdf)
-    mis = 1 - 1 / (1 + opdf / pdf);
-  else
-    mis = 0.5f;
-  w = w * (1 - mis) + ow * mis;
-  pdf += opdf;
+  float mis = pdf < opdf ? 1 / (1 + pdf / opdf) : opdf < pdf ? 1 - 1 / (1 + opdf / pdf) : 0.5f;
+  w = select(use, w * (1 - mis) + ow * mis, w);
+  pdf = use ? pdf + opdf : pdf;
+}
+inline void misUpdate(Vec3 &w, float &pdf, Vec3 ow, float opdf, float b) {
+  misMix(true, w, pdf, ow, opdf, b);
 }
 
 } // namespace osl::render

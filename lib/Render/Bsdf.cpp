@@ -20,10 +20,6 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-BsdfSample diffuseEval(Vec3 n, Vec3 wi) {
-  return {wi, Vec3(1, 1, 1), std::max(dot(n, wi), 0.0f) * float(M_1_PI), 1.0f};
-}
-
 /// Portsmouth's energy-conserving Oren-Nayar (MaterialX's with
 /// energy_compensation): Fujii's single scattering plus a multiple
 /// scattering term from the analytic directional albedo.
@@ -181,9 +177,10 @@ BsdfSample evalLobe(const Lobe &l, Vec3 wo, Vec3 wi) {
   if (isMicrofacetLobe(l.model))
     return evalMicrofacetLobe(l, wo, wi);
   switch (l.model) {
-  case Lobe::Diffuse: return diffuseEval(l.n, wi);
-  case Lobe::Translucent: return diffuseEval(-l.n, wi);
-  case Lobe::OrenNayar: return orenNayarEval(l.n, l.a, wo, wi);
+  // Constant models: each case keeps only its own half of the selects.
+  case Lobe::Diffuse: return cosineLobeEval(false, l.n, l.a, wo, wi);
+  case Lobe::Translucent: return cosineLobeEval(false, -l.n, l.a, wo, wi);
+  case Lobe::OrenNayar: return cosineLobeEval(true, l.n, l.a, wo, wi);
   case Lobe::OrenNayarEnergy: return orenNayarEnergyEval(l, wo, wi);
   case Lobe::Phong: return phongEval(l, wo, wi);
   case Lobe::Ward: return wardEval(l, wo, wi);

@@ -180,6 +180,14 @@ private:
   std::vector<BsdfSample> bsdfSamples;
   CosineDraws cosineDraws;
   std::vector<std::pair<size_t, size_t>> cosineOwners;
+  /// The scattering paths whose mixtures are cosine lobes alone, prepared,
+  /// sampled and evaluated in lanes (at widths above 1; the results are
+  /// the same): each scattering path's mixture (-1: its ShadingResult's
+  /// own), and the evaluations toward the background's and the lights'
+  /// samples (in the order they are added).
+  CosineMixtures cosineMixtures;
+  std::vector<int> mixtureOf;
+  MixtureEvals mixtureEvals;
   /// The bounce's shadow rays, traced together a batch of `width` lanes at
   /// a time.
   RayBatch rays;
@@ -438,7 +446,10 @@ void PathWave::scatterAll(int bounce) {
   rays.clear();
   scattering.clear();
   draws.clear();
+  mixtureOf.clear();
   bool lastBounce = bounce >= r.options.maxBounces;
+  bool mayEnd = bounce >= kRouletteDepth;
+  int mixtures = 0, mostLobes = 0;
   for (const ShadeQueue &q : queues)
     for (size_t i = 0; i < q.size(); ++i) {
       Path &p = paths[q.path[i]];
@@ -452,46 +463,90 @@ void PathWave::scatterAll(int bounce) {
         p.alive = false;
         continue;
       }
-      res.prepare(-q.at.d(i), p.weight, bounce >= kRouletteDepth);
+      // Lanes pay for a mixture's columns: one lane shares them with none.
+      if (width > 1 &&
+          llvm::all_of(res.lobes, [](const Lobe &l) { return isCosineLobe(l.model); })) {
+        mixtureOf.push_back(mixtures++);
+        mostLobes = std::max(mostLobes, int(res.lobes.size()));
+      } else {
+        res.prepare(-q.at.d(i), p.weight, mayEnd);
+        mixtureOf.push_back(-1);
+      }
       scattering.push_back({&q, i});
       draws.push(p.rng.reserve(1), p.rng.sampleIndex());
     }
   laneKernels().drawPoints(draws, width);
+  cosineMixtures.reset(size_t(mixtures), mostLobes);
+  for (size_t s = 0; s < scattering.size(); ++s)
+    if (int m = mixtureOf[s]; m >= 0) {
+      auto [q, i] = scattering[s];
+      cosineMixtures.set(size_t(m), results[q->path[i]].lobes, -q->at.d(i),
+                         paths[q->path[i]].weight, mayEnd);
+      cosineMixtures.rx[size_t(m)] = draws.x[s], cosineMixtures.ry[size_t(m)] = draws.y[s];
+    }
+  laneKernels().sampleCosineMixtures(cosineMixtures, width);
   // The background's samples, and the lights' (every path's together).
   lightDraws.clear();
+  mixtureEvals.clear();
   if (map)
     laneKernels().sampleBackground(map->table(), draws.x.data(), draws.y.data(),
                                    scattering.size(), backgroundDraws, width);
   for (size_t s = 0; s < scattering.size(); ++s) {
     auto [q, i] = scattering[s];
+    if (map && mixtureOf[s] >= 0)
+      mixtureEvals.push(mixtureOf[s], -q->at.d(i), backgroundDraws.dir(s));
     int self = paths[q->path[i]].hit.prim;
-    if (map) {
-      Path &p = paths[q->path[i]];
-      Vec3 dir = backgroundDraws.dir(s);
-      BsdfSample e = results[q->path[i]].eval(-q->at.d(i), dir);
-      Vec3 contrib = p.weight * e.weight * backgroundDraws.value(s) *
-                     powerHeuristic<MisMode::WeightWeight>(backgroundDraws.pdf[s], e.pdf);
-      if (contrib.sum() > 0)
-        queueShadowRay(*q, i, dir, -1, contrib);
-    }
     for (int l : lights)
       if (l != self)
         lightDraws.push(l, q->at.p(i), draws.x[s], draws.y[s]);
   }
   laneKernels().sampleLights(prims, lightDraws, width);
+  for (size_t s = 0, light = 0; s < scattering.size(); ++s) {
+    auto [q, i] = scattering[s];
+    for (int l : lights)
+      if (l != paths[q->path[i]].hit.prim) {
+        if (mixtureOf[s] >= 0)
+          mixtureEvals.push(mixtureOf[s], -q->at.d(i), lightDraws.dir(light));
+        ++light;
+      }
+  }
+  laneKernels().evalCosineMixtures(cosineMixtures, mixtureEvals, width);
+  // A path's mixture toward a direction: the lanes' next evaluation (they
+  // are taken in the order added), or its ShadingResult's.
+  size_t evaluated = 0;
+  auto evalMixture = [&](size_t s, Vec3 wo, Vec3 wi) {
+    if (mixtureOf[s] < 0) {
+      auto [q, i] = scattering[s];
+      return results[q->path[i]].eval(wo, wi);
+    }
+    BsdfSample e;
+    e.weight = mixtureEvals.weight(evaluated);
+    e.pdf = mixtureEvals.pdf[evaluated++];
+    return e;
+  };
+  if (map)
+    for (size_t s = 0; s < scattering.size(); ++s) {
+      auto [q, i] = scattering[s];
+      Path &p = paths[q->path[i]];
+      Vec3 dir = backgroundDraws.dir(s);
+      BsdfSample e = evalMixture(s, -q->at.d(i), dir);
+      Vec3 contrib = p.weight * e.weight * backgroundDraws.value(s) *
+                     powerHeuristic<MisMode::WeightWeight>(backgroundDraws.pdf[s], e.pdf);
+      if (contrib.sum() > 0)
+        queueShadowRay(*q, i, dir, -1, contrib);
+    }
   sampleBsdfs();
   size_t light = 0;
   for (size_t s = 0; s < scattering.size(); ++s) {
     auto [q, i] = scattering[s];
     Path &p = paths[q->path[i]];
-    const ShadingResult &res = results[q->path[i]];
     Vec3 wo = -q->at.d(i);
     for (int l : lights) {
       if (l == p.hit.prim)
         continue;
       Vec3 dir = lightDraws.dir(light);
       float pdf = lightDraws.pdf[light++];
-      BsdfSample e = res.eval(wo, dir);
+      BsdfSample e = evalMixture(s, wo, dir);
       Vec3 contrib = p.weight * e.weight * powerHeuristic<MisMode::EvalWeight>(pdf, e.pdf);
       if (contrib.sum() > 0)
         queueShadowRay(*q, i, dir, l, contrib);
@@ -520,13 +575,18 @@ void PathWave::scatterAll(int bounce) {
 }
 
 /// Each scattering path's BSDF sample (with the bounce's sampler point):
-/// the mixture picks a lobe; cosine lobes are sampled in lanes, the others
-/// one at a time.
+/// mixtures of cosine lobes alone were sampled in lanes (scatterAll); in
+/// the others the mixture picks a lobe, cosine lobes are sampled in lanes,
+/// the others one at a time.
 void PathWave::sampleBsdfs() {
   cosineDraws.clear();
   cosineOwners.clear();
   bsdfSamples.assign(scattering.size(), BsdfSample());
   for (size_t s = 0; s < scattering.size(); ++s) {
+    if (mixtureOf[s] >= 0) {
+      bsdfSamples[s] = cosineMixtures.result(size_t(mixtureOf[s]));
+      continue;
+    }
     auto [q, i] = scattering[s];
     const ShadingResult &res = results[q->path[i]];
     Vec3 wo = -q->at.d(i);

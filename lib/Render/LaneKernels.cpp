@@ -3,6 +3,7 @@
 
 #include "llvm/Support/raw_ostream.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 
@@ -28,6 +29,52 @@ PrimTable::PrimTable(const Scene &scene) {
     eu.push_back(f.eu), ev.push_back(f.ev);
     area.push_back(surfaceArea(p));
   }
+}
+
+void CosineMixtures::reset(size_t mixtures, int lobes) {
+  // Sized, not cleared: set() writes each mixture's own slots, the
+  // kernels write the rest before reading them, and a slot past a
+  // mixture's count is read only to be masked.
+  maxCount = lobes;
+  count.resize(mixtures);
+  // One row at least: a mixture without lobes reads (and ignores) row 0.
+  size_t slots = mixtures * size_t(std::max(lobes, 1));
+  orenNayar.resize(slots);
+  for (std::vector<float> *v : {&nx, &ny, &nz, &sigma, &wx, &wy, &wz, &pick})
+    v->resize(slots);
+  absorb.resize(mixtures);
+  chosen.resize(mixtures);
+  for (std::vector<float> *v : {&pwx, &pwy, &pwz, &wox, &woy, &woz, &rx, &ry, &wix, &wiy, &wiz,
+                                &fx, &fy, &fz, &pdf, &roughness, &total, &accum})
+    v->resize(mixtures);
+}
+
+void CosineMixtures::set(size_t m, const std::vector<Lobe> &lobes, Vec3 wo, Vec3 pathWeight,
+                         bool mayEnd) {
+  count[m] = int(lobes.size());
+  for (size_t j = 0; j < lobes.size(); ++j) {
+    const Lobe &l = lobes[j];
+    size_t k = j * size() + m;
+    Vec3 n = l.model == Lobe::Translucent ? -l.n : l.n;
+    orenNayar[k] = l.model == Lobe::OrenNayar;
+    nx[k] = n.x, ny[k] = n.y, nz[k] = n.z, sigma[k] = l.a;
+    wx[k] = l.weight.x, wy[k] = l.weight.y, wz[k] = l.weight.z;
+  }
+  absorb[m] = mayEnd;
+  pwx[m] = pathWeight.x, pwy[m] = pathWeight.y, pwz[m] = pathWeight.z;
+  wox[m] = wo.x, woy[m] = wo.y, woz[m] = wo.z;
+}
+
+void MixtureEvals::clear() {
+  mixture.clear();
+  for (std::vector<float> *v : {&wox, &woy, &woz, &wix, &wiy, &wiz})
+    v->clear();
+}
+
+void MixtureEvals::push(int m, Vec3 wo, Vec3 wi) {
+  mixture.push_back(m);
+  wox.push_back(wo.x), woy.push_back(wo.y), woz.push_back(wo.z);
+  wix.push_back(wi.x), wiy.push_back(wi.y), wiz.push_back(wi.z);
 }
 
 /// testrender's shapepdf: the sphere's cone, uniformly; the quad's area.

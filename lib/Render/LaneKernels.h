@@ -154,6 +154,50 @@ struct CosineDraws {
   }
 };
 
+/// Mixtures of cosine lobes alone (each lobe isCosineLobe, as most
+/// materials' are), as structure of arrays, for ShadingResult's prepare,
+/// pick, mixSample and eval in lanes. Lobe j of mixture m is at
+/// [j * size() + m]: its normal (turned for a translucent lobe), whether it
+/// is Oren-Nayar and its sigma, its closure weight, and its pick
+/// probability (out). Each mixture's path weight, whether its path may end
+/// there (absorb), the direction toward the viewer and two uniform numbers
+/// in; its BSDF sample out.
+struct CosineMixtures {
+  std::vector<int> count;
+  int maxCount = 0;
+  std::vector<int> orenNayar;
+  std::vector<float> nx, ny, nz, sigma, wx, wy, wz, pick;
+  std::vector<int> absorb;
+  std::vector<float> pwx, pwy, pwz, wox, woy, woz, rx, ry;
+  std::vector<float> wix, wiy, wiz, fx, fy, fz, pdf, roughness;
+  /// Between the lane loops: each mixture's pick total, the picks below
+  /// rx, and the lobe picked (-1: none).
+  std::vector<float> total, accum;
+  std::vector<int> chosen;
+  /// Room for `mixtures` of at most `lobes` lobes each, for set() to fill.
+  void reset(size_t mixtures, int lobes);
+  /// Mixture m: `lobes` (every one a cosine lobe) as ShadingResult::prepare
+  /// would see them.
+  void set(size_t m, const std::vector<Lobe> &lobes, Vec3 wo, Vec3 pathWeight, bool absorb);
+  size_t size() const { return count.size(); }
+  BsdfSample result(size_t m) const {
+    return {{wix[m], wiy[m], wiz[m]}, {fx[m], fy[m], fz[m]}, pdf[m], roughness[m]};
+  }
+};
+
+/// Cosine mixtures evaluated toward directions (ShadingResult::eval), as
+/// structure of arrays: each lane's mixture (an index into CosineMixtures)
+/// and directions in; the mixture's weight and pdf out.
+struct MixtureEvals {
+  std::vector<int> mixture;
+  std::vector<float> wox, woy, woz, wix, wiy, wiz;
+  std::vector<float> fx, fy, fz, pdf;
+  void clear();
+  void push(int m, Vec3 wo, Vec3 wi);
+  size_t size() const { return mixture.size(); }
+  Vec3 weight(size_t i) const { return {fx[i], fy[i], fz[i]}; }
+};
+
 /// testrender's camera, set up once: rays leave `eye` toward
 /// dir + cx * (x / xres - 0.5) + cy * (0.5 - y / yres).
 struct CameraSetup {
@@ -190,6 +234,12 @@ struct LaneKernels {
   /// pdf and pdf, as BackgroundMap::eval; the direction too) into `out`.
   void (*evalBackground)(const BackgroundMap::Table &table, const RayBatch &rays,
                          const int *which, size_t n, BackgroundDraws &out, int width);
+  /// Each mixture's pick probabilities (prepare) and its BSDF sample with
+  /// (rx, ry) (pick, the picked lobe's sample, mixSample), `width` at a time.
+  void (*sampleCosineMixtures)(CosineMixtures &mixtures, int width);
+  /// Every lane of `evals` (outputs sized by it), after
+  /// sampleCosineMixtures gave the picks.
+  void (*evalCosineMixtures)(const CosineMixtures &mixtures, MixtureEvals &evals, int width);
 };
 
 /// The kernels of the widest instruction set this CPU runs, or those the

@@ -427,6 +427,110 @@ void sampleCosineLobes(CosineDraws &draws, int width) {
   atWidth(width, [&](auto w) { sampleCosineLobesAt<decltype(w)::value>(draws); });
 }
 
+/// Lobe k of `c` evaluated toward wi (its weight applied).
+[[gnu::always_inline]] inline BsdfSample evalMixtureLobe(const CosineMixtures &c, size_t k,
+                                                         Vec3 wo, Vec3 wi) {
+  BsdfSample b = cosineLobeEval(c.orenNayar[k] != 0, Vec3(c.nx[k], c.ny[k], c.nz[k]), c.sigma[k],
+                                wo, wi);
+  b.weight *= Vec3(c.wx[k], c.wy[k], c.wz[k]);
+  return b;
+}
+
+/// ShadingResult::prepare, pick, sampleLobe and mixSample of each mixture:
+/// each step over the lobes is one lane loop per lobe (the mixtures'
+/// running values in columns between them), with the lanes past their own
+/// count masked: the same operations, in the same order, as one mixture's
+/// own.
+template <int W> OSL_LANE_TARGET void sampleCosineMixturesAt(CosineMixtures &c) {
+  const size_t n = c.size();
+  auto forLobes = [&](auto body) {
+    for (int j = 0; j < c.maxCount; ++j)
+      forLanes<W>(n, [&](size_t m) __attribute__((always_inline)) {
+        body(j, m, size_t(j) * n + m);
+      });
+  };
+  // prepare: a cosine lobe's albedo is 1.
+  forLobes([&](int j, size_t m, size_t k) __attribute__((always_inline)) {
+    Vec3 pw(c.pwx[m], c.pwy[m], c.pwz[m]);
+    float p = dot(Vec3(c.wx[k], c.wy[k], c.wz[k]), pw * Vec3(1, 1, 1)) / (pw.x + pw.y + pw.z);
+    c.pick[k] = p;
+    float total = j == 0 ? 0.0f : c.total[m];
+    c.total[m] = j < c.count[m] ? total + p : total;
+  });
+  forLobes([&](int, size_t m, size_t k) __attribute__((always_inline)) {
+    float total = c.total[m];
+    bool normalize = (c.absorb[m] == 0 && total > 0) || total > 1;
+    c.pick[k] = normalize ? c.pick[k] / total : c.pick[k];
+  });
+  // pick: the first lobe whose share of [0, 1) holds rx.
+  forLobes([&](int j, size_t m, size_t k) __attribute__((always_inline)) {
+    float accum = j == 0 ? 0.0f : c.accum[m];
+    int chosen = j == 0 ? -1 : c.chosen[m];
+    float p = c.pick[k];
+    bool open = j < c.count[m] && chosen < 0;
+    bool here = open && c.rx[m] < p + accum;
+    c.accum[m] = open && !here ? accum + p : accum;
+    c.chosen[m] = here ? j : chosen;
+  });
+  // The picked lobe's sample, weighed by its pick (an empty mixture's
+  // lanes, or a zero pdf: no sample).
+  forLanes<W>(n, [&](size_t m) __attribute__((always_inline)) {
+    int chosen = c.maxCount == 0 ? -1 : c.chosen[m];
+    size_t k = size_t(chosen < 0 ? 0 : chosen) * n + m;
+    float pick = chosen < 0 ? 1.0f : c.pick[k];
+    float rx = std::min((c.rx[m] - c.accum[m]) / pick, 0.99999994f);
+    BsdfSample s = sampleCosineLobe(c.orenNayar[k] != 0, Vec3(c.nx[k], c.ny[k], c.nz[k]),
+                                    c.sigma[k], Vec3(c.wox[m], c.woy[m], c.woz[m]), rx, c.ry[m]);
+    s.weight *= Vec3(c.wx[k], c.wy[k], c.wz[k]) * (1 / pick);
+    s.pdf *= pick;
+    bool none = chosen < 0 || s.pdf == 0.0f;
+    c.chosen[m] = none ? -1 : chosen;
+    c.wix[m] = none ? 0.0f : s.wi.x, c.wiy[m] = none ? 0.0f : s.wi.y;
+    c.wiz[m] = none ? 0.0f : s.wi.z;
+    c.fx[m] = none ? 0.0f : s.weight.x, c.fy[m] = none ? 0.0f : s.weight.y;
+    c.fz[m] = none ? 0.0f : s.weight.z;
+    c.pdf[m] = none ? 0.0f : s.pdf, c.roughness[m] = none ? 0.0f : s.roughness;
+  });
+  // mixSample: the other lobes toward the sampled direction.
+  forLobes([&](int j, size_t m, size_t k) __attribute__((always_inline)) {
+    int chosen = c.chosen[m];
+    Vec3 wo(c.wox[m], c.woy[m], c.woz[m]), wi(c.wix[m], c.wiy[m], c.wiz[m]);
+    Vec3 weight(c.fx[m], c.fy[m], c.fz[m]);
+    float pdf = c.pdf[m];
+    BsdfSample b = evalMixtureLobe(c, k, wo, wi);
+    misMix(chosen >= 0 && j != chosen && j < c.count[m], weight, pdf, b.weight, b.pdf,
+           c.pick[k]);
+    c.fx[m] = weight.x, c.fy[m] = weight.y, c.fz[m] = weight.z, c.pdf[m] = pdf;
+  });
+}
+
+void sampleCosineMixtures(CosineMixtures &mixtures, int width) {
+  atWidth(width, [&](auto w) { sampleCosineMixturesAt<decltype(w)::value>(mixtures); });
+}
+
+/// ShadingResult::eval of each lane's mixture (its lobes read at the
+/// lane's own mixture), one lane loop per lobe as above.
+template <int W>
+OSL_LANE_TARGET void evalCosineMixturesAt(const CosineMixtures &c, MixtureEvals &e) {
+  const size_t n = c.size();
+  for (int j = 0; j < c.maxCount; ++j)
+    forLanes<W>(e.size(), [&](size_t i) __attribute__((always_inline)) {
+      size_t m = size_t(e.mixture[i]), k = size_t(j) * n + m;
+      Vec3 wo(e.wox[i], e.woy[i], e.woz[i]), wi(e.wix[i], e.wiy[i], e.wiz[i]);
+      Vec3 weight(e.fx[i], e.fy[i], e.fz[i]);
+      float pdf = e.pdf[i];
+      BsdfSample b = evalMixtureLobe(c, k, wo, wi);
+      misMix(j < c.count[m], weight, pdf, b.weight, b.pdf, c.pick[k]);
+      e.fx[i] = weight.x, e.fy[i] = weight.y, e.fz[i] = weight.z, e.pdf[i] = pdf;
+    });
+}
+
+void evalCosineMixtures(const CosineMixtures &mixtures, MixtureEvals &evals, int width) {
+  for (std::vector<float> *v : {&evals.fx, &evals.fy, &evals.fz, &evals.pdf})
+    v->assign(evals.size(), 0.0f);
+  atWidth(width, [&](auto w) { evalCosineMixturesAt<decltype(w)::value>(mixtures, evals); });
+}
+
 template <int W>
 OSL_LANE_TARGET void evalBackgroundAt(const BackgroundMap::Table &t, const RayBatch &rays,
                                       const int *__restrict which, size_t n,
@@ -490,7 +594,8 @@ const LaneKernels &OSL_LANE_KERNELS() {
   static const LaneKernels kernels{OSL_LANE_ISA_NAME, intersect,        drawPoints,
                                    cameraRays,        hitGeometry,      sampleLights,
                                    sampleBackground,  sampleCosineLobes,
-                                   evalBackground};
+                                   evalBackground,    sampleCosineMixtures,
+                                   evalCosineMixtures};
   return kernels;
 }
 

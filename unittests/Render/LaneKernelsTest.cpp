@@ -380,3 +380,88 @@ TEST(LaneKernels, BackgroundLookupsMatchEvalAtEveryWidth) {
       }
     }
 }
+
+TEST(LaneKernels, CosineMixturesMatchShadingResultAtEveryWidth) {
+  // 203 mixtures of 0 to 4 diffuse, translucent and Oren-Nayar lobes
+  // (some of weight 0), seen from both sides, on paths that may end there
+  // or not: each prepared, sampled and evaluated toward two directions in
+  // lanes must give ShadingResult's bits.
+  Sampler rng(7, 2, 11);
+  auto unit = [](Vec3 a) { return normalize(Vec3(2 * a.x - 1, 2 * a.y - 1, 2 * a.z - 1)); };
+  struct Case {
+    ShadingResult result;
+    Vec3 wo, pathWeight, r, toward[2];
+    bool mayEnd;
+  };
+  std::vector<Case> cases(203);
+  for (size_t i = 0; i < cases.size(); ++i) {
+    Case &c = cases[i];
+    for (int j = 0; j < int(i % 5); ++j) {
+      Lobe l;
+      l.model = (i + size_t(j)) % 3 == 0   ? Lobe::Diffuse
+                : (i + size_t(j)) % 3 == 1 ? Lobe::Translucent
+                                           : Lobe::OrenNayar;
+      l.n = unit(rng.get());
+      l.a = rng.get().x;
+      l.weight = (i + size_t(j)) % 7 == 3 ? Vec3() : rng.get();
+      c.result.lobes.push_back(l);
+    }
+    c.wo = unit(rng.get());
+    c.pathWeight = rng.get();
+    c.mayEnd = i % 2 == 1;
+    c.r = rng.get();
+    c.toward[0] = unit(rng.get()), c.toward[1] = unit(rng.get());
+  }
+  // What ShadingResult gives one mixture at a time.
+  std::vector<BsdfSample> samples, evals;
+  int none = 0, zeroPdf = 0;
+  for (Case &c : cases) {
+    c.result.prepare(c.wo, c.pathWeight, c.mayEnd);
+    float rx = c.r.x;
+    int lobe = c.result.pick(rx);
+    BsdfSample s;
+    if (lobe >= 0)
+      s = c.result.mixSample(size_t(lobe),
+                             sampleLobe(c.result.lobes[size_t(lobe)], c.wo, rx, c.r.y, c.r.z),
+                             c.wo);
+    none += lobe < 0;
+    zeroPdf += lobe >= 0 && s.pdf == 0;
+    samples.push_back(s);
+    for (Vec3 wi : c.toward)
+      evals.push_back(c.result.eval(c.wo, wi));
+  }
+  EXPECT_GT(none, 10); // empty mixtures, and paths ended by the roulette
+  EXPECT_GT(zeroPdf, 5); // Oren-Nayar seen from below
+  auto same = [](const BsdfSample &a, const BsdfSample &b) {
+    return sameBits(a.pdf, b.pdf) && sameBits(a.roughness, b.roughness) &&
+           sameBits(a.weight.x, b.weight.x) && sameBits(a.weight.y, b.weight.y) &&
+           sameBits(a.weight.z, b.weight.z) && sameBits(a.wi.x, b.wi.x) &&
+           sameBits(a.wi.y, b.wi.y) && sameBits(a.wi.z, b.wi.z);
+  };
+  for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
+    for (int width : {1, 4, 8, 16}) {
+      SCOPED_TRACE(std::string(kernels->isa) + " width " + std::to_string(width));
+      CosineMixtures mixtures;
+      mixtures.reset(cases.size(), 4);
+      MixtureEvals toward;
+      for (size_t m = 0; m < cases.size(); ++m) {
+        const Case &c = cases[m];
+        mixtures.set(m, c.result.lobes, c.wo, c.pathWeight, c.mayEnd);
+        mixtures.rx[m] = c.r.x, mixtures.ry[m] = c.r.y;
+        for (Vec3 wi : c.toward)
+          toward.push(int(m), c.wo, wi);
+      }
+      kernels->sampleCosineMixtures(mixtures, width);
+      kernels->evalCosineMixtures(mixtures, toward, width);
+      for (size_t m = 0; m < cases.size(); ++m) {
+        EXPECT_TRUE(same(mixtures.result(m), samples[m])) << "mixture " << m;
+        for (size_t k = 2 * m; k < 2 * m + 2; ++k) {
+          EXPECT_TRUE(sameBits(toward.pdf[k], evals[k].pdf) &&
+                      sameBits(toward.fx[k], evals[k].weight.x) &&
+                      sameBits(toward.fy[k], evals[k].weight.y) &&
+                      sameBits(toward.fz[k], evals[k].weight.z))
+              << "evaluation " << k;
+        }
+      }
+    }
+}
