@@ -149,11 +149,14 @@ struct ShadingResult {
   /// The relative index of refraction the closure's medium declares (1:
   /// none), for the MaterialX lobes with transmission made after it.
   float refractionIor = 1;
+  /// The bytes testrender's mixture pool holds for the lobes added.
+  int poolBytes = 0;
 
   void clear() {
     emission = background = Vec3();
     lobes.clear();
     refractionIor = 1;
+    poolBytes = 0;
   }
   /// Adds a lobe; false when the mixture is full (as testrender's, which
   /// drops the ninth lobe, or one its 1024-byte pool has no room for).

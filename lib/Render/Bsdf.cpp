@@ -260,12 +260,11 @@ static int testrenderBytes(Lobe::Model m) {
 
 bool ShadingResult::add(const Lobe &l) {
   constexpr int kPoolBytes = 1024;
-  int used = 0;
-  for (const Lobe &o : lobes)
-    used += testrenderBytes(o.model);
-  if (lobes.size() >= kMaxLobes || used + testrenderBytes(l.model) > kPoolBytes)
+  int bytes = testrenderBytes(l.model);
+  if (lobes.size() >= kMaxLobes || poolBytes + bytes > kPoolBytes)
     return false;
   lobes.push_back(l);
+  poolBytes += bytes;
   return true;
 }
 

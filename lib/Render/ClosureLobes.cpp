@@ -16,8 +16,7 @@
 #include "OslRuntime/StringCall.h"
 
 #include <algorithm>
-#include <deque>
-#include <optional>
+#include <memory>
 
 namespace osl::render {
 namespace {
@@ -29,26 +28,31 @@ bool isBlack(Vec3 c) { return c.x == 0 && c.y == 0 && c.z == 0; }
 /// parent's list is still being read).
 class Flattened {
 public:
-  Flattened(const ClosureArena &arena, int32_t handle, Vec3 scale) : d(++depth()) {
-    static thread_local std::deque<std::vector<ClosurePrimitive>> lists;
-    if (lists.size() < d)
-      lists.resize(d);
-    prims = &lists[d - 1];
+  Flattened(const ClosureArena &arena, int32_t handle, Vec3 scale) : lists(perThread()) {
+    // Lists are owned one by one: a deeper level's growth moves none.
+    if (lists.open.size() <= lists.depth)
+      lists.open.push_back(std::make_unique<std::vector<ClosurePrimitive>>());
+    prims = lists.open[lists.depth++].get();
     prims->clear();
     arena.flatten(handle, *prims);
-    for (ClosurePrimitive &p : *prims)
-      for (int c = 0; c < 3; ++c)
-        p.weight[c] = scale[c] * p.weight[c];
+    if (!(scale.x == 1 && scale.y == 1 && scale.z == 1)) // 1 * w is w
+      for (ClosurePrimitive &p : *prims)
+        for (int c = 0; c < 3; ++c)
+          p.weight[c] = scale[c] * p.weight[c];
   }
-  ~Flattened() { --depth(); }
+  ~Flattened() { --lists.depth; }
   const std::vector<ClosurePrimitive> &operator*() const { return *prims; }
 
 private:
-  static size_t &depth() {
-    static thread_local size_t value = 0;
-    return value;
+  struct Lists {
+    std::vector<std::unique_ptr<std::vector<ClosurePrimitive>>> open;
+    size_t depth = 0;
+  };
+  static Lists &perThread() {
+    static thread_local Lists lists;
+    return lists;
   }
-  size_t d;
+  Lists &lists;
   std::vector<ClosurePrimitive> *prims;
 };
 
@@ -73,7 +77,7 @@ float schlickIor(Vec3 f0) {
   return (1 + root) / (1 - root);
 }
 
-std::optional<Lobe> lobeOf(const ClosurePrimitive &p, Vec3 w, float refractionIor);
+bool lobeOf(const ClosurePrimitive &p, Vec3 w, float refractionIor, Lobe &l);
 
 /// How much of what is below a layer's top the top hides toward wo
 /// (testrender's evaluate_layer_opacity): a reflectance for the closures
@@ -96,7 +100,12 @@ Vec3 layerOpacity(const ClosureArena &arena, int32_t handle, const ShadingPoint 
       }
       [[fallthrough]];
     case kReflection:
-    case kMxSheen: sum += w * lobeAlbedo(*lobeOf(p, w, 1.0f), at.wo); break;
+    case kMxSheen: {
+      Lobe l;
+      lobeOf(p, w, 1.0f, l);
+      sum += w * lobeAlbedo(l, at.wo);
+      break;
+    }
     default: sum += Vec3(1, 1, 1); break;
     }
   }
@@ -168,8 +177,9 @@ void addLobes(const ClosureArena &arena, const std::vector<ClosurePrimitive> &pr
         addLobes(arena, p.closureParam(1), at, base, lightOnly, out);
       continue;
     }
-    if (std::optional<Lobe> l = lobeOf(p, w, out.refractionIor))
-      out.add(*l);
+    Lobe l;
+    if (lobeOf(p, w, out.refractionIor, l))
+      out.add(l);
   }
 }
 
@@ -185,13 +195,13 @@ Lobe mxTinted(const ClosurePrimitive &p, Lobe::Model model, float refractionIor)
   return l;
 }
 
-/// The lobe testrender makes of primitive `p` with weight `w`
-/// (`refractionIor`: the medium pass's index); none for what does not
-/// scatter (volumes, holdout, debug, a microfacet of unknown distribution).
-std::optional<Lobe> lobeOf(const ClosurePrimitive &p, Vec3 w, float refractionIor) {
+/// Into `l` (a default Lobe), the lobe testrender makes of primitive `p`
+/// with weight `w` (`refractionIor`: the medium pass's index); false for
+/// what does not scatter (volumes, holdout, debug, a microfacet of unknown
+/// distribution).
+bool lobeOf(const ClosurePrimitive &p, Vec3 w, float refractionIor, Lobe &l) {
   auto c = [&](int i) { return tripleOf(p, i); };
   auto f = [&](int i) { return p.floatParam(i); };
-  Lobe l;
   switch (p.id) {
   case kDiffuse: l.model = Lobe::Diffuse; l.n = c(0); break;
   case kTranslucent: l.model = Lobe::Translucent; l.n = c(0); break;
@@ -207,7 +217,7 @@ std::optional<Lobe> lobeOf(const ClosurePrimitive &p, Vec3 w, float refractionIo
     else if (dist == "beckmann" || dist == "default")
       l.dist = 1;
     else
-      return std::nullopt; // testrender makes no lobe of another distribution
+      return false; // testrender makes no lobe of another distribution
     l.model = Lobe::Microfacet;
     l.n = c(1);
     l.t = c(2);
@@ -216,7 +226,7 @@ std::optional<Lobe> lobeOf(const ClosurePrimitive &p, Vec3 w, float refractionIo
     l.eta = f(5);
     l.refract = p.intParam(6);
     if (l.refract < 0 || l.refract > 2)
-      return std::nullopt;
+      return false;
     break;
   }
   case kReflection: l.model = Lobe::Reflection; l.n = c(0); l.eta = f(1); break;
@@ -254,10 +264,10 @@ std::optional<Lobe> lobeOf(const ClosurePrimitive &p, Vec3 w, float refractionIo
     l.f90 = c(7);
     l.exponent = f(8);
     break;
-  default: return std::nullopt; // volumes (read by the medium pass), holdout, debug
+  default: return false; // volumes (read by the medium pass), holdout, debug
   }
   l.weight = w;
-  return l;
+  return true;
 }
 
 } // namespace

@@ -32,21 +32,24 @@ PrimTable::PrimTable(const Scene &scene) {
 }
 
 void CosineMixtures::reset(size_t mixtures, int lobes) {
-  // Sized, not cleared: set() writes each mixture's own slots, the
-  // kernels write the rest before reading them, and a slot past a
-  // mixture's count is read only to be masked.
+  mixtureCount = mixtures;
   maxCount = lobes;
-  count.resize(mixtures);
+  // Grown, never shrunk nor cleared: set() writes each mixture's own
+  // slots, the kernels write the rest before reading them, and a slot past
+  // a mixture's count is read only to be masked.
+  auto grow = [](auto &v, size_t n) {
+    if (v.size() < n)
+      v.resize(n);
+  };
   // One row at least: a mixture without lobes reads (and ignores) row 0.
   size_t slots = mixtures * size_t(std::max(lobes, 1));
-  orenNayar.resize(slots);
+  grow(orenNayar, slots);
   for (std::vector<float> *v : {&nx, &ny, &nz, &sigma, &wx, &wy, &wz, &pick})
-    v->resize(slots);
-  absorb.resize(mixtures);
-  chosen.resize(mixtures);
+    grow(*v, slots);
+  grow(count, mixtures), grow(absorb, mixtures), grow(chosen, mixtures);
   for (std::vector<float> *v : {&pwx, &pwy, &pwz, &wox, &woy, &woz, &rx, &ry, &wix, &wiy, &wiz,
                                 &fx, &fy, &fz, &pdf, &roughness, &total, &accum})
-    v->resize(mixtures);
+    grow(*v, mixtures);
 }
 
 void CosineMixtures::set(size_t m, const std::vector<Lobe> &lobes, Vec3 wo, Vec3 pathWeight,
@@ -98,7 +101,8 @@ void HitPoints::sizeOutputs() {
         &backfacing,    &area,  &dPdxX, &dPdxY, &dPdxZ, &dPdyX,      &dPdyY, &dPdyZ, &dIdxX,
         &dIdxY, &dIdxZ, &dIdyX, &dIdyY, &dIdyZ, &dudx,  &dudy,       &dvdx,  &dvdy,  &flip,
         &radius})
-    v->resize(size());
+    if (v->size() < size())
+      v->resize(size());
 }
 
 namespace {

@@ -75,13 +75,15 @@ struct HitPoints {
   std::vector<float> dPdxX, dPdxY, dPdxZ, dPdyX, dPdyY, dPdyZ;
   std::vector<float> dIdxX, dIdxY, dIdxZ, dIdyX, dIdyY, dIdyZ;
   std::vector<float> dudx, dudy, dvdx, dvdy, flip, radius;
-  /// Forgets the lanes (the outputs stay stale until hitGeometry runs).
+  /// Forgets the lanes (the outputs stay stale until hitGeometry runs, and
+  /// keep their storage: sizeOutputs only grows them, since zeroing what
+  /// hitGeometry overwrites cost as much as hitGeometry).
   void clear() { prim.clear(), ray.clear(), t.clear(); }
   void push(int k, int r, float distance) {
     prim.push_back(k), ray.push_back(r), t.push_back(distance);
   }
   size_t size() const { return prim.size(); }
-  /// Sizes the outputs for every pushed lane.
+  /// Makes room in the outputs for every pushed lane.
   void sizeOutputs();
   Vec3 o(size_t i) const { return {ox[i], oy[i], oz[i]}; }
   Vec3 d(size_t i) const { return {dx[i], dy[i], dz[i]}; }
@@ -163,6 +165,7 @@ struct CosineDraws {
 /// there (absorb), the direction toward the viewer and two uniform numbers
 /// in; its BSDF sample out.
 struct CosineMixtures {
+  size_t mixtureCount = 0;
   std::vector<int> count;
   int maxCount = 0;
   std::vector<int> orenNayar;
@@ -179,7 +182,7 @@ struct CosineMixtures {
   /// Mixture m: `lobes` (every one a cosine lobe) as ShadingResult::prepare
   /// would see them.
   void set(size_t m, const std::vector<Lobe> &lobes, Vec3 wo, Vec3 pathWeight, bool absorb);
-  size_t size() const { return count.size(); }
+  size_t size() const { return mixtureCount; }
   BsdfSample result(size_t m) const {
     return {{wix[m], wiy[m], wiz[m]}, {fx[m], fy[m], fz[m]}, pdf[m], roughness[m]};
   }

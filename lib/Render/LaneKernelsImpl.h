@@ -89,8 +89,9 @@ OSL_LANE_TARGET void quadLanes(const Primitive &q, int index, const QuadFrame &f
 }
 
 template <int W>
-OSL_LANE_TARGET void intersectLanes(const Scene &scene, const RayLanes<W> &r,
-                                    float *__restrict bestT, int *__restrict bestPrim) {
+OSL_LANE_TARGET void intersectLanes(const Scene &scene, const std::vector<QuadFrame> &frames,
+                                    const RayLanes<W> &r, float *__restrict bestT,
+                                    int *__restrict bestPrim) {
   for (int l = 0; l < W; ++l) {
     bestT[l] = std::numeric_limits<float>::infinity();
     bestPrim[l] = -1;
@@ -101,7 +102,7 @@ OSL_LANE_TARGET void intersectLanes(const Scene &scene, const RayLanes<W> &r,
     if (p.kind == Primitive::Sphere)
       sphereLanes<W>(p, i, r, t);
     else
-      quadLanes<W>(p, i, QuadFrame(p), r, t);
+      quadLanes<W>(p, i, frames[size_t(i)], r, t);
     for (int l = 0; l < W; ++l) {
       bool closer = t[l] > 0 && t[l] < bestT[l];
       bestT[l] = closer ? t[l] : bestT[l];
@@ -116,6 +117,10 @@ OSL_LANE_TARGET void intersectAt(const Scene &scene, const RayBatch &rays, const
   RayLanes<W> r;
   float t[W];
   int prim[W];
+  // Each quad's frame once per call, not once per batch of rays.
+  std::vector<QuadFrame> frames;
+  for (const Primitive &p : scene.prims)
+    frames.push_back(p.kind == Primitive::Quad ? QuadFrame(p) : QuadFrame());
   for (size_t start = 0; start < n; start += W) {
     int count = int(std::min<size_t>(W, n - start));
     for (int l = 0; l < W; ++l) {
@@ -125,7 +130,7 @@ OSL_LANE_TARGET void intersectAt(const Scene &scene, const RayBatch &rays, const
       r.dx[l] = rays.dx[k], r.dy[l] = rays.dy[k], r.dz[l] = rays.dz[k];
       r.self[l] = rays.self[k];
     }
-    intersectLanes<W>(scene, r, t, prim);
+    intersectLanes<W>(scene, frames, r, t, prim);
     for (int l = 0; l < count; ++l)
       hits[start + size_t(l)] = Hit{prim[l], t[l]};
   }
