@@ -36,11 +36,21 @@ constexpr int kTileSize = 8;
 /// testrender's rr_depth: from this bounce on, lobe choices may end a path.
 constexpr int kRouletteDepth = 5;
 
+/// The raytype() bits of camera and bounce rays, looked up once.
+int32_t cameraRays() {
+  static const int32_t bit = rayTypeBit("camera");
+  return bit;
+}
+int32_t diffuseRays() {
+  static const int32_t bit = rayTypeBit("diffuse");
+  return bit;
+}
+
 struct Path {
   Vec3 weight{1, 1, 1}, radiance;
   float bsdfPdf = kInf; // of the last bounce; infinite for the camera and delta lobes
   /// What raytype() answers for the points the ray reaches (kRayTypes bits).
-  int32_t rayType = rayTypeBit("camera");
+  int32_t rayType = cameraRays();
   bool alive = true;
   Hit hit;
   Sampler rng;
@@ -183,15 +193,16 @@ private:
   /// The scattering paths whose mixtures are cosine lobes alone, prepared,
   /// sampled and evaluated in lanes (at widths above 1; the results are
   /// the same): each scattering path's mixture (-1: its ShadingResult's
-  /// own), and the evaluations toward the background's and the lights'
-  /// samples (in the order they are added).
+  /// own), each light draw's, and the evaluations toward the background's
+  /// and the lights' samples (in the order they are added).
   CosineMixtures cosineMixtures;
-  std::vector<int> mixtureOf;
+  std::vector<int> mixtureOf, lightDrawMixtures;
   MixtureEvals mixtureEvals;
   /// The bounce's shadow rays, traced together a batch of `width` lanes at
   /// a time.
   RayBatch rays;
   std::vector<Hit> hits;
+  /// The paths alive at this bounce, in order (pathRays' rays traced).
   std::vector<int> rayPaths;
   /// Each path's pixel (for the camera's lanes and the image) and sample
   /// index (its pixel's samples are mixed in in order).
@@ -338,11 +349,13 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   draws.clear();
   pathPixels.clear();
   pathSamples.clear();
+  rayPaths.clear();
   for (int pixel : pixels)
     for (int s = s0; s < s1; ++s) {
       Path p;
       p.rng = Sampler(pixel % opt.xres, pixel / opt.xres, uint32_t(s), opt.seed);
       draws.push(p.rng.reserve(1), p.rng.sampleIndex());
+      rayPaths.push_back(int(paths.size()));
       paths.push_back(p);
       pathPixels.push_back(pixel);
       pathSamples.push_back(s);
@@ -372,10 +385,11 @@ bool PathWave::intersectPaths() {
   for (ShadeQueue &q : queues)
     q.clear();
   misses.clear();
-  rayPaths.clear();
-  for (int i = 0; i < int(paths.size()); ++i)
-    if (paths[i].alive)
-      rayPaths.push_back(i);
+  // The paths still alive: the last bounce's, less those it ended (every
+  // path at the first bounce, which startPaths lists).
+  rayPaths.erase(std::remove_if(rayPaths.begin(), rayPaths.end(),
+                                [&](int i) { return !paths[size_t(i)].alive; }),
+                 rayPaths.end());
   intersectBatch(scene, pathRays, rayPaths, width, hits);
   for (size_t k = 0; k < rayPaths.size(); ++k) {
     int i = rayPaths[k];
@@ -428,7 +442,7 @@ void PathWave::shadeMisses(int bounce) {
     orthoBasis(d, ex, ey);
     h.setDirection(i, {d, ex * pathRays.spread[ray], ey * pathRays.spread[ray]});
   }
-  misses.rayType = rayTypeBit(bounce > 0 ? "diffuse" : "camera");
+  misses.rayType = bounce > 0 ? diffuseRays() : cameraRays();
   shade(scene.background, misses, [&](size_t i, int32_t handle) {
     Path &p = paths[misses.path[i]];
     p.radiance += p.weight * backgroundOf(threadClosureArena(), handle);
@@ -487,29 +501,30 @@ void PathWave::scatterAll(int bounce) {
   laneKernels().sampleCosineMixtures(cosineMixtures, width);
   // The background's samples, and the lights' (every path's together).
   lightDraws.clear();
-  mixtureEvals.clear();
+  lightDrawMixtures.clear();
   if (map)
     laneKernels().sampleBackground(map->table(), draws.x.data(), draws.y.data(),
                                    scattering.size(), backgroundDraws, width);
   for (size_t s = 0; s < scattering.size(); ++s) {
     auto [q, i] = scattering[s];
-    if (map && mixtureOf[s] >= 0)
-      mixtureEvals.push(mixtureOf[s], -q->at.d(i), backgroundDraws.dir(s));
     int self = paths[q->path[i]].hit.prim;
     for (int l : lights)
-      if (l != self)
+      if (l != self) {
         lightDraws.push(l, q->at.p(i), draws.x[s], draws.y[s]);
-  }
-  laneKernels().sampleLights(prims, lightDraws, width);
-  for (size_t s = 0, light = 0; s < scattering.size(); ++s) {
-    auto [q, i] = scattering[s];
-    for (int l : lights)
-      if (l != paths[q->path[i]].hit.prim) {
-        if (mixtureOf[s] >= 0)
-          mixtureEvals.push(mixtureOf[s], -q->at.d(i), lightDraws.dir(light));
-        ++light;
+        lightDrawMixtures.push_back(mixtureOf[s]);
       }
   }
+  laneKernels().sampleLights(prims, lightDraws, width);
+  // The lanes' evaluations: toward the background's samples, then the
+  // lights', as the loops below take them.
+  mixtureEvals.clear();
+  if (map)
+    for (size_t s = 0; s < scattering.size(); ++s)
+      if (mixtureOf[s] >= 0)
+        mixtureEvals.push(mixtureOf[s], backgroundDraws.dir(s));
+  for (size_t k = 0; k < lightDraws.size(); ++k)
+    if (lightDrawMixtures[k] >= 0)
+      mixtureEvals.push(lightDrawMixtures[k], lightDraws.dir(k));
   laneKernels().evalCosineMixtures(cosineMixtures, mixtureEvals, width);
   // A path's mixture toward a direction: the lanes' next evaluation (they
   // are taken in the order added), or its ShadingResult's.
@@ -556,7 +571,7 @@ void PathWave::scatterAll(int bounce) {
     const BsdfSample &smp = bsdfSamples[s];
     p.weight *= smp.weight;
     p.bsdfPdf = smp.pdf;
-    p.rayType = rayTypeBit("diffuse");
+    p.rayType = diffuseRays();
     if (!(p.weight.x > 0) && !(p.weight.y > 0) && !(p.weight.z > 0)) {
       p.alive = false; // all zero, or NaN
       continue;

@@ -70,13 +70,12 @@ void CosineMixtures::set(size_t m, const std::vector<Lobe> &lobes, Vec3 wo, Vec3
 
 void MixtureEvals::clear() {
   mixture.clear();
-  for (std::vector<float> *v : {&wox, &woy, &woz, &wix, &wiy, &wiz})
+  for (std::vector<float> *v : {&wix, &wiy, &wiz})
     v->clear();
 }
 
-void MixtureEvals::push(int m, Vec3 wo, Vec3 wi) {
+void MixtureEvals::push(int m, Vec3 wi) {
   mixture.push_back(m);
-  wox.push_back(wo.x), woy.push_back(wo.y), woz.push_back(wo.z);
   wix.push_back(wi.x), wiy.push_back(wi.y), wiz.push_back(wi.z);
 }
 

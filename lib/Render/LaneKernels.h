@@ -189,14 +189,15 @@ struct CosineMixtures {
 };
 
 /// Cosine mixtures evaluated toward directions (ShadingResult::eval), as
-/// structure of arrays: each lane's mixture (an index into CosineMixtures)
-/// and directions in; the mixture's weight and pdf out.
+/// structure of arrays: each lane's mixture (an index into CosineMixtures,
+/// whose direction toward the viewer it uses) and direction in; the
+/// mixture's weight and pdf out.
 struct MixtureEvals {
   std::vector<int> mixture;
-  std::vector<float> wox, woy, woz, wix, wiy, wiz;
+  std::vector<float> wix, wiy, wiz;
   std::vector<float> fx, fy, fz, pdf;
   void clear();
-  void push(int m, Vec3 wo, Vec3 wi);
+  void push(int m, Vec3 wi);
   size_t size() const { return mixture.size(); }
   Vec3 weight(size_t i) const { return {fx[i], fy[i], fz[i]}; }
 };

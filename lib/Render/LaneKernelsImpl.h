@@ -521,7 +521,7 @@ OSL_LANE_TARGET void evalCosineMixturesAt(const CosineMixtures &c, MixtureEvals 
   for (int j = 0; j < c.maxCount; ++j)
     forLanes<W>(e.size(), [&](size_t i) __attribute__((always_inline)) {
       size_t m = size_t(e.mixture[i]), k = size_t(j) * n + m;
-      Vec3 wo(e.wox[i], e.woy[i], e.woz[i]), wi(e.wix[i], e.wiy[i], e.wiz[i]);
+      Vec3 wo(c.wox[m], c.woy[m], c.woz[m]), wi(e.wix[i], e.wiy[i], e.wiz[i]);
       Vec3 weight(e.fx[i], e.fy[i], e.fz[i]);
       float pdf = e.pdf[i];
       BsdfSample b = evalMixtureLobe(c, k, wo, wi);

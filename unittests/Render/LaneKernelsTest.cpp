@@ -449,7 +449,7 @@ TEST(LaneKernels, CosineMixturesMatchShadingResultAtEveryWidth) {
         mixtures.set(m, c.result.lobes, c.wo, c.pathWeight, c.mayEnd);
         mixtures.rx[m] = c.r.x, mixtures.ry[m] = c.r.y;
         for (Vec3 wi : c.toward)
-          toward.push(int(m), c.wo, wi);
+          toward.push(int(m), wi);
       }
       kernels->sampleCosineMixtures(mixtures, width);
       kernels->evalCosineMixtures(mixtures, toward, width);
