@@ -8,8 +8,9 @@ renderer changes.
                                        [--baseline OTHER_OSL_RUN]
 
 Each scene of render/ is rendered by osl-run --scene with one thread, and
-only osl::render::Renderer::render (the paths, the shading kernels they
-call and everything below) is counted. Valgrind runs no AVX-512, so the
+only osl::render::PathWave::run (the paths, the shading kernels they call
+and everything below; not the background's importance table, shaded once
+before them) is counted. Valgrind runs no AVX-512, so the
 renderer's lane loops are its AVX2 ones and the kernels are compiled for
 what valgrind reports; the counts compare binaries and widths, not
 machines. With --baseline, the same counts for another osl-run binary,
@@ -28,10 +29,10 @@ CORPUS = os.path.join(ROOT, "render")
 
 
 def instructions(osl_run, scene, width, res, aa, tmp):
-    """Instructions executed in Renderer::render, and the paths traced."""
+    """Instructions executed in PathWave::run, and the paths traced."""
     counts = os.path.join(tmp, "callgrind.out")
     cmd = ["valgrind", "--tool=callgrind", "--callgrind-out-file=" + counts,
-           "--toggle-collect=osl::render::Renderer::render*", osl_run, "--scene", scene,
+           "--toggle-collect=osl::render::PathWave::run*", osl_run, "--scene", scene,
            "-o", os.path.join(tmp, "out.exr"), "-r", str(res), str(res), "-aa", str(aa),
            "--width", str(width), "-t", "1", "--stats"]
     run = subprocess.run(cmd, cwd=CORPUS, capture_output=True, text=True)
