@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -202,7 +203,8 @@ private:
   /// a time.
   RayBatch rays;
   std::vector<Hit> hits;
-  /// The paths alive at this bounce, in order (pathRays' rays traced).
+  /// The paths whose rays this bounce traces, in order (those alive after
+  /// the last bounce; intersectPaths ends some of them).
   std::vector<int> rayPaths;
   /// Each path's pixel (for the camera's lanes and the image) and sample
   /// index (its pixel's samples are mixed in in order).
@@ -587,6 +589,7 @@ void PathWave::scatterAll(int bounce) {
     pathRays.radius[pathIndex] = q->at.radius[i];
     pathRays.spread[pathIndex] = std::max(pathRays.spread[pathIndex], smp.roughness);
   }
+  assert(evaluated == mixtureEvals.size() && "every lane evaluation taken, in order");
 }
 
 /// Each scattering path's BSDF sample (with the bounce's sampler point):

@@ -181,7 +181,7 @@ struct CosineMixtures {
   void reset(size_t mixtures, int lobes);
   /// Mixture m: `lobes` (every one a cosine lobe) as ShadingResult::prepare
   /// would see them.
-  void set(size_t m, const std::vector<Lobe> &lobes, Vec3 wo, Vec3 pathWeight, bool absorb);
+  void set(size_t m, const std::vector<Lobe> &lobes, Vec3 wo, Vec3 pathWeight, bool mayEnd);
   size_t size() const { return mixtureCount; }
   BsdfSample result(size_t m) const {
     return {{wix[m], wiy[m], wiz[m]}, {fx[m], fy[m], fz[m]}, pdf[m], roughness[m]};

@@ -414,7 +414,7 @@ TEST(LaneKernels, CosineMixturesMatchShadingResultAtEveryWidth) {
   }
   // What ShadingResult gives one mixture at a time.
   std::vector<BsdfSample> samples, evals;
-  int none = 0, zeroPdf = 0;
+  int ended = 0, zeroPdf = 0;
   for (Case &c : cases) {
     c.result.prepare(c.wo, c.pathWeight, c.mayEnd);
     float rx = c.r.x;
@@ -424,13 +424,13 @@ TEST(LaneKernels, CosineMixturesMatchShadingResultAtEveryWidth) {
       s = c.result.mixSample(size_t(lobe),
                              sampleLobe(c.result.lobes[size_t(lobe)], c.wo, rx, c.r.y, c.r.z),
                              c.wo);
-    none += lobe < 0;
+    ended += lobe < 0 && !c.result.lobes.empty();
     zeroPdf += lobe >= 0 && s.pdf == 0;
     samples.push_back(s);
     for (Vec3 wi : c.toward)
       evals.push_back(c.result.eval(c.wo, wi));
   }
-  EXPECT_GT(none, 10); // empty mixtures, and paths ended by the roulette
+  EXPECT_GT(ended, 5);   // paths ended by the roulette (and 41 empty mixtures)
   EXPECT_GT(zeroPdf, 5); // Oren-Nayar seen from below
   auto same = [](const BsdfSample &a, const BsdfSample &b) {
     return sameBits(a.pdf, b.pdf) && sameBits(a.roughness, b.roughness) &&
@@ -438,30 +438,60 @@ TEST(LaneKernels, CosineMixturesMatchShadingResultAtEveryWidth) {
            sameBits(a.weight.z, b.weight.z) && sameBits(a.wi.x, b.wi.x) &&
            sameBits(a.wi.y, b.wi.y) && sameBits(a.wi.z, b.wi.z);
   };
+  // One set of columns for every run, as a render reuses them: each run
+  // first fills them for twice as many mixtures (another stride, rows a
+  // run of fewer mixtures must not read as its own). The evaluations come
+  // in a shuffled order, some mixtures twice.
+  CosineMixtures mixtures;
+  const size_t n = cases.size();
+  std::vector<size_t> evalOrder;
+  for (size_t k = 0; k < 2 * n + 20; ++k)
+    evalOrder.push_back((k * 37) % (2 * n));
   for (const LaneKernels *kernels : laneKernelsThisCpuRuns())
     for (int width : {1, 4, 8, 16}) {
       SCOPED_TRACE(std::string(kernels->isa) + " width " + std::to_string(width));
-      CosineMixtures mixtures;
-      mixtures.reset(cases.size(), 4);
+      mixtures.reset(2 * n, 4);
+      for (size_t m = 0; m < 2 * n; ++m) {
+        const Case &c = cases[(m * 5) % n];
+        mixtures.set(m, c.result.lobes, c.toward[0], c.pathWeight, !c.mayEnd);
+        mixtures.rx[m] = c.r.y, mixtures.ry[m] = c.r.x;
+      }
+      kernels->sampleCosineMixtures(mixtures, width);
+      mixtures.reset(n, 4);
       MixtureEvals toward;
-      for (size_t m = 0; m < cases.size(); ++m) {
+      for (size_t m = 0; m < n; ++m) {
         const Case &c = cases[m];
         mixtures.set(m, c.result.lobes, c.wo, c.pathWeight, c.mayEnd);
         mixtures.rx[m] = c.r.x, mixtures.ry[m] = c.r.y;
-        for (Vec3 wi : c.toward)
-          toward.push(int(m), wi);
       }
+      for (size_t k : evalOrder)
+        toward.push(int(k / 2), cases[k / 2].toward[k % 2]);
       kernels->sampleCosineMixtures(mixtures, width);
       kernels->evalCosineMixtures(mixtures, toward, width);
-      for (size_t m = 0; m < cases.size(); ++m) {
+      for (size_t m = 0; m < n; ++m)
         EXPECT_TRUE(same(mixtures.result(m), samples[m])) << "mixture " << m;
-        for (size_t k = 2 * m; k < 2 * m + 2; ++k) {
-          EXPECT_TRUE(sameBits(toward.pdf[k], evals[k].pdf) &&
-                      sameBits(toward.fx[k], evals[k].weight.x) &&
-                      sameBits(toward.fy[k], evals[k].weight.y) &&
-                      sameBits(toward.fz[k], evals[k].weight.z))
-              << "evaluation " << k;
-        }
+      for (size_t e = 0; e < evalOrder.size(); ++e) {
+        const BsdfSample &one = evals[evalOrder[e]];
+        EXPECT_TRUE(sameBits(toward.pdf[e], one.pdf) && sameBits(toward.fx[e], one.weight.x) &&
+                    sameBits(toward.fy[e], one.weight.y) && sameBits(toward.fz[e], one.weight.z))
+            << "evaluation " << e << " (mixture " << evalOrder[e] / 2 << ")";
+      }
+      // Mixtures without lobes, none of them with any: no sample, and
+      // nothing toward any direction.
+      ShadingResult empty;
+      mixtures.reset(5, 0);
+      MixtureEvals nothing;
+      for (size_t m = 0; m < 5; ++m) {
+        mixtures.set(m, empty.lobes, cases[m].wo, cases[m].pathWeight, false);
+        mixtures.rx[m] = cases[m].r.x, mixtures.ry[m] = cases[m].r.y;
+        nothing.push(int(m), cases[m].toward[0]);
+      }
+      kernels->sampleCosineMixtures(mixtures, width);
+      kernels->evalCosineMixtures(mixtures, nothing, width);
+      for (size_t m = 0; m < 5; ++m) {
+        EXPECT_TRUE(same(mixtures.result(m), BsdfSample())) << "empty mixture " << m;
+        EXPECT_TRUE(sameBits(nothing.pdf[m], 0.0f) && sameBits(nothing.fx[m], 0.0f))
+            << "empty mixture " << m;
       }
     }
 }
