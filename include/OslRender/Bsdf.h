@@ -78,6 +78,10 @@ inline bool isCosineLobe(Lobe::Model m) {
   return m == Lobe::Diffuse || m == Lobe::Translucent || m == Lobe::OrenNayar;
 }
 
+/// The normal a cosine lobe scatters about: a translucent lobe's turned to
+/// the far side.
+inline Vec3 cosineLobeNormal(const Lobe &l) { return l.model == Lobe::Translucent ? -l.n : l.n; }
+
 /// testrender's Oren-Nayar (Fujii's simplification of the qualitative
 /// model) about `n` with roughness `sigma`, toward wi; nothing below
 /// either side. Selects, not branches: lane loops vectorize it.

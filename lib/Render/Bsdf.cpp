@@ -195,8 +195,7 @@ BsdfSample sampleLobe(const Lobe &l, Vec3 wo, float rx, float ry, float rz) {
   case Lobe::Diffuse:
   case Lobe::Translucent:
   case Lobe::OrenNayar:
-    return sampleCosineLobe(l.model == Lobe::OrenNayar, l.model == Lobe::Translucent ? -l.n : l.n,
-                            l.a, wo, rx, ry);
+    return sampleCosineLobe(l.model == Lobe::OrenNayar, cosineLobeNormal(l), l.a, wo, rx, ry);
   case Lobe::OrenNayarEnergy: {
     float pdf;
     return evalLobe(l, wo, sampleCosineHemisphere(l.n, rx, ry, pdf));

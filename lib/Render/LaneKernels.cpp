@@ -58,7 +58,7 @@ void CosineMixtures::set(size_t m, const std::vector<Lobe> &lobes, Vec3 wo, Vec3
   for (size_t j = 0; j < lobes.size(); ++j) {
     const Lobe &l = lobes[j];
     size_t k = j * size() + m;
-    Vec3 n = l.model == Lobe::Translucent ? -l.n : l.n;
+    Vec3 n = cosineLobeNormal(l);
     orenNayar[k] = l.model == Lobe::OrenNayar;
     nx[k] = n.x, ny[k] = n.y, nz[k] = n.z, sigma[k] = l.a;
     wx[k] = l.weight.x, wy[k] = l.weight.y, wz[k] = l.weight.z;

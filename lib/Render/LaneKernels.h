@@ -144,7 +144,7 @@ struct CosineDraws {
       v->clear();
   }
   void push(const Lobe &l, Vec3 wo, float r0, float r1) {
-    Vec3 n = l.model == Lobe::Translucent ? -l.n : l.n;
+    Vec3 n = cosineLobeNormal(l);
     orenNayar.push_back(l.model == Lobe::OrenNayar);
     nx.push_back(n.x), ny.push_back(n.y), nz.push_back(n.z), sigma.push_back(l.a);
     wox.push_back(wo.x), woy.push_back(wo.y), woz.push_back(wo.z);
