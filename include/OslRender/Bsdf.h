@@ -162,9 +162,14 @@ struct ShadingResult {
     refractionIor = 1;
     poolBytes = 0;
   }
-  /// Adds a lobe; false when the mixture is full (as testrender's, which
-  /// drops the ninth lobe, or one its 1024-byte pool has no room for).
-  bool add(const Lobe &l);
+  /// Room for the next lobe, built in place (a lobe is 160 bytes), then
+  /// kept or dropped by keepNext.
+  Lobe &next() { return lobes.emplace_back(); }
+  /// Keeps next()'s lobe unless the mixture is full (as testrender's, which
+  /// drops the ninth lobe, or one its 1024-byte pool has no room for); false
+  /// when it was dropped.
+  bool keepNext();
+  void dropNext() { lobes.pop_back(); }
   /// Each lobe's pick probability: its weight times its albedo toward wo,
   /// as a share of what the path carries. Unless `absorb`, they are
   /// normalized; otherwise what they leave below 1 is the chance the path

@@ -66,6 +66,12 @@ public:
   /// weights multiplied through. Deterministic: the same tree gives the
   /// same list whatever the batch width that built it.
   void flatten(int32_t handle, std::vector<ClosurePrimitive> &out) const;
+  /// Calls visit(const ClosurePrimitive &) for each primitive of `handle`,
+  /// in flatten's order and with its weights, without building the list.
+  template <typename Visit> void forEachPrimitive(int32_t handle, Visit &&visit) const {
+    const float one[3] = {1, 1, 1};
+    visitScaled(handle, one, visit);
+  }
   size_t nodeCount() const { return nodes.size(); }
 
 private:
@@ -76,7 +82,34 @@ private:
     int32_t b;    // kPrimitive: first word of its parameters; kAdd: the second operand
     float w[3];   // kMul: the weight
   };
-  void flattenScaled(int32_t handle, const float w[3], std::vector<ClosurePrimitive> &out) const;
+  template <typename Visit>
+  void visitScaled(int32_t handle, const float w[3], Visit &visit) const {
+    // Handles come from kernels; one outside the arena is a bug upstream,
+    // but reading it must not crash the renderer.
+    if (handle <= 0 || size_t(handle) > nodes.size())
+      return;
+    const Node &n = nodes[size_t(handle) - 1];
+    switch (n.kind) {
+    case kPrimitive: {
+      ClosurePrimitive p;
+      p.id = n.id;
+      p.weight = {w[0], w[1], w[2]};
+      p.words = words.data() + n.b;
+      const ClosurePrimitive &primitive = p;
+      visit(primitive);
+      return;
+    }
+    case kMul: {
+      const float scaled[3] = {w[0] * n.w[0], w[1] * n.w[1], w[2] * n.w[2]};
+      visitScaled(n.id, scaled, visit);
+      return;
+    }
+    case kAdd:
+      visitScaled(n.id, w, visit);
+      visitScaled(n.b, w, visit);
+      return;
+    }
+  }
   std::vector<Node> nodes;
   std::vector<uint32_t> words;
 };

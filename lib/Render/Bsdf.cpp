@@ -257,12 +257,13 @@ static int testrenderBytes(Lobe::Model m) {
   }
 }
 
-bool ShadingResult::add(const Lobe &l) {
+bool ShadingResult::keepNext() {
   constexpr int kPoolBytes = 1024;
-  int bytes = testrenderBytes(l.model);
-  if (lobes.size() >= kMaxLobes || poolBytes + bytes > kPoolBytes)
+  int bytes = testrenderBytes(lobes.back().model);
+  if (lobes.size() > kMaxLobes || poolBytes + bytes > kPoolBytes) {
+    dropNext();
     return false;
-  lobes.push_back(l);
+  }
   poolBytes += bytes;
   return true;
 }

@@ -117,70 +117,70 @@ Vec3 underLayer(const ClosureArena &arena, int32_t top, const ShadingPoint &at, 
   return w * (Vec3(1, 1, 1) - fast::clamp(layerOpacity(arena, top, at, Vec3(1, 1, 1)), 0.f, 1.f));
 }
 
-/// testrender's medium pass: the index of refraction the closure declares.
-void readMedium(const ClosureArena &arena, const std::vector<ClosurePrimitive> &prims,
-                const ShadingPoint &at, ShadingResult &out);
+/// testrender's medium pass over one primitive: the index of refraction it
+/// declares.
+void readMedium(const ClosureArena &arena, const ClosurePrimitive &p, const ShadingPoint &at,
+                ShadingResult &out);
 void readMedium(const ClosureArena &arena, int32_t handle, const ShadingPoint &at, Vec3 scale,
                 ShadingResult &out) {
   Flattened prims(arena, handle, scale);
-  readMedium(arena, *prims, at, out);
+  for (const ClosurePrimitive &p : *prims)
+    readMedium(arena, p, at, out);
 }
-void readMedium(const ClosureArena &arena, const std::vector<ClosurePrimitive> &prims,
-                const ShadingPoint &at, ShadingResult &out) {
+void readMedium(const ClosureArena &arena, const ClosurePrimitive &p, const ShadingPoint &at,
+                ShadingResult &out) {
   // Seen from inside, the index is inverted.
   auto setIor = [&](float ior) { out.refractionIor = at.backfacing ? 1.0f / ior : ior; };
-  for (const ClosurePrimitive &p : prims) {
-    Vec3 w(p.weight);
-    switch (p.id) {
-    case kMxLayer:
-      readMedium(arena, p.closureParam(0), at, w, out);
-      readMedium(arena, p.closureParam(1), at, underLayer(arena, p.closureParam(0), at, w), out);
-      break;
-    case kMxMediumVdf: setIor(p.floatParam(4)); break;
-    case kMxDielectric:
-      if (!isBlack(w * tripleOf(p, 3)))
-        setIor(p.floatParam(6));
-      break;
-    case kMxGeneralizedSchlick:
-      if (!isBlack(w * tripleOf(p, 3)))
-        setIor(schlickIor(tripleOf(p, 6)));
-      break;
-    default: break;
-    }
+  Vec3 w(p.weight);
+  switch (p.id) {
+  case kMxLayer:
+    readMedium(arena, p.closureParam(0), at, w, out);
+    readMedium(arena, p.closureParam(1), at, underLayer(arena, p.closureParam(0), at, w), out);
+    break;
+  case kMxMediumVdf: setIor(p.floatParam(4)); break;
+  case kMxDielectric:
+    if (!isBlack(w * tripleOf(p, 3)))
+      setIor(p.floatParam(6));
+    break;
+  case kMxGeneralizedSchlick:
+    if (!isBlack(w * tripleOf(p, 3)))
+      setIor(schlickIor(tripleOf(p, 6)));
+    break;
+  default: break;
   }
 }
 
-void addLobes(const ClosureArena &arena, const std::vector<ClosurePrimitive> &prims,
-              const ShadingPoint &at, bool lightOnly, ShadingResult &out);
+/// The lobe and emission of one primitive (its weight scaled).
+void addLobes(const ClosureArena &arena, const ClosurePrimitive &p, const ShadingPoint &at,
+              bool lightOnly, ShadingResult &out);
 void addLobes(const ClosureArena &arena, int32_t handle, const ShadingPoint &at, Vec3 scale,
               bool lightOnly, ShadingResult &out) {
   Flattened prims(arena, handle, scale);
-  addLobes(arena, *prims, at, lightOnly, out);
+  for (const ClosurePrimitive &p : *prims)
+    addLobes(arena, p, at, lightOnly, out);
 }
-/// The lobes and emission of a flattened closure (its weights scaled).
-void addLobes(const ClosureArena &arena, const std::vector<ClosurePrimitive> &prims,
-              const ShadingPoint &at, bool lightOnly, ShadingResult &out) {
-  for (const ClosurePrimitive &p : prims) {
-    Vec3 w(p.weight);
-    switch (p.id) {
-    case kEmission: out.emission += w; continue;
-    case kMxUniformEdf: out.emission += w * tripleOf(p, 0); continue;
-    case kBackground: out.background += w; continue;
-    default: break;
-    }
-    if (lightOnly)
-      continue;
-    if (p.id == kMxLayer) {
-      Vec3 base = underLayer(arena, p.closureParam(0), at, w);
-      addLobes(arena, p.closureParam(0), at, w, lightOnly, out);
-      if (!isBlack(base))
-        addLobes(arena, p.closureParam(1), at, base, lightOnly, out);
-      continue;
-    }
-    Lobe l;
-    if (lobeOf(p, w, out.refractionIor, l))
-      out.add(l);
+void addLobes(const ClosureArena &arena, const ClosurePrimitive &p, const ShadingPoint &at,
+              bool lightOnly, ShadingResult &out) {
+  Vec3 w(p.weight);
+  switch (p.id) {
+  case kEmission: out.emission += w; return;
+  case kMxUniformEdf: out.emission += w * tripleOf(p, 0); return;
+  case kBackground: out.background += w; return;
+  default: break;
   }
+  if (lightOnly)
+    return;
+  if (p.id == kMxLayer) {
+    Vec3 base = underLayer(arena, p.closureParam(0), at, w);
+    addLobes(arena, p.closureParam(0), at, w, lightOnly, out);
+    if (!isBlack(base))
+      addLobes(arena, p.closureParam(1), at, base, lightOnly, out);
+    return;
+  }
+  if (lobeOf(p, w, out.refractionIor, out.next()))
+    out.keepNext();
+  else
+    out.dropNext();
 }
 
 /// The MaterialX dielectric's and generalized Schlick's common part: the
@@ -274,20 +274,22 @@ bool lobeOf(const ClosurePrimitive &p, Vec3 w, float refractionIor, Lobe &l) {
 
 void addClosure(const ClosureArena &arena, int32_t handle, const ShadingPoint &at,
                 ShadingResult &out, bool lightOnly) {
-  // One flattening serves both passes at the top (layers flatten their
-  // own parts).
-  Flattened prims(arena, handle, Vec3(1, 1, 1));
+  // Both passes walk the tree itself: at the top, weights are scaled by
+  // nothing, and a list would cost more than a second walk (layers flatten
+  // their own parts).
   if (!lightOnly)
-    readMedium(arena, *prims, at, out);
-  addLobes(arena, *prims, at, lightOnly, out);
+    arena.forEachPrimitive(handle,
+                           [&](const ClosurePrimitive &p) { readMedium(arena, p, at, out); });
+  arena.forEachPrimitive(
+      handle, [&](const ClosurePrimitive &p) { addLobes(arena, p, at, lightOnly, out); });
 }
 
 Vec3 backgroundOf(const ClosureArena &arena, int32_t handle) {
   Vec3 sum;
-  Flattened prims(arena, handle, Vec3(1, 1, 1));
-  for (const ClosurePrimitive &p : *prims)
+  arena.forEachPrimitive(handle, [&](const ClosurePrimitive &p) {
     if (p.id == kBackground)
       sum += Vec3(p.weight);
+  });
   return sum;
 }
 

@@ -123,12 +123,21 @@ OSL_LANE_TARGET void intersectAt(const Scene &scene, const RayBatch &rays, const
     frames.push_back(p.kind == Primitive::Quad ? QuadFrame(p) : QuadFrame());
   for (size_t start = 0; start < n; start += W) {
     int count = int(std::min<size_t>(W, n - start));
-    for (int l = 0; l < W; ++l) {
-      size_t at = start + size_t(std::min(l, count - 1));
-      size_t k = which ? size_t(which[at]) : at;
+    auto copyRay = [&](int l, size_t k) __attribute__((always_inline)) {
       r.ox[l] = rays.ox[k], r.oy[l] = rays.oy[k], r.oz[l] = rays.oz[k];
       r.dx[l] = rays.dx[k], r.dy[l] = rays.dy[k], r.dz[l] = rays.dz[k];
       r.self[l] = rays.self[k];
+    };
+    if (!which && count == W) {
+      // Consecutive rays (the shadow rays): vector moves, not a gather.
+#pragma clang loop vectorize(assume_safety) interleave(disable)
+      for (int l = 0; l < W; ++l)
+        copyRay(l, start + size_t(l));
+    } else {
+      for (int l = 0; l < W; ++l) {
+        size_t at = start + size_t(std::min(l, count - 1));
+        copyRay(l, which ? size_t(which[at]) : at);
+      }
     }
     intersectLanes<W>(scene, frames, r, t, prim);
     for (int l = 0; l < count; ++l)

@@ -2,6 +2,8 @@
 #include "OslAbi/EntryPoints.h"
 #include "OslRuntime/Closure.h"
 
+#include <algorithm>
+
 using namespace osl;
 
 namespace {
@@ -45,7 +47,10 @@ ClosureArena &osl::threadClosureArena() {
 
 int32_t ClosureArena::component(int32_t id, const uint32_t *params, int32_t count) {
   int32_t first = int32_t(words.size());
-  words.insert(words.end(), params, params + count);
+  // A resize and a copy of known words: insert's general path costs more
+  // than the copy, once per lane of every closure call.
+  words.resize(words.size() + size_t(count));
+  std::copy_n(params, count, words.data() + first);
   nodes.push_back({kPrimitive, id, first, {1, 1, 1}});
   return int32_t(nodes.size());
 }
@@ -68,36 +73,7 @@ int32_t ClosureArena::add(int32_t a, int32_t b) {
 }
 
 void ClosureArena::flatten(int32_t handle, std::vector<ClosurePrimitive> &out) const {
-  const float one[3] = {1, 1, 1};
-  flattenScaled(handle, one, out);
-}
-
-void ClosureArena::flattenScaled(int32_t handle, const float w[3],
-                                 std::vector<ClosurePrimitive> &out) const {
-  // Handles come from kernels; one outside the arena is a bug upstream, but
-  // reading it must not crash the renderer.
-  if (handle <= 0 || size_t(handle) > nodes.size())
-    return;
-  const Node &n = nodes[handle - 1];
-  switch (n.kind) {
-  case kPrimitive: {
-    ClosurePrimitive p;
-    p.id = n.id;
-    p.weight = {w[0], w[1], w[2]};
-    p.words = words.data() + n.b;
-    out.push_back(p);
-    return;
-  }
-  case kMul: {
-    const float scaled[3] = {w[0] * n.w[0], w[1] * n.w[1], w[2] * n.w[2]};
-    flattenScaled(n.id, scaled, out);
-    return;
-  }
-  case kAdd:
-    flattenScaled(n.id, w, out);
-    flattenScaled(n.b, w, out);
-    return;
-  }
+  forEachPrimitive(handle, [&](const ClosurePrimitive &p) { out.push_back(p); });
 }
 
 //===----------------------------------------------------------------------===//
