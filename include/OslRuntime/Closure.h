@@ -62,6 +62,13 @@ public:
   int32_t mul(int32_t closure, const float weight[3]);
   /// The sum of two closures (an empty side gives the other).
   int32_t add(int32_t a, int32_t b);
+  /// component() and mul() for each lane of a batch, in lane order (the
+  /// same nodes as lane by lane, with the arena grown once): lane l's
+  /// operands at [row * width + l]; lanes outside `laneMask` get 0.
+  void componentLanes(int32_t id, const int32_t *params, int32_t count, int32_t width,
+                      uint32_t laneMask, int32_t *result);
+  void mulLanes(const int32_t *closures, const float *weights, int32_t width, uint32_t laneMask,
+                int32_t *result);
   /// Appends the primitives of `handle` to `out`, depth first, with their
   /// weights multiplied through. Deterministic: the same tree gives the
   /// same list whatever the batch width that built it.

@@ -2,8 +2,6 @@
 #include "OslAbi/EntryPoints.h"
 #include "OslRuntime/Closure.h"
 
-#include <algorithm>
-
 using namespace osl;
 
 namespace {
@@ -45,22 +43,17 @@ ClosureArena &osl::threadClosureArena() {
   return arena;
 }
 
+// One lane's component and product are the lane versions at width 1.
 int32_t ClosureArena::component(int32_t id, const uint32_t *params, int32_t count) {
-  int32_t first = int32_t(words.size());
-  // A resize and a copy of known words: insert's general path costs more
-  // than the copy, once per lane of every closure call.
-  words.resize(words.size() + size_t(count));
-  std::copy_n(params, count, words.data() + first);
-  nodes.push_back({kPrimitive, id, first, {1, 1, 1}});
-  return int32_t(nodes.size());
+  int32_t handle;
+  componentLanes(id, reinterpret_cast<const int32_t *>(params), count, 1, 1, &handle);
+  return handle;
 }
 
 int32_t ClosureArena::mul(int32_t closure, const float weight[3]) {
-  // A zero weight (either sign) leaves nothing, as OSL's closure product.
-  if (closure == 0 || (weight[0] == 0 && weight[1] == 0 && weight[2] == 0))
-    return 0;
-  nodes.push_back({kMul, closure, 0, {weight[0], weight[1], weight[2]}});
-  return int32_t(nodes.size());
+  int32_t handle;
+  mulLanes(&closure, weight, 1, 1, &handle);
+  return handle;
 }
 
 int32_t ClosureArena::add(int32_t a, int32_t b) {
@@ -70,6 +63,35 @@ int32_t ClosureArena::add(int32_t a, int32_t b) {
     return a;
   nodes.push_back({kAdd, a, b, {0, 0, 0}});
   return int32_t(nodes.size());
+}
+
+void ClosureArena::componentLanes(int32_t id, const int32_t *params, int32_t count,
+                                  int32_t width, uint32_t laneMask, int32_t *result) {
+  for (int32_t lane = 0; lane < width; ++lane) {
+    if (!(laneMask >> lane & 1)) {
+      result[lane] = 0;
+      continue;
+    }
+    nodes.push_back({kPrimitive, id, int32_t(words.size()), {1, 1, 1}});
+    const int32_t *from = params + lane;
+    for (int32_t w = 0; w < count; ++w, from += width)
+      words.push_back(uint32_t(*from));
+    result[lane] = int32_t(nodes.size());
+  }
+}
+
+void ClosureArena::mulLanes(const int32_t *closures, const float *weights, int32_t width,
+                            uint32_t laneMask, int32_t *result) {
+  for (int32_t lane = 0; lane < width; ++lane) {
+    float w0 = weights[lane], w1 = weights[width + lane], w2 = weights[2 * width + lane];
+    // A zero weight (either sign) leaves nothing, as OSL's closure product.
+    if (!(laneMask >> lane & 1) || closures[lane] == 0 || (w0 == 0 && w1 == 0 && w2 == 0)) {
+      result[lane] = 0;
+      continue;
+    }
+    nodes.push_back({kMul, closures[lane], 0, {w0, w1, w2}});
+    result[lane] = int32_t(nodes.size());
+  }
 }
 
 void ClosureArena::flatten(int32_t handle, std::vector<ClosurePrimitive> &out) const {
@@ -82,32 +104,13 @@ void ClosureArena::flatten(int32_t handle, std::vector<ClosurePrimitive> &out) c
 
 extern "C" void osl_rt_closure_component(int32_t id, int32_t *rows, int32_t width,
                                          uint32_t laneMask) {
-  ClosureArena &arena = threadClosureArena();
   int32_t count = paramWords(id);
-  int32_t *result = rows + count * width;
-  uint32_t params[3 * kMaxClosureParams];
-  for (int32_t lane = 0; lane < width; ++lane) {
-    if (!(laneMask >> lane & 1)) {
-      result[lane] = 0;
-      continue;
-    }
-    for (int32_t w = 0; w < count; ++w)
-      params[w] = uint32_t(rows[w * width + lane]);
-    result[lane] = arena.component(id, params, count);
-  }
+  threadClosureArena().componentLanes(id, rows, count, width, laneMask, rows + count * width);
 }
 
 extern "C" void osl_rt_closure_mul(int32_t *rows, int32_t width, uint32_t laneMask) {
-  ClosureArena &arena = threadClosureArena();
-  const float *weights = reinterpret_cast<const float *>(rows + width);
-  for (int32_t lane = 0; lane < width; ++lane) {
-    if (!(laneMask >> lane & 1)) {
-      rows[4 * width + lane] = 0;
-      continue;
-    }
-    const float w[3] = {weights[lane], weights[width + lane], weights[2 * width + lane]};
-    rows[4 * width + lane] = arena.mul(rows[lane], w);
-  }
+  threadClosureArena().mulLanes(rows, reinterpret_cast<const float *>(rows + width), width,
+                                laneMask, rows + 4 * width);
 }
 
 extern "C" void osl_rt_closure_add(int32_t *rows, int32_t width, uint32_t laneMask) {
