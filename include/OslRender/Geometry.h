@@ -29,7 +29,15 @@ struct RayBatch {
   std::vector<float> ox, oy, oz, dx, dy, dz, radius, spread;
   std::vector<int> self;
   void push(Vec3 o, Vec3 d, int leaving, float radius = 0, float spread = 0);
-  void clear();
+  void clear() { resize(0); }
+  /// Room for n rays, which set() fills by index.
+  void resize(size_t n);
+  void set(size_t i, Vec3 o, Vec3 d, int leaving, float radius, float spread) {
+    ox[i] = o.x, oy[i] = o.y, oz[i] = o.z;
+    dx[i] = d.x, dy[i] = d.y, dz[i] = d.z;
+    this->radius[i] = radius, this->spread[i] = spread;
+    self[i] = leaving;
+  }
   size_t size() const { return self.size(); }
 };
 

@@ -153,10 +153,11 @@ private:
                   const std::vector<float> &z, size_t start, int n) {
     copyRow(row, x, start, n), copyRow(row + 1, y, start, n), copyRow(row + 2, z, start, n);
   }
-  /// Queues a shadow ray from hit `i` of `q` toward `dir`.
+  /// Queues a shadow ray from hit `i` of `q` toward `dir`, in the room
+  /// scatterAll made.
   void queueShadowRay(const ShadeQueue &q, size_t i, Vec3 dir, int light, Vec3 contrib) {
-    shadowRays.push_back({q.path[i], light, contrib, false, Vec3()});
-    rays.push(q.at.p(i), dir, paths[q.path[i]].hit.prim, q.at.radius[i], 0.0f);
+    shadowRays[shadowCount] = {q.path[i], light, contrib, false, Vec3()};
+    rays.set(shadowCount++, q.at.p(i), dir, paths[q.path[i]].hit.prim, q.at.radius[i], 0.0f);
   }
 
   const Renderer &r;
@@ -220,6 +221,7 @@ private:
     Vec3 adds;
   };
   std::vector<ShadowRay> shadowRays;
+  size_t shadowCount = 0;
   /// Rows of the globals the renderer sets.
   const int rowP = findGlobal("P")->row, rowI = findGlobal("I")->row, rowN = findGlobal("N")->row,
             rowNg = findGlobal("Ng")->row, rowDPdu = findGlobal("dPdu")->row,
@@ -348,7 +350,7 @@ void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *mean) 
 void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   const RenderOptions &opt = r.options;
   paths.clear();
-  draws.clear();
+  draws.resize(pixels.size() * size_t(s1 - s0));
   pathPixels.clear();
   pathSamples.clear();
   rayPaths.clear();
@@ -356,7 +358,7 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
     for (int s = s0; s < s1; ++s) {
       Path p;
       p.rng = Sampler(pixel % opt.xres, pixel / opt.xres, uint32_t(s), opt.seed);
-      draws.push(p.rng.reserve(1), p.rng.sampleIndex());
+      draws.set(paths.size(), p.rng.reserve(1), p.rng.sampleIndex());
       rayPaths.push_back(int(paths.size()));
       paths.push_back(p);
       pathPixels.push_back(pixel);
@@ -458,14 +460,17 @@ void PathWave::shadeMisses(int bounce) {
 void PathWave::scatterAll(int bounce) {
   for (ShadeQueue &q : lightQueries)
     q.clear();
-  shadowRays.clear();
-  rays.clear();
   scattering.clear();
-  draws.clear();
   mixtureOf.clear();
   bool lastBounce = bounce >= r.options.maxBounces;
   bool mayEnd = bounce >= kRouletteDepth;
   int mixtures = 0, mostLobes = 0;
+  // The SoA batches below are sized for the most they may hold, filled by
+  // index, then cut to what they hold.
+  size_t hitCount = 0;
+  for (const ShadeQueue &q : queues)
+    hitCount += q.size();
+  draws.resize(hitCount);
   for (const ShadeQueue &q : queues)
     for (size_t i = 0; i < q.size(); ++i) {
       Path &p = paths[q.path[i]];
@@ -488,9 +493,10 @@ void PathWave::scatterAll(int bounce) {
         res.prepare(-q.at.d(i), p.weight, mayEnd);
         mixtureOf.push_back(-1);
       }
+      draws.set(scattering.size(), p.rng.reserve(1), p.rng.sampleIndex());
       scattering.push_back({&q, i});
-      draws.push(p.rng.reserve(1), p.rng.sampleIndex());
     }
+  draws.resize(scattering.size());
   laneKernels().drawPoints(draws, width);
   cosineMixtures.reset(size_t(mixtures), mostLobes);
   for (size_t s = 0; s < scattering.size(); ++s)
@@ -502,32 +508,41 @@ void PathWave::scatterAll(int bounce) {
     }
   laneKernels().sampleCosineMixtures(cosineMixtures, width);
   // The background's samples, and the lights' (every path's together).
-  lightDraws.clear();
-  lightDrawMixtures.clear();
   if (map)
     laneKernels().sampleBackground(map->table(), draws.x.data(), draws.y.data(),
                                    scattering.size(), backgroundDraws, width);
+  lightDraws.resize(scattering.size() * lights.size());
+  lightDrawMixtures.resize(lightDraws.size());
+  size_t lightCount = 0;
   for (size_t s = 0; s < scattering.size(); ++s) {
     auto [q, i] = scattering[s];
     int self = paths[q->path[i]].hit.prim;
     for (int l : lights)
       if (l != self) {
-        lightDraws.push(l, q->at.p(i), draws.x[s], draws.y[s]);
-        lightDrawMixtures.push_back(mixtureOf[s]);
+        lightDrawMixtures[lightCount] = mixtureOf[s];
+        lightDraws.set(lightCount++, l, q->at.p(i), draws.x[s], draws.y[s]);
       }
   }
+  lightDraws.resize(lightCount);
   laneKernels().sampleLights(prims, lightDraws, width);
   // The lanes' evaluations: toward the background's samples, then the
   // lights', as the loops below take them.
-  mixtureEvals.clear();
+  size_t towardCount = (map ? scattering.size() : 0) + lightCount;
+  mixtureEvals.resize(towardCount);
+  size_t evalCount = 0;
   if (map)
     for (size_t s = 0; s < scattering.size(); ++s)
       if (mixtureOf[s] >= 0)
-        mixtureEvals.push(mixtureOf[s], backgroundDraws.dir(s));
-  for (size_t k = 0; k < lightDraws.size(); ++k)
+        mixtureEvals.set(evalCount++, mixtureOf[s], backgroundDraws.dir(s));
+  for (size_t k = 0; k < lightCount; ++k)
     if (lightDrawMixtures[k] >= 0)
-      mixtureEvals.push(lightDrawMixtures[k], lightDraws.dir(k));
+      mixtureEvals.set(evalCount++, lightDrawMixtures[k], lightDraws.dir(k));
+  mixtureEvals.resize(evalCount);
   laneKernels().evalCosineMixtures(cosineMixtures, mixtureEvals, width);
+  // At most one shadow ray toward each sample.
+  shadowRays.resize(towardCount);
+  rays.resize(towardCount);
+  shadowCount = 0;
   // A path's mixture toward a direction: the lanes' next evaluation (they
   // are taken in the order added), or its ShadingResult's.
   size_t evaluated = 0;
@@ -590,6 +605,8 @@ void PathWave::scatterAll(int bounce) {
     pathRays.spread[pathIndex] = std::max(pathRays.spread[pathIndex], smp.roughness);
   }
   assert(evaluated == mixtureEvals.size() && "every lane evaluation taken, in order");
+  shadowRays.resize(shadowCount);
+  rays.resize(shadowCount);
 }
 
 /// Each scattering path's BSDF sample (with the bounce's sampler point):

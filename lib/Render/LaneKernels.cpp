@@ -9,12 +9,6 @@
 
 namespace osl::render {
 
-void PointDraws::clear() {
-  seed.clear(), index.clear();
-}
-
-void PointDraws::push(uint32_t s, uint32_t i) { seed.push_back(s), index.push_back(i); }
-
 PrimTable::PrimTable(const Scene &scene) {
   for (const Primitive &p : scene.prims) {
     kind.push_back(p.kind);
@@ -66,17 +60,6 @@ void CosineMixtures::set(size_t m, const std::vector<Lobe> &lobes, Vec3 wo, Vec3
   absorb[m] = mayEnd;
   pwx[m] = pathWeight.x, pwy[m] = pathWeight.y, pwz[m] = pathWeight.z;
   wox[m] = wo.x, woy[m] = wo.y, woz[m] = wo.z;
-}
-
-void MixtureEvals::clear() {
-  mixture.clear();
-  for (std::vector<float> *v : {&wix, &wiy, &wiz})
-    v->clear();
-}
-
-void MixtureEvals::push(int m, Vec3 wi) {
-  mixture.push_back(m);
-  wix.push_back(wi.x), wiy.push_back(wi.y), wiz.push_back(wi.z);
 }
 
 /// testrender's shapepdf: the sphere's cone, uniformly; the quad's area.

@@ -28,8 +28,15 @@ namespace osl::render {
 struct PointDraws {
   std::vector<uint32_t> seed, index;
   std::vector<float> x, y, z;
-  void clear();
-  void push(uint32_t seed, uint32_t index);
+  void clear() { resize(0); }
+  /// Room for n draws, which set() fills by index (a push per draw cost
+  /// more than the draw).
+  void resize(size_t n) { seed.resize(n), index.resize(n); }
+  void set(size_t i, uint32_t s, uint32_t k) { seed[i] = s, index[i] = k; }
+  void push(uint32_t s, uint32_t k) {
+    resize(size() + 1);
+    set(size() - 1, s, k);
+  }
   size_t size() const { return seed.size(); }
 };
 
@@ -104,15 +111,21 @@ struct LightDraws {
   std::vector<int> light;
   std::vector<float> ox, oy, oz, rx, ry;
   std::vector<float> dx, dy, dz, pdf;
-  void clear() {
-    light.clear();
+  void clear() { resize(0); }
+  /// Room for n draws, which set() fills by index.
+  void resize(size_t n) {
+    light.resize(n);
     for (std::vector<float> *v : {&ox, &oy, &oz, &rx, &ry})
-      v->clear();
+      v->resize(n);
+  }
+  void set(size_t i, int l, Vec3 from, float r0, float r1) {
+    light[i] = l;
+    ox[i] = from.x, oy[i] = from.y, oz[i] = from.z;
+    rx[i] = r0, ry[i] = r1;
   }
   void push(int l, Vec3 from, float r0, float r1) {
-    light.push_back(l);
-    ox.push_back(from.x), oy.push_back(from.y), oz.push_back(from.z);
-    rx.push_back(r0), ry.push_back(r1);
+    resize(size() + 1);
+    set(size() - 1, l, from, r0, r1);
   }
   size_t size() const { return light.size(); }
   Vec3 dir(size_t i) const { return {dx[i], dy[i], dz[i]}; }
@@ -196,8 +209,18 @@ struct MixtureEvals {
   std::vector<int> mixture;
   std::vector<float> wix, wiy, wiz;
   std::vector<float> fx, fy, fz, pdf;
-  void clear();
-  void push(int m, Vec3 wi);
+  void clear() { resize(0); }
+  /// Room for n evaluations, which set() fills by index.
+  void resize(size_t n) {
+    mixture.resize(n);
+    for (std::vector<float> *v : {&wix, &wiy, &wiz})
+      v->resize(n);
+  }
+  void set(size_t i, int m, Vec3 wi) { mixture[i] = m, wix[i] = wi.x, wiy[i] = wi.y, wiz[i] = wi.z; }
+  void push(int m, Vec3 wi) {
+    resize(size() + 1);
+    set(size() - 1, m, wi);
+  }
   size_t size() const { return mixture.size(); }
   Vec3 weight(size_t i) const { return {fx[i], fy[i], fz[i]}; }
 };

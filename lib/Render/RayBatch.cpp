@@ -9,16 +9,14 @@
 namespace osl::render {
 
 void RayBatch::push(Vec3 o, Vec3 d, int leaving, float r, float s) {
-  ox.push_back(o.x), oy.push_back(o.y), oz.push_back(o.z);
-  dx.push_back(d.x), dy.push_back(d.y), dz.push_back(d.z);
-  radius.push_back(r), spread.push_back(s);
-  self.push_back(leaving);
+  resize(size() + 1);
+  set(size() - 1, o, d, leaving, r, s);
 }
 
-void RayBatch::clear() {
+void RayBatch::resize(size_t n) {
   for (std::vector<float> *v : {&ox, &oy, &oz, &dx, &dy, &dz, &radius, &spread})
-    v->clear();
-  self.clear();
+    v->resize(n);
+  self.resize(n);
 }
 
 void intersectBatch(const Scene &scene, const RayBatch &rays, int width, std::vector<Hit> &hits) {
