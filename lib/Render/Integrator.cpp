@@ -68,12 +68,34 @@ struct ShadeQueue {
   int32_t rayType = -1;
   /// Escaped rays: I is the direction, and there is no surface.
   bool background = false;
-  void clear() {
-    at.clear();
-    path.clear();
+  void clear() { resize(0); }
+  void resize(size_t n) { at.resize(n), path.resize(n); }
+  void set(size_t i, int prim, int ray, float distance, int p) {
+    at.set(i, prim, ray, distance);
+    path[i] = p;
   }
   size_t size() const { return path.size(); }
 };
+
+/// Sorts n items into queues by index rather than by push: queueOf(k) is
+/// item k's queue (-1: none), then add(queue, slot, k) fills its slot.
+/// Items keep their order within each queue.
+template <typename Queue, typename QueueOf, typename Add>
+void sortIntoQueues(size_t n, std::vector<int> &itemQueue, std::vector<size_t> &fill,
+                    size_t queueCount, QueueOf queueOf, Queue queue, Add add) {
+  itemQueue.resize(n);
+  fill.assign(queueCount, 0);
+  for (size_t k = 0; k < n; ++k)
+    if ((itemQueue[k] = queueOf(k)) >= 0)
+      ++fill[size_t(itemQueue[k])];
+  for (size_t s = 0; s < queueCount; ++s) {
+    queue(s).resize(fill[s]);
+    fill[s] = 0;
+  }
+  for (size_t k = 0; k < n; ++k)
+    if (int s = itemQueue[k]; s >= 0)
+      add(queue(size_t(s)), fill[size_t(s)]++, k);
+}
 
 } // namespace
 
@@ -207,6 +229,9 @@ private:
   /// The paths whose rays this bounce traces, in order (those alive after
   /// the last bounce; intersectPaths ends some of them).
   std::vector<int> rayPaths;
+  /// sortIntoQueues' room: each item's queue, each queue's fill.
+  std::vector<int> itemQueue;
+  std::vector<size_t> queueFill;
   /// Each path's pixel (for the camera's lanes and the image) and sample
   /// index (its pixel's samples are mixed in in order).
   std::vector<int> pathPixels, pathSamples;
@@ -296,11 +321,9 @@ void PathWave::shadeBackground(const std::vector<Dual3> &dirs, std::vector<Vec3>
   // queue's forty columns for all of them would be 160 MB to fault in.
   for (size_t first = 0; first < dirs.size(); first += kWavePaths) {
     size_t n = std::min<size_t>(kWavePaths, dirs.size() - first);
-    q.clear();
-    for (size_t i = 0; i < n; ++i) {
-      h.push(-1, int(i), 0);
-      q.path.push_back(-1);
-    }
+    q.resize(n);
+    for (size_t i = 0; i < n; ++i)
+      q.set(i, -1, int(i), 0, -1);
     h.sizeOutputs();
     for (size_t i = 0; i < n; ++i)
       h.setDirection(i, dirs[first + i]);
@@ -386,35 +409,32 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
 /// Intersects every live path: hits queue on their shader, escaped paths
 /// on the background. False when no path is alive.
 bool PathWave::intersectPaths() {
-  for (ShadeQueue &q : queues)
-    q.clear();
-  misses.clear();
   // The paths still alive: the last bounce's, less those it ended (every
   // path at the first bounce, which startPaths lists).
   rayPaths.erase(std::remove_if(rayPaths.begin(), rayPaths.end(),
                                 [&](int i) { return !paths[size_t(i)].alive; }),
                  rayPaths.end());
   intersectBatch(scene, pathRays, rayPaths, width, hits);
-  for (size_t k = 0; k < rayPaths.size(); ++k) {
-    int i = rayPaths[k];
-    Path &p = paths[i];
-    p.hit = hits[k];
-    if (p.hit.prim < 0) {
-      p.alive = false;
-      if (scene.background >= 0) {
-        misses.at.push(-1, i, 0);
-        misses.path.push_back(i);
-      }
-      continue;
-    }
-    int shader = scene.prims[p.hit.prim].shader;
-    if (shader < 0) {
-      p.alive = false;
-      continue;
-    }
-    queues[shader].at.push(p.hit.prim, i, p.hit.t);
-    queues[shader].path.push_back(i);
-  }
+  // Hits queue on their shader's queue, escaped paths on the last (misses).
+  const int missQueue = int(queues.size());
+  sortIntoQueues(
+      rayPaths.size(), itemQueue, queueFill, queues.size() + 1,
+      [&](size_t k) {
+        Path &p = paths[size_t(rayPaths[k])];
+        p.hit = hits[k];
+        int shader = p.hit.prim < 0 ? (scene.background >= 0 ? missQueue : -1)
+                                    : scene.prims[p.hit.prim].shader;
+        p.alive = p.hit.prim >= 0 && shader >= 0;
+        return shader;
+      },
+      [&](size_t s) -> ShadeQueue & { return int(s) == missQueue ? misses : queues[s]; },
+      [&](ShadeQueue &q, size_t slot, size_t k) {
+        const Hit &hit = paths[size_t(rayPaths[k])].hit;
+        if (hit.prim < 0)
+          q.set(slot, -1, rayPaths[k], 0, rayPaths[k]);
+        else
+          q.set(slot, hit.prim, rayPaths[k], hit.t, rayPaths[k]);
+      });
   for (ShadeQueue &q : queues)
     laneKernels().hitGeometry(prims, pathRays, q.at, width);
   return !rayPaths.empty();
@@ -458,8 +478,6 @@ void PathWave::shadeMisses(int bounce) {
 /// background sample, a sample of every other light, and the BSDF's sample
 /// that continues the path.
 void PathWave::scatterAll(int bounce) {
-  for (ShadeQueue &q : lightQueries)
-    q.clear();
   scattering.clear();
   mixtureOf.clear();
   bool lastBounce = bounce >= r.options.maxBounces;
@@ -651,20 +669,22 @@ void PathWave::sampleBsdfs() {
 /// query for the light's shader (the query's `path` is the shadow ray).
 void PathWave::traceShadowRays() {
   intersectBatch(scene, rays, width, hits);
-  for (size_t k = 0; k < shadowRays.size(); ++k) {
-    ShadowRay &s = shadowRays[k];
-    if (s.light < 0) {
-      s.reached = hits[k].prim < 0;
-      s.adds = s.contrib;
-      continue;
-    }
-    if (hits[k].prim != s.light)
-      continue;
-    s.reached = true;
-    ShadeQueue &q = lightQueries[scene.prims[s.light].shader];
-    q.at.push(s.light, int(k), hits[k].t);
-    q.path.push_back(int(k));
-  }
+  sortIntoQueues(
+      shadowRays.size(), itemQueue, queueFill, lightQueries.size(),
+      [&](size_t k) {
+        ShadowRay &s = shadowRays[k];
+        if (s.light < 0) {
+          s.reached = hits[k].prim < 0;
+          s.adds = s.contrib;
+          return -1;
+        }
+        s.reached = hits[k].prim == s.light;
+        return s.reached ? scene.prims[s.light].shader : -1;
+      },
+      [&](size_t s) -> ShadeQueue & { return lightQueries[s]; },
+      [&](ShadeQueue &q, size_t slot, size_t k) {
+        q.set(slot, shadowRays[k].light, int(k), hits[k].t, int(k));
+      });
   for (ShadeQueue &q : lightQueries)
     laneKernels().hitGeometry(prims, rays, q.at, width);
 }

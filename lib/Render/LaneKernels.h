@@ -85,9 +85,13 @@ struct HitPoints {
   /// Forgets the lanes (the outputs stay stale until hitGeometry runs, and
   /// keep their storage: sizeOutputs only grows them, since zeroing what
   /// hitGeometry overwrites cost as much as hitGeometry).
-  void clear() { prim.clear(), ray.clear(), t.clear(); }
+  void clear() { resize(0); }
+  /// Room for n lanes' inputs, which set() fills by index.
+  void resize(size_t n) { prim.resize(n), ray.resize(n), t.resize(n); }
+  void set(size_t i, int k, int r, float distance) { prim[i] = k, ray[i] = r, t[i] = distance; }
   void push(int k, int r, float distance) {
-    prim.push_back(k), ray.push_back(r), t.push_back(distance);
+    resize(size() + 1);
+    set(size() - 1, k, r, distance);
   }
   size_t size() const { return prim.size(); }
   /// Makes room in the outputs for every pushed lane.
