@@ -28,9 +28,12 @@ Hit intersect(const Scene &scene, Vec3 o, Vec3 d, int self);
 struct RayBatch {
   std::vector<float> ox, oy, oz, dx, dy, dz, radius, spread;
   std::vector<int> self;
+  /// The rays held (columns only grow; resize sets this).
+  size_t count = 0;
   void push(Vec3 o, Vec3 d, int leaving, float radius = 0, float spread = 0);
   void clear() { resize(0); }
-  /// Room for n rays, which set() fills by index.
+  /// Room for n rays, which set() fills by index (columns keep their
+  /// storage when n falls).
   void resize(size_t n);
   void set(size_t i, Vec3 o, Vec3 d, int leaving, float radius, float spread) {
     ox[i] = o.x, oy[i] = o.y, oz[i] = o.z;
@@ -38,7 +41,7 @@ struct RayBatch {
     this->radius[i] = radius, this->spread[i] = spread;
     self[i] = leaving;
   }
-  size_t size() const { return self.size(); }
+  size_t size() const { return count; }
 };
 
 /// intersect() of every ray of `rays` into `hits`, `width` rays at a time

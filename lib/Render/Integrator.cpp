@@ -69,12 +69,12 @@ struct ShadeQueue {
   /// Escaped rays: I is the direction, and there is no surface.
   bool background = false;
   void clear() { resize(0); }
-  void resize(size_t n) { at.resize(n), path.resize(n); }
+  void resize(size_t n) { at.resize(n), growTo(path, n); }
   void set(size_t i, int prim, int ray, float distance, int p) {
     at.set(i, prim, ray, distance);
     path[i] = p;
   }
-  size_t size() const { return path.size(); }
+  size_t size() const { return at.size(); }
 };
 
 /// Sorts n items into queues by index rather than by push: queueOf(k) is
@@ -360,9 +360,9 @@ void PathWave::run(const std::vector<int> &pixels, int s0, int s1, float *mean) 
         ray.adds = ray.contrib * light.emission;
       });
     }
-    for (const ShadowRay &ray : shadowRays)
-      if (ray.reached)
-        paths[ray.path].radiance += ray.adds;
+    for (size_t k = 0; k < shadowCount; ++k)
+      if (shadowRays[k].reached)
+        paths[shadowRays[k].path].radiance += shadowRays[k].adds;
   }
   accumulate(mean);
 }
@@ -399,6 +399,7 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   // pixel's angle.
   pr.radius.assign(n, 0.0f);
   pr.spread.resize(n);
+  pr.count = n;
   float pixelArea = camera.invw * camera.invh * length(camera.cx) * length(camera.cy);
   for (size_t i = 0; i < n; ++i) {
     float cosA = dot(camera.dir, Vec3(pr.dx[i], pr.dy[i], pr.dz[i]));
@@ -558,7 +559,7 @@ void PathWave::scatterAll(int bounce) {
   mixtureEvals.resize(evalCount);
   laneKernels().evalCosineMixtures(cosineMixtures, mixtureEvals, width);
   // At most one shadow ray toward each sample.
-  shadowRays.resize(towardCount);
+  growTo(shadowRays, towardCount);
   rays.resize(towardCount);
   shadowCount = 0;
   // A path's mixture toward a direction: the lanes' next evaluation (they
@@ -623,7 +624,6 @@ void PathWave::scatterAll(int bounce) {
     pathRays.spread[pathIndex] = std::max(pathRays.spread[pathIndex], smp.roughness);
   }
   assert(evaluated == mixtureEvals.size() && "every lane evaluation taken, in order");
-  shadowRays.resize(shadowCount);
   rays.resize(shadowCount);
 }
 
@@ -670,7 +670,7 @@ void PathWave::sampleBsdfs() {
 void PathWave::traceShadowRays() {
   intersectBatch(scene, rays, width, hits);
   sortIntoQueues(
-      shadowRays.size(), itemQueue, queueFill, lightQueries.size(),
+      shadowCount, itemQueue, queueFill, lightQueries.size(),
       [&](size_t k) {
         ShadowRay &s = shadowRays[k];
         if (s.light < 0) {

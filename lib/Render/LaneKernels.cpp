@@ -31,10 +31,7 @@ void CosineMixtures::reset(size_t mixtures, int lobes) {
   // Grown, never shrunk nor cleared: set() writes each mixture's own
   // slots, the kernels write the rest before reading them, and a slot past
   // a mixture's count is read only to be masked.
-  auto grow = [](auto &v, size_t n) {
-    if (v.size() < n)
-      v.resize(n);
-  };
+  auto grow = [](auto &v, size_t n) { growTo(v, n); };
   // One row at least: a mixture without lobes reads (and ignores) row 0.
   size_t slots = mixtures * size_t(std::max(lobes, 1));
   grow(orenNayar, slots);
@@ -83,8 +80,7 @@ void HitPoints::sizeOutputs() {
         &backfacing,    &area,  &dPdxX, &dPdxY, &dPdxZ, &dPdyX,      &dPdyY, &dPdyZ, &dIdxX,
         &dIdxY, &dIdxZ, &dIdyX, &dIdyY, &dIdyZ, &dudx,  &dudy,       &dvdx,  &dvdy,  &flip,
         &radius})
-    if (v->size() < size())
-      v->resize(size());
+    growTo(*v, size());
 }
 
 namespace {

@@ -22,22 +22,35 @@
 
 namespace osl::render {
 
+/// Sizes column `v` for at least n lanes, never shrinking it: a batch whose
+/// count falls and rises from bounce to bounce keeps its storage, and
+/// zero-fills only rows it never had (a resize down and up again fills the
+/// rows anew each time).
+template <typename T> void growTo(std::vector<T> &v, size_t n) {
+  if (v.size() < n)
+    v.resize(n);
+}
+
 /// Sampler points to draw, as structure of arrays: lane i gets
 /// samplerPoint(seed[i], index[i]) into x, y, z (Sampler::reserve gives a
 /// path's seed, Sampler::sampleIndex its index).
 struct PointDraws {
   std::vector<uint32_t> seed, index;
   std::vector<float> x, y, z;
+  size_t count = 0;
   void clear() { resize(0); }
   /// Room for n draws, which set() fills by index (a push per draw cost
-  /// more than the draw).
-  void resize(size_t n) { seed.resize(n), index.resize(n); }
+  /// more than the draw). Columns only grow (growTo): size() is the count.
+  void resize(size_t n) {
+    growTo(seed, n), growTo(index, n);
+    count = n;
+  }
   void set(size_t i, uint32_t s, uint32_t k) { seed[i] = s, index[i] = k; }
   void push(uint32_t s, uint32_t k) {
     resize(size() + 1);
     set(size() - 1, s, k);
   }
-  size_t size() const { return seed.size(); }
+  size_t size() const { return count; }
 };
 
 /// A quad's unit normal and its edges' inverse squared lengths, as
@@ -74,6 +87,7 @@ float lightPdf(const PrimTable &prims, int k, Vec3 x, Vec3 p);
 struct HitPoints {
   std::vector<int> prim, ray;
   std::vector<float> t;
+  size_t count = 0;
   std::vector<float> ox, oy, oz, dx, dy, dz;
   std::vector<float> px, py, pz, nx, ny, nz, dPdux, dPduy, dPduz, dPdvx, dPdvy, dPdvz;
   std::vector<float> u, v, backfacing, area;
@@ -86,15 +100,19 @@ struct HitPoints {
   /// keep their storage: sizeOutputs only grows them, since zeroing what
   /// hitGeometry overwrites cost as much as hitGeometry).
   void clear() { resize(0); }
-  /// Room for n lanes' inputs, which set() fills by index.
-  void resize(size_t n) { prim.resize(n), ray.resize(n), t.resize(n); }
+  /// Room for n lanes' inputs, which set() fills by index (columns only
+  /// grow: size() is the count).
+  void resize(size_t n) {
+    growTo(prim, n), growTo(ray, n), growTo(t, n);
+    count = n;
+  }
   void set(size_t i, int k, int r, float distance) { prim[i] = k, ray[i] = r, t[i] = distance; }
   void push(int k, int r, float distance) {
     resize(size() + 1);
     set(size() - 1, k, r, distance);
   }
-  size_t size() const { return prim.size(); }
-  /// Makes room in the outputs for every pushed lane.
+  size_t size() const { return count; }
+  /// Makes room in the outputs for every lane.
   void sizeOutputs();
   Vec3 o(size_t i) const { return {ox[i], oy[i], oz[i]}; }
   Vec3 d(size_t i) const { return {dx[i], dy[i], dz[i]}; }
@@ -115,12 +133,15 @@ struct LightDraws {
   std::vector<int> light;
   std::vector<float> ox, oy, oz, rx, ry;
   std::vector<float> dx, dy, dz, pdf;
+  size_t count = 0;
   void clear() { resize(0); }
-  /// Room for n draws, which set() fills by index.
+  /// Room for n draws, which set() fills by index (columns only grow:
+  /// size() is the count).
   void resize(size_t n) {
-    light.resize(n);
+    growTo(light, n);
     for (std::vector<float> *v : {&ox, &oy, &oz, &rx, &ry})
-      v->resize(n);
+      growTo(*v, n);
+    count = n;
   }
   void set(size_t i, int l, Vec3 from, float r0, float r1) {
     light[i] = l;
@@ -131,7 +152,7 @@ struct LightDraws {
     resize(size() + 1);
     set(size() - 1, l, from, r0, r1);
   }
-  size_t size() const { return light.size(); }
+  size_t size() const { return count; }
   Vec3 dir(size_t i) const { return {dx[i], dy[i], dz[i]}; }
 };
 
@@ -213,19 +234,22 @@ struct MixtureEvals {
   std::vector<int> mixture;
   std::vector<float> wix, wiy, wiz;
   std::vector<float> fx, fy, fz, pdf;
+  size_t count = 0;
   void clear() { resize(0); }
-  /// Room for n evaluations, which set() fills by index.
+  /// Room for n evaluations, which set() fills by index (columns only
+  /// grow: size() is the count).
   void resize(size_t n) {
-    mixture.resize(n);
+    growTo(mixture, n);
     for (std::vector<float> *v : {&wix, &wiy, &wiz})
-      v->resize(n);
+      growTo(*v, n);
+    count = n;
   }
   void set(size_t i, int m, Vec3 wi) { mixture[i] = m, wix[i] = wi.x, wiy[i] = wi.y, wiz[i] = wi.z; }
   void push(int m, Vec3 wi) {
     resize(size() + 1);
     set(size() - 1, m, wi);
   }
-  size_t size() const { return mixture.size(); }
+  size_t size() const { return count; }
   Vec3 weight(size_t i) const { return {fx[i], fy[i], fz[i]}; }
 };
 

@@ -353,7 +353,7 @@ template <int W> OSL_LANE_TARGET void sampleLightsAt(const PrimTable &T, LightDr
 
 void sampleLights(const PrimTable &prims, LightDraws &draws, int width) {
   for (std::vector<float> *v : {&draws.dx, &draws.dy, &draws.dz, &draws.pdf})
-    v->resize(draws.size());
+    growTo(*v, draws.size());
   atWidth(width, [&](auto w) { sampleLightsAt<decltype(w)::value>(prims, draws); });
 }
 
@@ -596,9 +596,7 @@ template <int W> OSL_LANE_TARGET void drawPointsAt(PointDraws &d) {
 }
 
 void drawPoints(PointDraws &draws, int width) {
-  draws.x.resize(draws.size());
-  draws.y.resize(draws.size());
-  draws.z.resize(draws.size());
+  growTo(draws.x, draws.size()), growTo(draws.y, draws.size()), growTo(draws.z, draws.size());
   atWidth(width, [&](auto w) { drawPointsAt<decltype(w)::value>(draws); });
 }
 

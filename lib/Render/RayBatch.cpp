@@ -15,8 +15,9 @@ void RayBatch::push(Vec3 o, Vec3 d, int leaving, float r, float s) {
 
 void RayBatch::resize(size_t n) {
   for (std::vector<float> *v : {&ox, &oy, &oz, &dx, &dy, &dz, &radius, &spread})
-    v->resize(n);
-  self.resize(n);
+    growTo(*v, n);
+  growTo(self, n);
+  count = n;
 }
 
 void intersectBatch(const Scene &scene, const RayBatch &rays, int width, std::vector<Hit> &hits) {
