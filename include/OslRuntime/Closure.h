@@ -55,6 +55,7 @@ public:
   void reset() {
     nodes.clear();
     words.clear();
+    made = 0;
   }
   /// A primitive of closure `id` with weight 1; `params` holds its words.
   int32_t component(int32_t id, const uint32_t *params, int32_t count);
@@ -80,6 +81,10 @@ public:
     visitScaled(handle, one, visit);
   }
   size_t nodeCount() const { return nodes.size(); }
+  /// Whether a component of closure `id` was made since the last reset (a
+  /// reader can skip a pass no such component would change).
+  bool madeAny(uint64_t idBits) const { return made & idBits; }
+  static constexpr uint64_t idBit(int32_t id) { return uint64_t(1) << id; }
 
 private:
   enum Kind : int32_t { kPrimitive, kMul, kAdd };
@@ -119,6 +124,8 @@ private:
   }
   std::vector<Node> nodes;
   std::vector<uint32_t> words;
+  uint64_t made = 0; // idBit of each closure a component was made of
+  static_assert(kClosureCount <= 64, "one bit per closure");
 };
 
 /// This thread's arena (the one compiled kernels build in).

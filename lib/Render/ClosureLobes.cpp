@@ -276,8 +276,12 @@ void addClosure(const ClosureArena &arena, int32_t handle, const ShadingPoint &a
                 ShadingResult &out, bool lightOnly) {
   // Both passes walk the tree itself: at the top, weights are scaled by
   // nothing, and a list would cost more than a second walk (layers flatten
-  // their own parts).
-  if (!lightOnly)
+  // their own parts). The medium pass reads only the closures below; a
+  // batch that made none skips it.
+  constexpr uint64_t kMediumPass =
+      ClosureArena::idBit(kMxMediumVdf) | ClosureArena::idBit(kMxDielectric) |
+      ClosureArena::idBit(kMxGeneralizedSchlick) | ClosureArena::idBit(kMxLayer);
+  if (!lightOnly && arena.madeAny(kMediumPass))
     arena.forEachPrimitive(handle,
                            [&](const ClosurePrimitive &p) { readMedium(arena, p, at, out); });
   arena.forEachPrimitive(

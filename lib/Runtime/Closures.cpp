@@ -73,6 +73,7 @@ void ClosureArena::componentLanes(int32_t id, const int32_t *params, int32_t cou
       continue;
     }
     nodes.push_back({kPrimitive, id, int32_t(words.size()), {1, 1, 1}});
+    made |= idBit(id);
     const int32_t *from = params + lane;
     for (int32_t w = 0; w < count; ++w, from += width)
       words.push_back(uint32_t(*from));

@@ -160,4 +160,51 @@ TEST(ClosureListTest, ArenaFlattensWeightsThroughProductsAndSums) {
   EXPECT_EQ(arena.nodeCount(), 0u);
 }
 
+// The kernels' batch calls make, lane by lane, the nodes one-lane calls
+// make, skip the lanes outside the mask, and record which closures were
+// made (readers skip passes on that).
+TEST(ClosureListTest, ArenaBuildsLanesAsOneLaneCallsWould) {
+  constexpr int32_t width = 4;
+  // Lane l's normal is (l, 10 + l, 20 + l), as rows of `width` words.
+  int32_t rows[3 * width];
+  for (int32_t l = 0; l < width; ++l)
+    for (int32_t c = 0; c < 3; ++c) {
+      float f = float(10 * c + l);
+      std::memcpy(&rows[c * width + l], &f, 4);
+    }
+  ClosureArena lanes, single;
+  int32_t made[width];
+  lanes.componentLanes(kDiffuse, rows, 3, width, 0b1011, made);
+  EXPECT_EQ(made[2], 0);
+  float weights[3 * width];
+  for (int32_t i = 0; i < 3 * width; ++i)
+    weights[i] = float(i % 5); // lane 0's weight is (0, 4, 3); lane 3's (3, 2, 1)
+  weights[0] = weights[width] = weights[2 * width] = 0; // lane 0: a zero weight, no node
+  int32_t scaled[width];
+  lanes.mulLanes(made, weights, width, 0b1111, scaled);
+  EXPECT_EQ(scaled[0], 0);
+  EXPECT_EQ(scaled[2], 0); // lane 2 had no closure
+  EXPECT_TRUE(lanes.madeAny(ClosureArena::idBit(kDiffuse)));
+  EXPECT_FALSE(lanes.madeAny(ClosureArena::idBit(kMxDielectric) | ClosureArena::idBit(kMxLayer)));
+  for (int32_t l : {1, 3}) {
+    uint32_t normal[3];
+    for (int32_t c = 0; c < 3; ++c)
+      normal[c] = uint32_t(rows[c * width + l]);
+    const float w[3] = {weights[l], weights[width + l], weights[2 * width + l]};
+    int32_t one = single.mul(single.component(kDiffuse, normal, 3), w);
+    std::vector<ClosurePrimitive> got, want;
+    lanes.flatten(scaled[l], got);
+    single.flatten(one, want);
+    ASSERT_EQ(got.size(), 1u) << "lane " << l;
+    EXPECT_EQ(got[0].id, want[0].id);
+    EXPECT_EQ(got[0].weight, want[0].weight) << "lane " << l;
+    EXPECT_EQ(got[0].tripleParam(0), want[0].tripleParam(0)) << "lane " << l;
+    EXPECT_EQ(got[0].tripleParam(0), (std::array<float, 3>{float(l), float(10 + l), float(20 + l)}));
+  }
+  // Lanes 0, 1 and 3 each made a component; lanes 1 and 3 a product.
+  EXPECT_EQ(lanes.nodeCount(), 5u);
+  lanes.reset();
+  EXPECT_FALSE(lanes.madeAny(ClosureArena::idBit(kDiffuse)));
+}
+
 } // namespace
