@@ -28,7 +28,8 @@ Hit intersect(const Scene &scene, Vec3 o, Vec3 d, int self);
 struct RayBatch {
   std::vector<float> ox, oy, oz, dx, dy, dz, radius, spread;
   std::vector<int> self;
-  /// The rays held (columns only grow; resize sets this).
+  /// The rays held: columns only grow, so they may be longer. Set by
+  /// resize(), which every writer calls first.
   size_t count = 0;
   void push(Vec3 o, Vec3 d, int leaving, float radius = 0, float spread = 0);
   void clear() { resize(0); }

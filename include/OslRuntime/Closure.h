@@ -124,7 +124,10 @@ private:
   }
   std::vector<Node> nodes;
   std::vector<uint32_t> words;
-  uint64_t made = 0; // idBit of each closure a component was made of
+  /// idBit of each closure a component was made of since reset. Primitive
+  /// nodes are made in componentLanes alone (nodes are private), so a
+  /// reader that skips a pass on it skips nothing that was made.
+  uint64_t made = 0;
   static_assert(kClosureCount <= 64, "one bit per closure");
 };
 

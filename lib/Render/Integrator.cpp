@@ -390,16 +390,14 @@ void PathWave::startPaths(const std::vector<int> &pixels, int s0, int s1) {
   laneKernels().drawPoints(draws, width);
   size_t n = paths.size();
   RayBatch &pr = pathRays;
-  pr.ox.assign(n, camera.eye.x), pr.oy.assign(n, camera.eye.y), pr.oz.assign(n, camera.eye.z);
-  pr.dx.resize(n), pr.dy.resize(n), pr.dz.resize(n);
-  pr.self.assign(n, -1);
+  pr.resize(n);
+  std::fill_n(pr.ox.begin(), n, camera.eye.x), std::fill_n(pr.oy.begin(), n, camera.eye.y);
+  std::fill_n(pr.oz.begin(), n, camera.eye.z), std::fill_n(pr.self.begin(), n, -1);
   laneKernels().cameraRays(camera, pathPixels.data(), draws.x.data(), draws.y.data(), n,
                            pr.dx.data(), pr.dy.data(), pr.dz.data(), width);
   // testrender's camera ray differentials: no radius, a spread of about a
   // pixel's angle.
-  pr.radius.assign(n, 0.0f);
-  pr.spread.resize(n);
-  pr.count = n;
+  std::fill_n(pr.radius.begin(), n, 0.0f);
   float pixelArea = camera.invw * camera.invh * length(camera.cx) * length(camera.cy);
   for (size_t i = 0; i < n; ++i) {
     float cosA = dot(camera.dir, Vec3(pr.dx[i], pr.dy[i], pr.dz[i]));

@@ -84,12 +84,13 @@ void ClosureArena::componentLanes(int32_t id, const int32_t *params, int32_t cou
 void ClosureArena::mulLanes(const int32_t *closures, const float *weights, int32_t width,
                             uint32_t laneMask, int32_t *result) {
   for (int32_t lane = 0; lane < width; ++lane) {
+    result[lane] = 0;
+    if (!(laneMask >> lane & 1) || closures[lane] == 0)
+      continue;
     float w0 = weights[lane], w1 = weights[width + lane], w2 = weights[2 * width + lane];
     // A zero weight (either sign) leaves nothing, as OSL's closure product.
-    if (!(laneMask >> lane & 1) || closures[lane] == 0 || (w0 == 0 && w1 == 0 && w2 == 0)) {
-      result[lane] = 0;
+    if (w0 == 0 && w1 == 0 && w2 == 0)
       continue;
-    }
     nodes.push_back({kMul, closures[lane], 0, {w0, w1, w2}});
     result[lane] = int32_t(nodes.size());
   }

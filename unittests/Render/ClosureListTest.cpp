@@ -184,6 +184,13 @@ TEST(ClosureListTest, ArenaBuildsLanesAsOneLaneCallsWould) {
   lanes.mulLanes(made, weights, width, 0b1111, scaled);
   EXPECT_EQ(scaled[0], 0);
   EXPECT_EQ(scaled[2], 0); // lane 2 had no closure
+  // A lane outside the mask makes no product, whatever its operands.
+  int32_t masked[width];
+  size_t nodes = lanes.nodeCount();
+  lanes.mulLanes(made, weights, width, 0b0101, masked);
+  EXPECT_EQ(masked[1], 0);
+  EXPECT_EQ(masked[3], 0);
+  EXPECT_EQ(lanes.nodeCount(), nodes);
   EXPECT_TRUE(lanes.madeAny(ClosureArena::idBit(kDiffuse)));
   EXPECT_FALSE(lanes.madeAny(ClosureArena::idBit(kMxDielectric) | ClosureArena::idBit(kMxLayer)));
   for (int32_t l : {1, 3}) {
@@ -202,7 +209,7 @@ TEST(ClosureListTest, ArenaBuildsLanesAsOneLaneCallsWould) {
     EXPECT_EQ(got[0].tripleParam(0), (std::array<float, 3>{float(l), float(10 + l), float(20 + l)}));
   }
   // Lanes 0, 1 and 3 each made a component; lanes 1 and 3 a product.
-  EXPECT_EQ(lanes.nodeCount(), 5u);
+  EXPECT_EQ(nodes, 5u);
   lanes.reset();
   EXPECT_FALSE(lanes.madeAny(ClosureArena::idBit(kDiffuse)));
 }
