@@ -69,7 +69,7 @@ struct ShadeQueue {
   /// Escaped rays: I is the direction, and there is no surface.
   bool background = false;
   void clear() { resize(0); }
-  void resize(size_t n) { at.resize(n), growTo(path, n); }
+  void resize(size_t n) { at.resize(n), growTo(n, path); }
   void set(size_t i, int prim, int ray, float distance, int p) {
     at.set(i, prim, ray, distance);
     path[i] = p;
@@ -557,7 +557,7 @@ void PathWave::scatterAll(int bounce) {
   mixtureEvals.resize(evalCount);
   laneKernels().evalCosineMixtures(cosineMixtures, mixtureEvals, width);
   // At most one shadow ray toward each sample.
-  growTo(shadowRays, towardCount);
+  growTo(towardCount, shadowRays);
   rays.resize(towardCount);
   shadowCount = 0;
   // A path's mixture toward a direction: the lanes' next evaluation (they

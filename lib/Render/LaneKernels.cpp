@@ -31,16 +31,11 @@ void CosineMixtures::reset(size_t mixtures, int lobes) {
   // Grown, never shrunk nor cleared: set() writes each mixture's own
   // slots, the kernels write the rest before reading them, and a slot past
   // a mixture's count is read only to be masked.
-  auto grow = [](auto &v, size_t n) { growTo(v, n); };
   // One row at least: a mixture without lobes reads (and ignores) row 0.
   size_t slots = mixtures * size_t(std::max(lobes, 1));
-  grow(orenNayar, slots);
-  for (std::vector<float> *v : {&nx, &ny, &nz, &sigma, &wx, &wy, &wz, &pick})
-    grow(*v, slots);
-  grow(count, mixtures), grow(absorb, mixtures), grow(chosen, mixtures);
-  for (std::vector<float> *v : {&pwx, &pwy, &pwz, &wox, &woy, &woz, &rx, &ry, &wix, &wiy, &wiz,
-                                &fx, &fy, &fz, &pdf, &roughness, &total, &accum})
-    grow(*v, mixtures);
+  growTo(slots, orenNayar, nx, ny, nz, sigma, wx, wy, wz, pick);
+  growTo(mixtures, count, absorb, chosen, pwx, pwy, pwz, wox, woy, woz, rx, ry, wix, wiy, wiz,
+         fx, fy, fz, pdf, roughness, total, accum);
 }
 
 void CosineMixtures::set(size_t m, const std::vector<Lobe> &lobes, Vec3 wo, Vec3 pathWeight,
@@ -74,13 +69,9 @@ float lightPdf(const PrimTable &T, int k, Vec3 x, Vec3 p) {
 }
 
 void HitPoints::sizeOutputs() {
-  for (std::vector<float> *v :
-       {&ox,    &oy,    &oz,    &dx,    &dy,    &dz,    &px,         &py,   &pz,    &nx,
-        &ny,    &nz,    &dPdux, &dPduy, &dPduz, &dPdvx, &dPdvy,      &dPdvz, &u,    &v,
-        &backfacing,    &area,  &dPdxX, &dPdxY, &dPdxZ, &dPdyX,      &dPdyY, &dPdyZ, &dIdxX,
-        &dIdxY, &dIdxZ, &dIdyX, &dIdyY, &dIdyZ, &dudx,  &dudy,       &dvdx,  &dvdy,  &flip,
-        &radius})
-    growTo(*v, size());
+  growTo(size(), ox, oy, oz, dx, dy, dz, px, py, pz, nx, ny, nz, dPdux, dPduy, dPduz, dPdvx, dPdvy,
+         dPdvz, u, v, backfacing, area, dPdxX, dPdxY, dPdxZ, dPdyX, dPdyY, dPdyZ, dIdxX, dIdxY,
+         dIdxZ, dIdyX, dIdyY, dIdyZ, dudx, dudy, dvdx, dvdy, flip, radius);
 }
 
 namespace {

@@ -22,13 +22,12 @@
 
 namespace osl::render {
 
-/// Sizes column `v` for at least n lanes, never shrinking it: a batch whose
-/// count falls and rises from bounce to bounce keeps its storage, and
+/// Sizes each column for at least n lanes, never shrinking it: a batch
+/// whose count falls and rises from bounce to bounce keeps its storage, and
 /// zero-fills only rows it never had (a resize down and up again fills the
 /// rows anew each time).
-template <typename T> void growTo(std::vector<T> &v, size_t n) {
-  if (v.size() < n)
-    v.resize(n);
+template <typename... Columns> void growTo(size_t n, Columns &...columns) {
+  ((columns.size() < n ? columns.resize(n) : void()), ...);
 }
 
 /// Sampler points to draw, as structure of arrays: lane i gets
@@ -42,7 +41,7 @@ struct PointDraws {
   /// Room for n draws, which set() fills by index (a push per draw cost
   /// more than the draw). Columns only grow (growTo): size() is the count.
   void resize(size_t n) {
-    growTo(seed, n), growTo(index, n);
+    growTo(n, seed, index);
     count = n;
   }
   void set(size_t i, uint32_t s, uint32_t k) { seed[i] = s, index[i] = k; }
@@ -103,7 +102,7 @@ struct HitPoints {
   /// Room for n lanes' inputs, which set() fills by index (columns only
   /// grow: size() is the count).
   void resize(size_t n) {
-    growTo(prim, n), growTo(ray, n), growTo(t, n);
+    growTo(n, prim, ray, t);
     count = n;
   }
   void set(size_t i, int k, int r, float distance) { prim[i] = k, ray[i] = r, t[i] = distance; }
@@ -138,9 +137,7 @@ struct LightDraws {
   /// Room for n draws, which set() fills by index (columns only grow:
   /// size() is the count).
   void resize(size_t n) {
-    growTo(light, n);
-    for (std::vector<float> *v : {&ox, &oy, &oz, &rx, &ry})
-      growTo(*v, n);
+    growTo(n, light, ox, oy, oz, rx, ry);
     count = n;
   }
   void set(size_t i, int l, Vec3 from, float r0, float r1) {
@@ -239,9 +236,7 @@ struct MixtureEvals {
   /// Room for n evaluations, which set() fills by index (columns only
   /// grow: size() is the count).
   void resize(size_t n) {
-    growTo(mixture, n);
-    for (std::vector<float> *v : {&wix, &wiy, &wiz})
-      growTo(*v, n);
+    growTo(n, mixture, wix, wiy, wiz);
     count = n;
   }
   void set(size_t i, int m, Vec3 wi) { mixture[i] = m, wix[i] = wi.x, wiy[i] = wi.y, wiz[i] = wi.z; }

@@ -352,8 +352,7 @@ template <int W> OSL_LANE_TARGET void sampleLightsAt(const PrimTable &T, LightDr
 }
 
 void sampleLights(const PrimTable &prims, LightDraws &draws, int width) {
-  for (std::vector<float> *v : {&draws.dx, &draws.dy, &draws.dz, &draws.pdf})
-    growTo(*v, draws.size());
+  growTo(draws.size(), draws.dx, draws.dy, draws.dz, draws.pdf);
   atWidth(width, [&](auto w) { sampleLightsAt<decltype(w)::value>(prims, draws); });
 }
 
@@ -596,7 +595,7 @@ template <int W> OSL_LANE_TARGET void drawPointsAt(PointDraws &d) {
 }
 
 void drawPoints(PointDraws &draws, int width) {
-  growTo(draws.x, draws.size()), growTo(draws.y, draws.size()), growTo(draws.z, draws.size());
+  growTo(draws.size(), draws.x, draws.y, draws.z);
   atWidth(width, [&](auto w) { drawPointsAt<decltype(w)::value>(draws); });
 }
 

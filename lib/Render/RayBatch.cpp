@@ -14,9 +14,7 @@ void RayBatch::push(Vec3 o, Vec3 d, int leaving, float r, float s) {
 }
 
 void RayBatch::resize(size_t n) {
-  for (std::vector<float> *v : {&ox, &oy, &oz, &dx, &dy, &dz, &radius, &spread})
-    growTo(*v, n);
-  growTo(self, n);
+  growTo(n, ox, oy, oz, dx, dy, dz, radius, spread, self);
   count = n;
 }
 
