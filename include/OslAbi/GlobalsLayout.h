@@ -9,7 +9,9 @@
 #ifndef OSLABI_GLOBALSLAYOUT_H
 #define OSLABI_GLOBALSLAYOUT_H
 
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <string_view>
 
 namespace osl {
@@ -70,6 +72,19 @@ inline const GlobalSlot *findGlobal(std::string_view name) {
     if (s.name == name)
       return &s;
   return nullptr;
+}
+
+/// Copies the first n lanes of one batch row. A full batch is a copy of
+/// known size (a few vector moves), not a call of memmove per row and
+/// batch: the grid and the renderer stage every batch's rows this way.
+inline void copyRowLanes(float *to, const float *from, int n) {
+  switch (n) {
+  case 16: std::memcpy(to, from, 16 * sizeof(float)); break;
+  case 8: std::memcpy(to, from, 8 * sizeof(float)); break;
+  case 4: std::memcpy(to, from, 4 * sizeof(float)); break;
+  case 1: *to = *from; break;
+  default: std::copy_n(from, n, to);
+  }
 }
 
 /// The kernel the compiler emits for one batch at width W:

@@ -44,6 +44,9 @@ void appendPrints(PrintLog &log, PrintLog &&more, bool repeatReports);
 /// Moves what this thread's kernels printed since the last call to the end
 /// of `log`, lane by lane.
 void takeBatchPrints(PrintLog &log);
+/// Whether this thread's kernels printed since the last takeBatchPrints
+/// (most batches print nothing: a grid asks before it makes a log).
+bool batchPrinted();
 
 /// Emits `log` in order as testshade does: printf's text to standard
 /// output, fprintf's to its files, and each warning or error to standard

@@ -159,17 +159,7 @@ private:
   /// use(index in q, closure handle) for each.
   template <typename Use> void shade(int shader, const ShadeQueue &q, Use use);
   void copyRow(int row, const std::vector<float> &from, size_t start, int n) {
-    float *to = &globals[size_t(row) * width];
-    const float *at = &from[start];
-    // A full batch is a copy of known size (a few vector moves, not a call
-    // of memmove per row and batch).
-    switch (n) {
-    case 16: std::memcpy(to, at, 16 * sizeof(float)); break;
-    case 8: std::memcpy(to, at, 8 * sizeof(float)); break;
-    case 4: std::memcpy(to, at, 4 * sizeof(float)); break;
-    case 1: *to = *at; break;
-    default: std::copy_n(at, n, to);
-    }
+    copyRowLanes(&globals[size_t(row) * width], &from[start], n);
   }
   void copyTriple(int row, const std::vector<float> &x, const std::vector<float> &y,
                   const std::vector<float> &z, size_t start, int n) {

@@ -18,6 +18,7 @@
 #include <cassert>
 #include <chrono>
 #include <cstdio>
+#include <immintrin.h>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -94,20 +95,38 @@ public:
       setRow(g, kdvdy, dvdy);
   }
 
+  /// A pixel of the window by its column and row in the grid.
+  struct Pixel {
+    int x, y;
+  };
+  /// The window's pixel `index` (counted row-major in the window).
+  Pixel pixel(long index) const {
+    return {colBegin + static_cast<int>(index % cols), rowBegin + static_cast<int>(index / cols)};
+  }
+  /// The pixel n further on: a batch's first pixel from the last batch's
+  /// without a 64-bit division per batch.
+  Pixel advance(Pixel p, int n) const {
+    for (p.x += n; p.x >= colBegin + cols; p.x -= cols)
+      ++p.y;
+    return p;
+  }
+
   /// Pixel rows for the window's pixels [first, first+nactive); lanes past
   /// nactive repeat the last active pixel.
   void writeBatch(float *g, long first, int nactive) const {
-    int x = colBegin + static_cast<int>(first % cols);
-    int y = rowBegin + static_cast<int>(first / cols);
+    writeBatch(g, pixel(first), nactive);
+  }
+  void writeBatch(float *g, Pixel first, int nactive) const {
+    auto [x, y] = first;
     int xEnd = colBegin + cols;
     if (x + nactive <= xEnd && !opt.varyUdxdy && !opt.varyVdxdy && !opt.varyPdxdy) {
       // The common case, a batch within one row: four plain row copies the
       // host compiler vectorizes (this runs once per batch, beside the
       // kernel).
       float *u = &at(g, kU, 0);
-      std::copy(&us[x], &us[x] + nactive, u);
+      copyRowLanes(u, &us[x], nactive);
       std::fill(u + nactive, u + width, us[x + nactive - 1]);
-      std::copy(u, u + width, &at(g, kP + 0, 0));
+      copyRowLanes(&at(g, kP + 0, 0), u, width);
       setRow(g, kV, vs[y]);
       setRow(g, kP + 1, vs[y]);
       return;
@@ -176,20 +195,33 @@ struct AlignedFloats {
   float *get() const { return data.get(); }
 };
 
+/// Four lanes of three rows as four pixels of three channels: six unpacks
+/// and three shuffles (x86-64's baseline SSE) instead of twelve scalar
+/// moves, which the host compiler does not find on its own.
+inline void interleave3x4(float *out, const float *r, const float *g, const float *b) {
+  __m128 x = _mm_loadu_ps(r), y = _mm_loadu_ps(g), z = _mm_loadu_ps(b);
+  __m128 xyLo = _mm_unpacklo_ps(x, y), xyHi = _mm_unpackhi_ps(x, y); // x0 y0 x1 y1, x2 y2 x3 y3
+  __m128 zxLo = _mm_unpacklo_ps(z, x), zxHi = _mm_unpackhi_ps(z, x); // z0 x0 z1 x1, z2 x2 z3 x3
+  __m128 yzLo = _mm_unpacklo_ps(y, z), yzHi = _mm_unpackhi_ps(y, z); // y0 z0 y1 z1, y2 z2 y3 z3
+  _mm_storeu_ps(out + 0, _mm_shuffle_ps(xyLo, zxLo, _MM_SHUFFLE(3, 0, 1, 0))); // x0 y0 z0 x1
+  _mm_storeu_ps(out + 4, _mm_shuffle_ps(yzLo, xyHi, _MM_SHUFFLE(1, 0, 3, 2))); // y1 z1 x2 y2
+  _mm_storeu_ps(out + 8, _mm_shuffle_ps(zxHi, yzHi, _MM_SHUFFLE(3, 2, 3, 0))); // z2 x3 y3 z3
+}
+
 /// Pixel-major image values from the kernel's channel rows: pixel `lane`
 /// gets rows[c * width + lane] as channel c. Runs once per output per
-/// batch, so it is cloned for AVX-512 and AVX2 (picked at load time) where
-/// the compiler turns the 3-channel case into a few shuffles instead of
-/// 3 x 16 scalar moves.
-[[gnu::target_clones("avx512f", "avx2", "default")]] void
-interleaveRows(float *image, const float *rows, int channels, int width, int nactive) {
+/// batch: colours go four lanes at a time.
+void interleaveRows(float *image, const float *rows, int channels, int width, int nactive) {
   if (channels == 1) {
-    std::copy(rows, rows + nactive, image);
+    copyRowLanes(image, rows, nactive);
     return;
   }
   if (channels == 3) {
     const float *r0 = rows, *r1 = rows + width, *r2 = rows + 2 * width;
-    for (int lane = 0; lane < nactive; ++lane) {
+    int lane = 0;
+    for (; lane + 4 <= nactive; lane += 4)
+      interleave3x4(image + 3 * lane, r0 + lane, r1 + lane, r2 + lane);
+    for (; lane < nactive; ++lane) {
       image[3 * lane + 0] = r0[lane];
       image[3 * lane + 1] = r1[lane];
       image[3 * lane + 2] = r2[lane];
@@ -316,22 +348,30 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
                        width, activeIn(b));
       }
     };
+    // Per batch, the harness costs as much as a small shader: the thread's
+    // arena is looked up once per tile, and a log made only for a batch
+    // that printed.
+    ClosureArena &arena = threadClosureArena();
     long firstBatch = static_cast<long>(tile) * tileBatches;
     long endBatch = std::min(nbatches, firstBatch + tileBatches);
-    writer.writeBatch(globalsOf(firstBatch), firstBatch * width, activeIn(firstBatch));
+    auto next = writer.pixel(firstBatch * width); // batch b + 1's first pixel
+    writer.writeBatch(globalsOf(firstBatch), next, activeIn(firstBatch));
     for (long b = firstBatch; b < endBatch; ++b) {
-      if (b + 1 < endBatch)
-        writer.writeBatch(globalsOf(b + 1), (b + 1) * width, activeIn(b + 1));
+      if (b + 1 < endBatch) {
+        next = writer.advance(next, width);
+        writer.writeBatch(globalsOf(b + 1), next, activeIn(b + 1));
+      }
       // A lane the kernel leaves unwritten must read 0, not whatever this
       // thread's previous batch left: that would depend on the schedule.
       float *out = outputsOf(b);
       std::fill(out, out + static_cast<size_t>(totalChannels) * width, 0.0f);
       // Closures a batch builds (Ci) are not images: drop them per batch.
-      threadClosureArena().reset();
+      arena.reset();
       // (A band's points follow the rows above it.)
       setPointCloudBatch(long(rowBegin) * long(cols) + b * width);
       kernel(globalsOf(b), out, activeIn(b));
-      takePrints(b);
+      if (batchPrinted())
+        takePrints(b);
       if (b > firstBatch)
         copyOutputs(b - 1);
     }

@@ -37,6 +37,8 @@ void osl::keepLaneText(int32_t stream, int32_t lane, std::string file, std::stri
   threadTexts().push_back({lane, {stream, std::move(file), std::move(text)}});
 }
 
+bool osl::batchPrinted() { return !threadTexts().empty(); }
+
 void osl::takeBatchPrints(PrintLog &log) {
   std::vector<LaneText> &texts = threadTexts();
   if (texts.empty()) // most batches print nothing; this runs after each
