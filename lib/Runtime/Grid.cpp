@@ -320,11 +320,12 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
   // text is in point order whatever the threads did.
   std::mutex printedMutex;
   std::map<long, PrintLog> printed;
+  // Most batches print nothing: a log is made only for one that did.
   auto takePrints = [&](long b) {
+    if (!batchPrinted())
+      return;
     PrintLog log;
     takeBatchPrints(log);
-    if (log.empty())
-      return;
     std::lock_guard<std::mutex> lock(printedMutex);
     printed.emplace(b, std::move(log));
   };
@@ -349,12 +350,11 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
       }
     };
     // Per batch, the harness costs as much as a small shader: the thread's
-    // arena is looked up once per tile, and a log made only for a batch
-    // that printed.
+    // arena is looked up once per tile.
     ClosureArena &arena = threadClosureArena();
     long firstBatch = static_cast<long>(tile) * tileBatches;
     long endBatch = std::min(nbatches, firstBatch + tileBatches);
-    auto next = writer.pixel(firstBatch * width); // batch b + 1's first pixel
+    auto next = writer.pixel(firstBatch * width); // the last written batch's first pixel
     writer.writeBatch(globalsOf(firstBatch), next, activeIn(firstBatch));
     for (long b = firstBatch; b < endBatch; ++b) {
       if (b + 1 < endBatch) {
@@ -370,8 +370,7 @@ void shadeGridInto(ShadeResult &result, BatchKernel kernel, int width,
       // (A band's points follow the rows above it.)
       setPointCloudBatch(long(rowBegin) * long(cols) + b * width);
       kernel(globalsOf(b), out, activeIn(b));
-      if (batchPrinted())
-        takePrints(b);
+      takePrints(b);
       if (b > firstBatch)
         copyOutputs(b - 1);
     }

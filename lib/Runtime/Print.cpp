@@ -41,7 +41,7 @@ bool osl::batchPrinted() { return !threadTexts().empty(); }
 
 void osl::takeBatchPrints(PrintLog &log) {
   std::vector<LaneText> &texts = threadTexts();
-  if (texts.empty()) // most batches print nothing; this runs after each
+  if (texts.empty())
     return;
   std::stable_sort(texts.begin(), texts.end(),
                    [](const LaneText &a, const LaneText &b) { return a.lane < b.lane; });
