@@ -409,6 +409,25 @@ def Osl_LanePickOp : Osl_Op<"lane_pick", [Pure]> {
   let hasFolder = 1;
 }
 
+def Osl_CodegenFenceOp : Osl_Op<"codegen_fence", [Pure, AllTypesMatch<["value", "result"]>]> {
+  let summary = "its operand unchanged, opaque to LLVM's instruction selection";
+  let description = [{
+    The lane value `value` (i32, scalar or W lanes) as it is. The noise
+    builders put one after each subtraction of the lookup3 hash (bjmix,
+    bjfinal). Without them, LLVM's DAG combiner asks for the known bits of
+    each xor and sub of the hash chain six levels deep. Each value of the
+    chain feeds two or three later steps, so one query visits hundreds of
+    nodes: 18 inlined hashes cost llc 194M instructions on AVX2, 103M
+    fenced. osl-lower-to-llvm lowers it to llvm.arithmetic.fence on the
+    bits seen as f32, which emits no instruction. A constant operand folds
+    through it.
+  }];
+  let arguments = (ins AnyTypeOf<[I32, VectorOfRankAndType<[1], [I32]>]>:$value);
+  let results = (outs AnyTypeOf<[I32, VectorOfRankAndType<[1], [I32]>]>:$result);
+  let assemblyFormat = "$value attr-dict `:` type($value)";
+  let hasFolder = 1;
+}
+
 //===----------------------------------------------------------------------===//
 // Library calls
 //===----------------------------------------------------------------------===//

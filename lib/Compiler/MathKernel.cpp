@@ -7,6 +7,7 @@
 //
 //===----------------------------------------------------------------------===//
 #include "OslCompiler/MathKernel.h"
+#include "OslDialect/OslDialect.h"
 
 #include "OslLanes/LaneMath.h"
 #include "OslLanes/NoiseBuilder.h"
@@ -325,9 +326,10 @@ llvm::Expected<std::unique_ptr<Kernel>> Kernel::compile(const Function &f, Impl 
   if (!e)
     return llvm::createStringError("unknown function '%s'", f.name);
   DialectRegistry registry;
+  // The osl dialect for the noise hashes' codegen fences.
   registry.insert<func::FuncDialect, arith::ArithDialect, mlir::math::MathDialect,
                   scf::SCFDialect, vector::VectorDialect, cf::ControlFlowDialect,
-                  LLVM::LLVMDialect>();
+                  LLVM::LLVMDialect, mlir::osl::OslDialect>();
   registerBuiltinDialectTranslation(registry);
   registerLLVMDialectTranslation(registry);
   MLIRContext ctx(registry, MLIRContext::Threading::DISABLED);

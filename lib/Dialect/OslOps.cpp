@@ -241,6 +241,14 @@ OpFoldResult LanePickOp::fold(FoldAdaptor adaptor) {
   return pickedElement(getElements(), adaptor.getIndex(), getType());
 }
 
+OpFoldResult CodegenFenceOp::fold(FoldAdaptor adaptor) {
+  // Only a constant passes through (the constant itself, not a copy): a
+  // fence on a computed value stays.
+  if (adaptor.getValue())
+    return getValue();
+  return {};
+}
+
 LogicalResult LanePickOp::verify() {
   if (getElements().empty())
     return emitOpError("needs at least one element");

@@ -9,6 +9,7 @@
 #ifndef OSLLANES_NOISEEMITTER_H
 #define OSLLANES_NOISEEMITTER_H
 
+#include "OslDialect/OslDialect.h"
 #include "OslLanes/NoiseBuilder.h"
 #include "OslLanes/LaneEmitter.h"
 #include "OslLanes/LaneMath.h"
@@ -63,23 +64,31 @@ public:
 
   Value rotl(Value x, unsigned k) { return ior(shl(x, k), shr(x, 32 - k)); }
 
+  /// x - y behind an osl.codegen_fence: the hash's subtractions, where
+  /// LLVM's known-bits queries of the chain stop (they cost it 1.9x the
+  /// instruction selection time of the fenced chain).
+  Value hashSub(Value x, Value y) {
+    Value difference = isub(x, y);
+    return b.create<CodegenFenceOp>(loc, difference.getType(), difference);
+  }
+
   void bjmix(Value &a, Value &bb, Value &c) {
-    a = isub(a, c); a = ixor(a, rotl(c, 4));  c = iadd(c, bb);
-    bb = isub(bb, a); bb = ixor(bb, rotl(a, 6));  a = iadd(a, c);
-    c = isub(c, bb); c = ixor(c, rotl(bb, 8));  bb = iadd(bb, a);
-    a = isub(a, c); a = ixor(a, rotl(c, 16)); c = iadd(c, bb);
-    bb = isub(bb, a); bb = ixor(bb, rotl(a, 19)); a = iadd(a, c);
-    c = isub(c, bb); c = ixor(c, rotl(bb, 4));  bb = iadd(bb, a);
+    a = hashSub(a, c); a = ixor(a, rotl(c, 4));  c = iadd(c, bb);
+    bb = hashSub(bb, a); bb = ixor(bb, rotl(a, 6));  a = iadd(a, c);
+    c = hashSub(c, bb); c = ixor(c, rotl(bb, 8));  bb = iadd(bb, a);
+    a = hashSub(a, c); a = ixor(a, rotl(c, 16)); c = iadd(c, bb);
+    bb = hashSub(bb, a); bb = ixor(bb, rotl(a, 19)); a = iadd(a, c);
+    c = hashSub(c, bb); c = ixor(c, rotl(bb, 4));  bb = iadd(bb, a);
   }
 
   Value bjfinal(Value a, Value bb, Value c) {
-    c = ixor(c, bb); c = isub(c, rotl(bb, 14));
-    a = ixor(a, c); a = isub(a, rotl(c, 11));
-    bb = ixor(bb, a); bb = isub(bb, rotl(a, 25));
-    c = ixor(c, bb); c = isub(c, rotl(bb, 16));
-    a = ixor(a, c); a = isub(a, rotl(c, 4));
-    bb = ixor(bb, a); bb = isub(bb, rotl(a, 14));
-    c = ixor(c, bb); c = isub(c, rotl(bb, 24));
+    c = ixor(c, bb); c = hashSub(c, rotl(bb, 14));
+    a = ixor(a, c); a = hashSub(a, rotl(c, 11));
+    bb = ixor(bb, a); bb = hashSub(bb, rotl(a, 25));
+    c = ixor(c, bb); c = hashSub(c, rotl(bb, 16));
+    a = ixor(a, c); a = hashSub(a, rotl(c, 4));
+    bb = ixor(bb, a); bb = hashSub(bb, rotl(a, 14));
+    c = ixor(c, bb); c = hashSub(c, rotl(bb, 24));
     return c;
   }
 

@@ -178,3 +178,19 @@ func.func @pick_folds(%i: !osl.varying<i32>, %x: !osl.varying<f32>, %y: f32,
   %p = osl.lane_pick %k, [%l, %m] : vector<4xi32>, [vector<4xf32>, vector<4xf32>] -> vector<4xf32>
   return %p : vector<4xf32>
 }
+
+// -----
+
+// A fence on a constant is the constant (a hash of constant keys folds
+// whole); a fence on a computed value stays.
+// CHECK-LABEL: func.func @codegen_fence_folds
+// CHECK-SAME: (%[[X:.+]]: vector<4xi32>)
+// CHECK-DAG: %[[C:.+]] = arith.constant dense<-6> : vector<4xi32>
+// CHECK-DAG: %[[F:.+]] = osl.codegen_fence %[[X]]
+// CHECK: return %[[C]], %[[F]]
+func.func @codegen_fence_folds(%x: vector<4xi32>) -> (vector<4xi32>, vector<4xi32>) {
+  %c = arith.constant dense<-6> : vector<4xi32>
+  %a = osl.codegen_fence %c : vector<4xi32>
+  %b = osl.codegen_fence %x : vector<4xi32>
+  return %a, %b : vector<4xi32>, vector<4xi32>
+}

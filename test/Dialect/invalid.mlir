@@ -470,6 +470,15 @@ func.func @pick_mixed_elements(%i: i32, %x: f32, %n: i32) {
 
 // -----
 
+// The fence is for the hash's i32 lanes: not floats, not triples.
+func.func @codegen_fence_of_floats(%x: vector<8xf32>) {
+  // expected-error @+1 {{operand #0 must be}}
+  %0 = osl.codegen_fence %x : vector<8xf32>
+  return
+}
+
+// -----
+
 func.func @lane_pick_index_lanes(%i: vector<4xi32>, %x: vector<8xf32>) {
   // expected-error @+1 {{the index must be i32, a scalar or one per lane of the result}}
   %0 = osl.lane_pick %i, [%x, %x] : vector<4xi32>, [vector<8xf32>, vector<8xf32>] -> vector<8xf32>

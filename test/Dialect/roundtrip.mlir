@@ -153,6 +153,15 @@ func.func @pick(%i: !osl.varying<i32>, %a: !osl.varying<vector<3xf32>>, %b: vect
   return
 }
 
+// CHECK-LABEL: func.func @codegen_fence
+func.func @codegen_fence(%k: vector<8xi32>, %n: i32) -> (vector<8xi32>, i32) {
+  // CHECK: osl.codegen_fence %{{.+}} : vector<8xi32>
+  %a = osl.codegen_fence %k : vector<8xi32>
+  // CHECK: osl.codegen_fence %{{.+}} : i32
+  %b = osl.codegen_fence %n : i32
+  return %a, %b : vector<8xi32>, i32
+}
+
 // CHECK-LABEL: func.func @table_read
 func.func @table_read(%i: !osl.varying<i32>, %j: i32) {
   // CHECK: osl.table_read dense<[2, 3, 5, 7]> : tensor<4xi32>[%{{.+}}] : !osl.varying<i32> -> !osl.varying<i32>

@@ -105,6 +105,24 @@ func.func @rotates(%x: vector<4xi32>) -> (vector<4xi32>, vector<4xi32>) {
 
 // -----
 
+// A fence is llvm.arithmetic.fence between bitcasts to f32 and back, for
+// W lanes and for a scalar alike.
+// CHECK-LABEL: llvm.func @codegen_fences
+// CHECK: %[[F:.+]] = llvm.bitcast %{{.+}} : vector<4xi32> to vector<4xf32>
+// CHECK: %[[G:.+]] = llvm.call_intrinsic "llvm.arithmetic.fence"(%[[F]]) : (vector<4xf32>) -> vector<4xf32>
+// CHECK: llvm.bitcast %[[G]] : vector<4xf32> to vector<4xi32>
+// CHECK: %[[S:.+]] = llvm.bitcast %{{.+}} : i32 to f32
+// CHECK: %[[T:.+]] = llvm.call_intrinsic "llvm.arithmetic.fence"(%[[S]]) : (f32) -> f32
+// CHECK: llvm.bitcast %[[T]] : f32 to i32
+// CHECK-NOT: osl.codegen_fence
+func.func @codegen_fences(%x: vector<4xi32>, %n: i32) -> (vector<4xi32>, i32) {
+  %a = osl.codegen_fence %x : vector<4xi32>
+  %b = osl.codegen_fence %n : i32
+  return %a, %b : vector<4xi32>, i32
+}
+
+// -----
+
 // Lanes dividing by ints not known to be one constant divide in double
 // precision (an exact quotient, truncated by the conversion back); a
 // remainder is n - q*d. A constant divisor stays an sdiv, and a scalar's

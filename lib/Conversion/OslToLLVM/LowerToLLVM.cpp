@@ -146,6 +146,27 @@ void formRotates(ModuleOp module) {
   }
 }
 
+/// Each osl.codegen_fence as llvm.arithmetic.fence on its bits seen as
+/// f32: LLVM's instruction selection looks through neither it nor its
+/// bitcasts' pairing, and emits nothing for it.
+void lowerCodegenFences(ModuleOp module) {
+  SmallVector<osl::CodegenFenceOp> fences;
+  module.walk([&](osl::CodegenFenceOp op) { fences.push_back(op); });
+  for (osl::CodegenFenceOp op : fences) {
+    OpBuilder b(op);
+    Type bits = op.getType();
+    Type floats = b.getF32Type();
+    if (auto vec = dyn_cast<VectorType>(bits))
+      floats = VectorType::get(vec.getShape(), floats);
+    Value asFloats = b.create<arith::BitcastOp>(op.getLoc(), floats, op.getValue());
+    auto fence = b.create<LLVM::CallIntrinsicOp>(op.getLoc(), floats, "llvm.arithmetic.fence",
+                                                 ValueRange{asFloats});
+    op.replaceAllUsesWith(
+        b.create<arith::BitcastOp>(op.getLoc(), bits, fence->getResult(0)).getResult());
+    op.erase();
+  }
+}
+
 /// Vector int / and % by lanes not known to be one constant divide in
 /// double precision. x86 has no vector integer division, so LLVM divides
 /// lane by lane with idiv; a double holds every int, and the correctly
@@ -340,6 +361,7 @@ struct LowerToLLVMPass
     ModuleOp module = getOperation();
     keepPickedElementsInMemory(module);
     formRotates(module);
+    lowerCodegenFences(module);
     divideLanesInDouble(module);
     if (failed(lowerStructuredControlFlow(module)) ||
         failed(convertToLLVM(module)))

@@ -65,7 +65,7 @@ struct ConvertToVectorPass
     VaryingTypeConverter converter(width);
     ConversionTarget target(*ctx);
     target.addIllegalDialect<OslDialect>();
-    target.addLegalOp<LaneDerivOp, LanePickOp>();
+    target.addLegalOp<LaneDerivOp, LanePickOp, CodegenFenceOp>();
     LibraryRoutineNeeds needs(shaders[0], orAssumedCompiled(available, assumeCompiled),
                               referenceMode);
     target.addLegalDialect<arith::ArithDialect, math::MathDialect,
