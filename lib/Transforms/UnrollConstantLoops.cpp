@@ -244,7 +244,13 @@ struct UnrollConstantLoopsPass
           break;
         }
       }
-      if (changed && failed(applyPatternsAndFoldGreedily(func, folding)))
+      // Folding only: region simplification (dead block arguments, block
+      // merging) is the canonicalizer's, once, after this pass. Run after
+      // every unrolled loop, it cost hex_tiles 1.3% of its whole compile
+      // (callgrind: 416M -> 411M instructions, the same LLVM IR).
+      GreedyRewriteConfig config;
+      config.enableRegionSimplification = GreedySimplifyRegionLevel::Disabled;
+      if (changed && failed(applyPatternsAndFoldGreedily(func, folding, config)))
         return signalPassFailure();
     }
   }
